@@ -1,0 +1,11 @@
+# Flags for code that runs on the MCU (firmware/, hal/ interfaces): warnings are errors,
+# no exceptions, no RTTI. Host-only code gets the warnings but keeps exceptions.
+add_library(jg_firmware_flags INTERFACE)
+target_compile_options(jg_firmware_flags INTERFACE
+  -Wall -Wextra -Wpedantic -Wconversion -Wsign-conversion -Wdouble-promotion -Wshadow
+  -Wold-style-cast -Wcast-align -Wnull-dereference -Wundef -Wfloat-equal -Werror
+  $<$<COMPILE_LANGUAGE:CXX>:-fno-exceptions -fno-rtti -Wnon-virtual-dtor -Wuseless-cast>
+  -fno-math-errno)
+
+add_library(jg_host_flags INTERFACE)
+target_compile_options(jg_host_flags INTERFACE -Wall -Wextra -Wshadow -Werror)

@@ -1,0 +1,279 @@
+// Signed 32-bit Q-format fixed point with compile-time fractional bits.
+//
+// Q<F> stores round(x * 2^F) in an int32_t. Range: [-(2^31-1), 2^31-1] * 2^-F.
+// The range is symmetric on purpose: INT32_MIN is never produced, so negation and abs
+// can never overflow.
+//
+// Scaling and overflow behaviour (every routine in this file and in qmath.hpp):
+// - Intermediates are 64-bit (int64_t); results are rounded to nearest (ties toward
+//   +infinity, i.e. add half an LSB then arithmetic shift right) and then **saturated**
+//   to the symmetric range. Nothing ever wraps: a wrapped torque would be a spike.
+// - Operators (+, -, *, unary -) saturate silently: they are the hot path and have no
+//   place to report. Conversions from float/double take a caller-owned NumericStatus
+//   and record NaN, infinities and out-of-range values there (sticky until cleared).
+// - Mixed formats are never implicit: use q_cast<Q<G>>(x) or mul<G>(a, b).
+// - Right shifts of negative values are arithmetic (GCC and Clang define this; C++20
+//   requires it).
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <type_traits>
+
+namespace jg {
+
+/// Sticky, caller-owned record of numeric events at conversion boundaries
+/// (sensor inputs, received frames, host-to-firmware parameter conversion).
+struct NumericStatus {
+  std::uint32_t saturated = 0;  ///< values clipped to the representable range
+  std::uint32_t not_finite = 0; ///< NaN or infinity seen (mapped to 0 or to +/-max)
+  [[nodiscard]] constexpr bool ok() const noexcept { return saturated == 0U && not_finite == 0U; }
+  constexpr void clear() noexcept {
+    saturated = 0U;
+    not_finite = 0U;
+  }
+};
+
+namespace detail {
+/// constexpr NaN test without ==/!= on floating point (-Wfloat-equal).
+template <class T>
+constexpr bool is_nan(T x) noexcept {
+  return !(x <= x);
+}
+
+inline constexpr std::int32_t kRawMax = std::numeric_limits<std::int32_t>::max();
+inline constexpr std::int32_t kRawMin = -kRawMax;  // symmetric range
+
+/// Saturate a 64-bit value to the symmetric int32 range.
+constexpr std::int32_t saturate32(std::int64_t v) noexcept {
+  if (v > kRawMax) {
+    return kRawMax;
+  }
+  if (v < kRawMin) {
+    return kRawMin;
+  }
+  return static_cast<std::int32_t>(v);
+}
+
+/// Arithmetic shift with round-to-nearest (ties toward +inf). shift may be negative
+/// (left shift); left shifts saturate. Result is still 64-bit; callers saturate.
+constexpr std::int64_t shift_round(std::int64_t v, int shift) noexcept {
+  if (shift > 0) {
+    if (shift >= 63) {
+      return 0;
+    }
+    return (v + (std::int64_t{1} << (shift - 1))) >> shift;
+  }
+  if (shift < 0) {
+    const int left = -shift;
+    constexpr std::int64_t big = std::int64_t{1} << 62;
+    if (left >= 62) {
+      return v > 0 ? big : (v < 0 ? -big : 0);
+    }
+    const std::int64_t limit = big >> left;
+    if (v >= limit) {
+      return big;
+    }
+    if (v <= -limit) {
+      return -big;
+    }
+    return v * (std::int64_t{1} << left);
+  }
+  return v;
+}
+}  // namespace detail
+
+template <int FracBits>
+class Q {
+  static_assert(FracBits >= 1 && FracBits <= 30,
+                "Q<F>: 1..30 fractional bits (1.0 must be representable)");
+
+ public:
+  using raw_type = std::int32_t;
+  static constexpr int frac_bits = FracBits;
+  static constexpr std::int64_t one_raw = std::int64_t{1} << FracBits;
+
+  constexpr Q() noexcept = default;
+
+  /// Wraps a raw value; INT32_MIN is mapped to the symmetric minimum.
+  [[nodiscard]] static constexpr Q from_raw(std::int32_t r) noexcept {
+    Q q;
+    q.raw_ = r < detail::kRawMin ? detail::kRawMin : r;
+    return q;
+  }
+  [[nodiscard]] constexpr std::int32_t raw() const noexcept { return raw_; }
+
+  /// Compile-time constants and host-side conversion. NaN -> 0, +/-inf and out of range
+  /// saturate; each such event is counted in `status`.
+  [[nodiscard]] static constexpr Q from_double(double x, NumericStatus& status) noexcept {
+    if (detail::is_nan(x)) {
+      ++status.not_finite;
+      return Q{};
+    }
+    const double scaled = x * static_cast<double>(one_raw);
+    if (scaled >= static_cast<double>(detail::kRawMax)) {
+      if (scaled > std::numeric_limits<double>::max()) {
+        ++status.not_finite;
+      } else if (scaled >= static_cast<double>(detail::kRawMax) + 0.5) {
+        ++status.saturated;
+      }
+      return from_raw(detail::kRawMax);
+    }
+    if (scaled <= static_cast<double>(detail::kRawMin)) {
+      if (scaled < -std::numeric_limits<double>::max()) {
+        ++status.not_finite;
+      } else if (scaled <= static_cast<double>(detail::kRawMin) - 0.5) {
+        ++status.saturated;
+      }
+      return from_raw(detail::kRawMin);
+    }
+    // Round to nearest, ties toward +inf, without std::floor (constexpr).
+    const double shifted = scaled + 0.5;
+    auto truncated = static_cast<std::int64_t>(shifted);
+    if (static_cast<double>(truncated) > shifted) {
+      --truncated;  // truncation went toward zero for a negative value
+    }
+    return from_raw(detail::saturate32(truncated));
+  }
+  /// For constants known to be in range (checked at compile time when constexpr).
+  [[nodiscard]] static constexpr Q from_double(double x) noexcept {
+    NumericStatus ignored{};
+    return from_double(x, ignored);
+  }
+  /// Runtime conversion on the MCU (single-precision FPU, no double arithmetic).
+  [[nodiscard]] static Q from_float(float x, NumericStatus& status) noexcept {
+    if (detail::is_nan(x)) {
+      ++status.not_finite;
+      return Q{};
+    }
+    constexpr float kMaxF = 2147483520.0F;  // largest float below 2^31
+    const float scaled = x * static_cast<float>(one_raw);
+    if (scaled >= kMaxF) {
+      if (scaled > std::numeric_limits<float>::max()) {
+        ++status.not_finite;
+      } else if (scaled > kMaxF) {
+        ++status.saturated;
+      }
+      return from_raw(detail::kRawMax);
+    }
+    if (scaled <= -kMaxF) {
+      if (scaled < -std::numeric_limits<float>::max()) {
+        ++status.not_finite;
+      } else if (scaled < -kMaxF) {
+        ++status.saturated;
+      }
+      return from_raw(detail::kRawMin);
+    }
+    // Round to nearest, ties toward +inf. Adding 0.5F would itself round above 2^23;
+    // the fraction left by truncation is exact in float, so decide on it instead.
+    auto truncated = static_cast<std::int32_t>(scaled);
+    const float fraction = scaled - static_cast<float>(truncated);
+    if (fraction >= 0.5F) {
+      ++truncated;
+    } else if (fraction < -0.5F) {
+      --truncated;
+    }
+    return from_raw(truncated);
+  }
+
+  [[nodiscard]] constexpr double to_double() const noexcept {
+    return static_cast<double>(raw_) / static_cast<double>(one_raw);
+  }
+  [[nodiscard]] constexpr float to_float() const noexcept {
+    return static_cast<float>(raw_) * (1.0F / static_cast<float>(one_raw));
+  }
+
+  // Same-format arithmetic: 64-bit intermediate, rounding, saturation.
+  friend constexpr Q operator+(Q a, Q b) noexcept {
+    return from_raw(detail::saturate32(std::int64_t{a.raw_} + b.raw_));
+  }
+  friend constexpr Q operator-(Q a, Q b) noexcept {
+    return from_raw(detail::saturate32(std::int64_t{a.raw_} - b.raw_));
+  }
+  friend constexpr Q operator-(Q a) noexcept { return from_raw(-a.raw_); }
+  /// Q<F> * Q<F> -> Q<F>: 32x32->64 product (SMULL on Cortex-M4), round, saturate.
+  friend constexpr Q operator*(Q a, Q b) noexcept {
+    const std::int64_t prod = std::int64_t{a.raw_} * b.raw_;
+    return from_raw(detail::saturate32(detail::shift_round(prod, FracBits)));
+  }
+  constexpr Q& operator+=(Q b) noexcept { return *this = *this + b; }
+  constexpr Q& operator-=(Q b) noexcept { return *this = *this - b; }
+  constexpr Q& operator*=(Q b) noexcept { return *this = *this * b; }
+
+  friend constexpr bool operator==(Q a, Q b) noexcept { return a.raw_ == b.raw_; }
+  friend constexpr bool operator!=(Q a, Q b) noexcept { return a.raw_ != b.raw_; }
+  friend constexpr bool operator<(Q a, Q b) noexcept { return a.raw_ < b.raw_; }
+  friend constexpr bool operator>(Q a, Q b) noexcept { return a.raw_ > b.raw_; }
+  friend constexpr bool operator<=(Q a, Q b) noexcept { return a.raw_ <= b.raw_; }
+  friend constexpr bool operator>=(Q a, Q b) noexcept { return a.raw_ >= b.raw_; }
+
+ private:
+  std::int32_t raw_ = 0;
+};
+
+template <class T>
+struct is_q : std::false_type {};
+template <int F>
+struct is_q<Q<F>> : std::true_type {};
+template <class T>
+inline constexpr bool is_q_v = is_q<T>::value;
+
+/// Explicit format change Q<Fi> -> Q<Fo>: rounds when dropping bits, saturates when
+/// adding integer bits would overflow.
+template <class To, int Fi>
+[[nodiscard]] constexpr To q_cast(Q<Fi> x) noexcept {
+  static_assert(is_q_v<To>, "q_cast converts between Q formats");
+  return To::from_raw(detail::saturate32(detail::shift_round(x.raw(), Fi - To::frac_bits)));
+}
+
+/// Mixed-format product Q<Fa> * Q<Fb> -> Q<Fo>; 64-bit intermediate Q(Fa+Fb), rounded.
+template <int Fo, int Fa, int Fb>
+[[nodiscard]] constexpr Q<Fo> mul(Q<Fa> a, Q<Fb> b) noexcept {
+  const std::int64_t prod = std::int64_t{a.raw()} * b.raw();
+  return Q<Fo>::from_raw(detail::saturate32(detail::shift_round(prod, Fa + Fb - Fo)));
+}
+
+/// Q16.16: the core's default format for physical signals (torque N·m, velocity rad/s,
+/// angle rad, momentum N·m·s). Range +/-32768, resolution 1.53e-5.
+using q16 = Q<16>;
+/// Q2.30 (range +/-2): unit vectors, rotation-matrix entries, trigonometric results.
+using q30 = Q<30>;
+
+}  // namespace jg
+
+/// numeric_limits for Q<F>. Fixed point has no denormals or infinities: min() is the
+/// most negative value (as for integers), epsilon() is one LSB (the spacing everywhere).
+template <int F>
+class std::numeric_limits<jg::Q<F>> {
+ public:
+  static constexpr bool is_specialized = true;
+  static constexpr bool is_signed = true;
+  static constexpr bool is_integer = false;
+  static constexpr bool is_exact = true;
+  static constexpr bool has_infinity = false;
+  static constexpr bool has_quiet_NaN = false;
+  static constexpr bool has_signaling_NaN = false;
+  static constexpr bool is_bounded = true;
+  static constexpr bool is_modulo = false;  // saturates, never wraps
+  static constexpr bool is_iec559 = false;
+  static constexpr bool traps = false;
+  static constexpr bool tinyness_before = false;
+  static constexpr int radix = 2;
+  static constexpr int digits = 31;
+  static constexpr int digits10 = 9;
+  static constexpr int max_digits10 = 0;
+  static constexpr int min_exponent = 0;
+  static constexpr int min_exponent10 = 0;
+  static constexpr int max_exponent = 0;
+  static constexpr int max_exponent10 = 0;
+  static constexpr std::float_round_style round_style = std::round_to_nearest;
+  static constexpr jg::Q<F> min() noexcept { return jg::Q<F>::from_raw(jg::detail::kRawMin); }
+  static constexpr jg::Q<F> lowest() noexcept { return min(); }
+  static constexpr jg::Q<F> max() noexcept { return jg::Q<F>::from_raw(jg::detail::kRawMax); }
+  static constexpr jg::Q<F> epsilon() noexcept { return jg::Q<F>::from_raw(1); }
+  static constexpr jg::Q<F> round_error() noexcept { return jg::Q<F>::from_raw(1); }  // 0.5 LSB rounds up to 1 LSB
+  static constexpr jg::Q<F> infinity() noexcept { return jg::Q<F>{}; }
+  static constexpr jg::Q<F> quiet_NaN() noexcept { return jg::Q<F>{}; }
+  static constexpr jg::Q<F> signaling_NaN() noexcept { return jg::Q<F>{}; }
+  static constexpr jg::Q<F> denorm_min() noexcept { return epsilon(); }
+};
