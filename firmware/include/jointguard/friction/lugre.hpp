@@ -59,11 +59,10 @@ struct LuGreState {
 /// Checks a physical parameter set: all finite, sigma0, tau_c, tau_s, w_s > 0,
 /// sigma1, sigma2 >= 0.
 [[nodiscard]] constexpr Error validate(const LuGreParams<double>& p) noexcept {
-  const double values[] = {p.sigma0, p.sigma1, p.sigma2, p.tau_c, p.tau_s, p.w_s};
-  for (const double v : values) {
-    if (detail::is_nan(v) || v > 1e300 || v < -1e300) {
-      return Error::not_finite;
-    }
+  using detail::is_finite;
+  if (!is_finite(p.sigma0) || !is_finite(p.sigma1) || !is_finite(p.sigma2) || !is_finite(p.tau_c) ||
+      !is_finite(p.tau_s) || !is_finite(p.w_s)) {
+    return Error::not_finite;
   }
   if (!(p.sigma0 > 0.0) || !(p.tau_c > 0.0) || !(p.tau_s > 0.0) || !(p.w_s > 0.0) ||
       p.sigma1 < 0.0 || p.sigma2 < 0.0) {

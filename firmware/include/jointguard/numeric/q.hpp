@@ -38,7 +38,12 @@ namespace detail {
 /// constexpr NaN test without ==/!= on floating point (-Wfloat-equal).
 template <class T>
 constexpr bool is_nan(T x) noexcept {
-  return !(x <= x);
+  return !(x <= x);  // NOLINT(misc-redundant-expression): false only for NaN, by design
+}
+/// constexpr finiteness test (std::isfinite is not constexpr in C++17).
+template <class T>
+constexpr bool is_finite(T x) noexcept {
+  return x <= std::numeric_limits<T>::max() && x >= std::numeric_limits<T>::lowest();
 }
 
 inline constexpr std::int32_t kRawMax = std::numeric_limits<std::int32_t>::max();
