@@ -1,0 +1,376 @@
+#include "io/recording.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+namespace jg::io {
+namespace {
+
+[[noreturn]] void fail(const std::string& file, std::size_t line, const std::string& field,
+                       const std::string& what) {
+  std::ostringstream os;
+  os << file << ':' << line << ": ";
+  if (!field.empty()) {
+    os << "field '" << field << "': ";
+  }
+  os << what;
+  throw FormatError(os.str());
+}
+
+std::vector<std::string> split_commas(const std::string& line) {
+  std::vector<std::string> out;
+  std::string cur;
+  for (const char c : line) {
+    if (c == ',') {
+      out.push_back(cur);
+      cur.clear();
+    } else if (c != '\r') {
+      cur.push_back(c);
+    }
+  }
+  out.push_back(cur);
+  return out;
+}
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t");
+  if (b == std::string::npos) {
+    return {};
+  }
+  const auto e = s.find_last_not_of(" \t");
+  return s.substr(b, e - b + 1);
+}
+
+/// "<prefix><digits>" -> digits as int, else -1.
+int joint_suffix(const std::string& name, const std::string& prefix) {
+  if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) {
+    return -1;
+  }
+  int v = 0;
+  for (std::size_t k = prefix.size(); k < name.size(); ++k) {
+    if (name[k] < '0' || name[k] > '9' || v > 1000) {
+      return -1;
+    }
+    v = v * 10 + (name[k] - '0');
+  }
+  return v;
+}
+
+bool parse_double(const std::string& tok, double& out) {
+  const std::string s = trim(tok);
+  if (s.empty()) {
+    return false;
+  }
+  errno = 0;
+  char* end = nullptr;
+  out = std::strtod(s.c_str(), &end);
+  return end == s.c_str() + s.size() && errno != ERANGE && std::isfinite(out);
+}
+
+std::string replace_j(std::string pattern, int j) {
+  const auto pos = pattern.find("{j}");
+  if (pos != std::string::npos) {
+    pattern.replace(pos, 3, std::to_string(j));
+  }
+  return pattern;
+}
+
+enum class Kind { time, q, dq, current, tau_m, tau_ext, collision, extra };
+struct Column {
+  Kind kind = Kind::extra;
+  std::size_t joint = 0;  // index into joint_ids
+  std::string name;
+};
+
+RecordingMeta read_meta(const std::filesystem::path& json_path) {
+  RecordingMeta meta;
+  std::ifstream in(json_path);
+  if (!in) {
+    return meta;
+  }
+  nlohmann::json j;
+  try {
+    in >> j;
+  } catch (const nlohmann::json::parse_error& e) {
+    throw FormatError(json_path.string() + ": invalid JSON at byte " + std::to_string(e.byte) + ": " + e.what());
+  }
+  auto field = [&](const char* key, auto& dst) {
+    if (j.contains(key) && !j[key].is_null()) {
+      try {
+        dst = j[key].get<std::decay_t<decltype(dst)>>();
+      } catch (const nlohmann::json::exception&) {
+        throw FormatError(json_path.string() + ": field '" + key + "': wrong type");
+      }
+    }
+  };
+  field("model", meta.model);
+  field("sample_time", meta.sample_time);
+  field("scenario", meta.scenario);
+  if (j.contains("seed") && j["seed"].is_number_unsigned()) {
+    meta.seed = j["seed"].get<unsigned long long>();
+  }
+  return meta;
+}
+
+}  // namespace
+
+void Recording::resize(std::size_t n_joints, std::size_t n_samples, bool with_current, bool with_tau_m,
+                       bool with_tau_ext, bool with_collision) {
+  joint_ids.resize(n_joints);
+  for (std::size_t k = 0; k < n_joints; ++k) {
+    joint_ids[k] = static_cast<int>(k + 1);
+  }
+  t.assign(n_samples, 0.0);
+  const std::vector<std::vector<double>> zeros(n_joints, std::vector<double>(n_samples, 0.0));
+  q = zeros;
+  dq = zeros;
+  current = with_current ? zeros : std::vector<std::vector<double>>{};
+  tau_m = with_tau_m ? zeros : std::vector<std::vector<double>>{};
+  tau_ext = with_tau_ext ? zeros : std::vector<std::vector<double>>{};
+  collision = with_collision ? std::vector<int>(n_samples, 0) : std::vector<int>{};
+}
+
+Recording read_recording(const std::string& path, const ReadOptions& options) {
+  std::ifstream in(path);
+  if (!in) {
+    throw FormatError(path + ": cannot open recording");
+  }
+  std::string line;
+  if (!std::getline(in, line)) {
+    fail(path, 1, "", "empty file: expected a header line");
+  }
+  const auto header = split_commas(line);
+  std::set<int> q_ids;
+  for (const auto& raw : header) {
+    const int j = joint_suffix(trim(raw), "q");
+    if (j >= 0) {
+      q_ids.insert(j);
+    }
+  }
+  if (q_ids.empty()) {
+    fail(path, 1, "q<j>", "no joint position column (q1, q2, ...)");
+  }
+  Recording rec;
+  rec.joint_ids.assign(q_ids.begin(), q_ids.end());
+  std::map<int, std::size_t> joint_index;
+  for (std::size_t k = 0; k < rec.joint_ids.size(); ++k) {
+    joint_index[rec.joint_ids[k]] = k;
+  }
+  std::vector<Column> cols;
+  std::set<std::string> seen;
+  bool has_time = false, has_current = false, has_tau_m = false, has_tau_ext = false;
+  for (const auto& raw : header) {
+    Column c;
+    c.name = trim(raw);
+    if (c.name.empty()) {
+      fail(path, 1, "", "empty column name in header");
+    }
+    if (!seen.insert(c.name).second) {
+      fail(path, 1, c.name, "duplicate column");
+    }
+    auto match = [&](const char* prefix, Kind kind) {
+      const int j = joint_suffix(c.name, prefix);
+      if (j >= 0 && joint_index.count(j) != 0U) {
+        c.kind = kind;
+        c.joint = joint_index[j];
+        return true;
+      }
+      return false;
+    };
+    if (c.name == options.time_column) {
+      c.kind = Kind::time;
+      has_time = true;
+    } else if (c.name == "collision") {
+      c.kind = Kind::collision;
+    } else if (match("tau_ext", Kind::tau_ext)) {
+      has_tau_ext = true;
+    } else if (match("tau_m", Kind::tau_m)) {
+      has_tau_m = true;
+    } else if (match("dq", Kind::dq) || match("q", Kind::q)) {
+    } else if (match("i", Kind::current)) {
+      has_current = true;
+    } else {
+      for (const int j : rec.joint_ids) {
+        if (!options.torque_column_pattern.empty() && c.name == replace_j(options.torque_column_pattern, j)) {
+          c.kind = Kind::tau_m;
+          c.joint = joint_index[j];
+          has_tau_m = true;
+        }
+      }
+    }
+    cols.push_back(c);
+  }
+  if (!has_time) {
+    fail(path, 1, options.time_column, "missing required time column");
+  }
+  // Every joint needs dq and a torque source.
+  for (const int j : rec.joint_ids) {
+    const std::size_t k = joint_index[j];
+    auto has = [&](Kind kind) {
+      for (const auto& c : cols) {
+        if (c.kind == kind && c.joint == k) {
+          return true;
+        }
+      }
+      return false;
+    };
+    if (!has(Kind::dq)) {
+      fail(path, 1, "dq" + std::to_string(j), "missing required velocity column");
+    }
+    if (has_current && !has(Kind::current)) {
+      fail(path, 1, "i" + std::to_string(j), "current given for some joints but not this one");
+    }
+    if (has_tau_m && !has(Kind::tau_m)) {
+      fail(path, 1, "tau_m" + std::to_string(j), "motor torque given for some joints but not this one");
+    }
+    if (!has_current && !has_tau_m) {
+      fail(path, 1, "i" + std::to_string(j) + "/tau_m" + std::to_string(j),
+           "need motor current i<j> or motor torque tau_m<j>");
+    }
+  }
+  const std::size_t n = rec.joint_ids.size();
+  rec.q.assign(n, {});
+  rec.dq.assign(n, {});
+  if (has_current) rec.current.assign(n, {});
+  if (has_tau_m) rec.tau_m.assign(n, {});
+  if (has_tau_ext) rec.tau_ext.assign(n, {});
+
+  std::size_t line_no = 1;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (trim(line).empty() || trim(line) == "\r") {
+      continue;
+    }
+    const auto fields = split_commas(line);
+    if (fields.size() != cols.size()) {
+      fail(path, line_no, "", "expected " + std::to_string(cols.size()) + " fields, found " +
+                                  std::to_string(fields.size()));
+    }
+    for (std::size_t c = 0; c < cols.size(); ++c) {
+      const Column& col = cols[c];
+      double v = 0.0;
+      if (!parse_double(fields[c], v)) {
+        if (col.kind == Kind::extra && options.ignore_non_numeric_extra) {
+          continue;
+        }
+        fail(path, line_no, col.name, "'" + trim(fields[c]) + "' is not a finite number (column " +
+                                          std::to_string(c + 1) + ")");
+      }
+      switch (col.kind) {
+        case Kind::time:
+          if (!rec.t.empty() && !(v > rec.t.back())) {
+            fail(path, line_no, col.name, "time " + trim(fields[c]) + " is not after the previous sample");
+          }
+          rec.t.push_back(v);
+          break;
+        case Kind::q: rec.q[col.joint].push_back(v); break;
+        case Kind::dq: rec.dq[col.joint].push_back(v); break;
+        case Kind::current: rec.current[col.joint].push_back(v); break;
+        case Kind::tau_m: rec.tau_m[col.joint].push_back(v); break;
+        case Kind::tau_ext: rec.tau_ext[col.joint].push_back(v); break;
+        case Kind::collision:
+          if (v < 0.0 || v != std::floor(v)) {
+            fail(path, line_no, col.name, "'" + trim(fields[c]) + "' is not a link number (0 = no contact)");
+          }
+          rec.collision.push_back(static_cast<int>(v));
+          break;
+        case Kind::extra: rec.extra[col.name].push_back(v); break;
+      }
+    }
+  }
+  if (rec.t.empty()) {
+    fail(path, line_no, "", "no data rows after the header");
+  }
+  const std::filesystem::path p(path);
+  rec.meta = read_meta(p.parent_path() / (p.stem().string() + ".json"));
+  return rec;
+}
+
+void write_recording(const std::string& path, const Recording& rec) {
+  const std::size_t n = rec.joints();
+  const std::size_t m = rec.samples();
+  auto check = [&](const std::vector<std::vector<double>>& sig, const char* name) {
+    if (!sig.empty() && (sig.size() != n || std::any_of(sig.begin(), sig.end(), [&](const auto& v) {
+                           return v.size() != m;
+                         }))) {
+      throw std::invalid_argument(std::string("write_recording: signal '") + name + "' has the wrong shape");
+    }
+  };
+  check(rec.q, "q");
+  check(rec.dq, "dq");
+  check(rec.current, "i");
+  check(rec.tau_m, "tau_m");
+  check(rec.tau_ext, "tau_ext");
+  if (rec.q.empty() || rec.dq.empty() || (rec.current.empty() && rec.tau_m.empty())) {
+    throw std::invalid_argument("write_recording: q, dq and one of i/tau_m are required");
+  }
+  const std::filesystem::path target(path);
+  const std::filesystem::path tmp = target.string() + ".tmp";
+  {
+    std::ofstream out(tmp);
+    if (!out) {
+      throw std::runtime_error(path + ": cannot write recording");
+    }
+    out << "t";
+    auto head = [&](const std::vector<std::vector<double>>& sig, const char* prefix) {
+      if (!sig.empty()) {
+        for (const int j : rec.joint_ids) out << ',' << prefix << j;
+      }
+    };
+    head(rec.q, "q");
+    head(rec.dq, "dq");
+    head(rec.current, "i");
+    head(rec.tau_m, "tau_m");
+    head(rec.tau_ext, "tau_ext");
+    if (!rec.collision.empty()) out << ",collision";
+    for (const auto& [name, values] : rec.extra) out << ',' << name;
+    out << '\n';
+    // Shortest representation that reads back to the same double: exact round trip.
+    char buf[32];
+    auto put_plain = [&](double v) {
+      const auto res = std::to_chars(buf, buf + sizeof buf, v);
+      out.write(buf, res.ptr - buf);
+    };
+    auto put = [&](double v) {
+      out << ',';
+      put_plain(v);
+    };
+    for (std::size_t k = 0; k < m; ++k) {
+      put_plain(rec.t[k]);
+      for (const auto* sig : {&rec.q, &rec.dq, &rec.current, &rec.tau_m, &rec.tau_ext}) {
+        for (const auto& v : *sig) put(v[k]);
+      }
+      if (!rec.collision.empty()) out << ',' << rec.collision[k];
+      for (const auto& [name, values] : rec.extra) put(values.at(k));
+      out << '\n';
+    }
+    if (!out) {
+      throw std::runtime_error(path + ": write failed");
+    }
+  }
+  nlohmann::json meta{{"model", rec.meta.model}, {"sample_time", rec.meta.sample_time}, {"scenario", rec.meta.scenario}};
+  if (rec.meta.seed) meta["seed"] = *rec.meta.seed;
+  const std::filesystem::path json_target = target.parent_path() / (target.stem().string() + ".json");
+  const std::filesystem::path json_tmp = json_target.string() + ".tmp";
+  {
+    std::ofstream jout(json_tmp);
+    jout << meta.dump(2) << '\n';
+    if (!jout) {
+      std::filesystem::remove(tmp);
+      throw std::runtime_error(json_target.string() + ": write failed");
+    }
+  }
+  std::filesystem::rename(tmp, target);
+  std::filesystem::rename(json_tmp, json_target);
+}
+
+}  // namespace jg::io

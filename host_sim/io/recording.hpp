@@ -1,0 +1,65 @@
+// Recordings: the CSV format of ../shared/CONTRACT.md (plus an optional JSON side file).
+// One header line, one row per sample, SI units:
+//   t, q<j>, dq<j>, i<j> and/or tau_m<j>, [tau_ext<j>], [collision], any other columns.
+// The reader accepts extra columns (kept by name) and missing optional ones, so real
+// recordings go through the same code. Every error names file, line and field.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace jg::io {
+
+/// Thrown for malformed input; what() is "file:line: field 'name': problem".
+class FormatError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct RecordingMeta {
+  std::string model;        ///< robot model name or file
+  double sample_time = 0.0; ///< [s], 0 when unknown
+  std::optional<unsigned long long> seed;
+  std::string scenario;
+};
+
+/// Column-major storage: signal[joint][sample]. Joint numbers are those of the column
+/// names (usually 1..n); joint_ids[k] is the number of the k-th joint.
+struct Recording {
+  std::vector<int> joint_ids;
+  std::vector<double> t;
+  std::vector<std::vector<double>> q, dq;
+  std::vector<std::vector<double>> current;   ///< [A], empty when absent
+  std::vector<std::vector<double>> tau_m;     ///< [N·m] link side, empty when absent
+  std::vector<std::vector<double>> tau_ext;   ///< [N·m] ground truth, empty when absent
+  std::vector<int> collision;                 ///< 0 or collided link, empty when absent
+  std::map<std::string, std::vector<double>> extra;  ///< other numeric columns
+  RecordingMeta meta;
+
+  [[nodiscard]] std::size_t joints() const { return joint_ids.size(); }
+  [[nodiscard]] std::size_t samples() const { return t.size(); }
+  /// Allocates the per-joint vectors for n joints numbered 1..n with `samples` rows.
+  void resize(std::size_t n_joints, std::size_t n_samples, bool with_current, bool with_tau_m,
+              bool with_tau_ext, bool with_collision);
+};
+
+struct ReadOptions {
+  std::string time_column = "t";
+  /// Column holding the link-side motor torque when it is not tau_m<j>; "{j}" is
+  /// replaced by the joint number (e.g. "q{j}_tau_J_compensate" for torque-sensor data).
+  std::string torque_column_pattern;
+  /// Other non-numeric-tolerant columns are an error; set to skip non-numeric extras.
+  bool ignore_non_numeric_extra = false;
+};
+
+/// Reads a recording; the JSON side file <stem>.json is read when present.
+[[nodiscard]] Recording read_recording(const std::string& path, const ReadOptions& options = {});
+
+/// Writes CSV (and <stem>.json with the metadata) atomically: to a temporary file that
+/// is renamed into place, so a failure leaves nothing half-written.
+void write_recording(const std::string& path, const Recording& rec);
+
+}  // namespace jg::io
