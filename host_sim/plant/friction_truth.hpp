@@ -1,0 +1,43 @@
+// The plant's true joint friction: LuGre (integrated exactly for piecewise-constant
+// velocity, independently of the firmware's implicit-Euler code) plus optional effects
+// that the firmware's model lacks, used as hidden truth by identification and diagnosis.
+#pragma once
+
+#include "jointguard/friction/lugre.hpp"
+
+namespace jg::sim {
+
+struct FrictionEffects {
+  // position_ripple: tau += A sin(periods_per_rev * q + phase)  (cogging / gear meshing)
+  double ripple_amplitude = 0.0;        ///< [N·m]
+  double ripple_periods_per_rev = 0.0;  ///< [1/rev]
+  double ripple_phase = 0.0;            ///< [rad]
+  // asymmetric_friction: Coulomb/static levels scaled by (1 + a) for w > 0, (1 - a) for w < 0
+  double asymmetry = 0.0;
+  // temperature_drift: all friction levels scaled by 1 + drift (1 - exp(-t / tau))
+  double drift = 0.0;
+  double drift_time_constant_s = 600.0;
+  // load_dependent_friction: Coulomb level += mu |tau_load| (gear tooth load)
+  double load_coefficient = 0.0;
+  // current_offset / torque_constant are sensor/actuator effects (see sensors.hpp).
+};
+
+struct JointFrictionTruth {
+  LuGreParams<double> lugre{};
+  FrictionEffects effects{};
+};
+
+struct LuGreTruthState {
+  double z = 0.0;  ///< bristle deflection [rad]
+};
+
+/// Advances z over `dt` with velocity w held and returns the friction torque at the end.
+/// z' = w - sigma0 |w| z / s(w) is linear in z for constant w: exact exponential step.
+/// `time_s` and `load_torque` feed the drift and load effects; `q` the ripple.
+double friction_truth_step(const JointFrictionTruth& truth, LuGreTruthState& state, double w, double q,
+                           double load_torque, double time_s, double dt);
+
+/// Energy stored in the bristles, 0.5 sigma0 z^2 [J] (for the plant's energy balance).
+double bristle_energy(const JointFrictionTruth& truth, const LuGreTruthState& state);
+
+}  // namespace jg::sim
