@@ -104,8 +104,11 @@ void Plant::step(double h, const JointVector& motor_torque, const ContactModel& 
     const ContactForce f = contact(state_.time, arm_, state_.q, state_.qd);
     if (f.link >= 0) {
       external_ = arm_.point_jacobian(state_.q, f.link, f.point_in_link).transpose() * f.force_base;
-      peak_contact_force_ = std::max(peak_contact_force_, f.force_base.norm());
-      contact_link_ = f.link + 1;
+      const double magnitude = f.force_base.norm();
+      peak_contact_force_ = std::max(peak_contact_force_, magnitude);
+      if (magnitude > 0.0) {
+        contact_link_ = f.link + 1;
+      }
     }
   }
   // Friction on the side that slides (motor side when elastic), held over the step.

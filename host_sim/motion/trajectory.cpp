@@ -1,0 +1,109 @@
+#include "motion/trajectory.hpp"
+
+#include <algorithm>
+#include <random>
+#include <stdexcept>
+
+namespace jg::sim {
+
+ExcitationTrajectory::ExcitationTrajectory(JointVector offset, std::vector<bool> active, PaperExcitation excitation,
+                                           double direction)
+    : offset_(std::move(offset)), active_(std::move(active)), excitation_(excitation), direction_(direction) {
+  if (active_.size() != static_cast<std::size_t>(offset_.size())) {
+    throw std::invalid_argument("ExcitationTrajectory: one active flag per joint");
+  }
+}
+
+TrajectorySample ExcitationTrajectory::at(double t) const {
+  const Eigen::Index n = offset_.size();
+  TrajectorySample s{offset_, JointVector::Zero(n), JointVector::Zero(n)};
+  const JointSample e = excitation_.at(t);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    if (active_[static_cast<std::size_t>(j)]) {
+      s.q(j) += direction_ * e.q;
+      s.dq(j) = direction_ * e.dq;
+      s.ddq(j) = direction_ * e.ddq;
+    }
+  }
+  return s;
+}
+
+WaypointTrajectory::WaypointTrajectory(JointVector start, std::vector<Waypoint> waypoints)
+    : start_(std::move(start)), waypoints_(std::move(waypoints)) {
+  for (const auto& w : waypoints_) {
+    if (w.q.size() != start_.size() || !(w.move_s > 0.0) || w.dwell_s < 0.0) {
+      throw std::invalid_argument("WaypointTrajectory: waypoint size or timing invalid");
+    }
+    duration_ += w.move_s + w.dwell_s;
+  }
+}
+
+TrajectorySample WaypointTrajectory::at(double t) const {
+  const Eigen::Index n = start_.size();
+  JointVector from = start_;
+  double t0 = 0.0;
+  for (const auto& w : waypoints_) {
+    if (t < t0 + w.move_s) {
+      TrajectorySample s{JointVector(n), JointVector(n), JointVector(n)};
+      // Rest-to-rest quintic: s(u) = 10u^3 - 15u^4 + 6u^5.
+      const double u = std::clamp((t - t0) / w.move_s, 0.0, 1.0);
+      const double pos = u * u * u * (10.0 - 15.0 * u + 6.0 * u * u);
+      const double vel = 30.0 * u * u * (1.0 - u) * (1.0 - u) / w.move_s;
+      const double acc = 60.0 * u * (1.0 - u) * (1.0 - 2.0 * u) / (w.move_s * w.move_s);
+      const JointVector delta = w.q - from;
+      s.q = from + pos * delta;
+      s.dq = vel * delta;
+      s.ddq = acc * delta;
+      return s;
+    }
+    t0 += w.move_s;
+    from = w.q;
+    if (t < t0 + w.dwell_s) {
+      break;
+    }
+    t0 += w.dwell_s;
+  }
+  return {from, JointVector::Zero(n), JointVector::Zero(n)};
+}
+
+std::unique_ptr<Trajectory> make_pick_task(const JointVector& home, const JointVector& workpiece, int repetitions) {
+  JointVector above = workpiece;
+  if (above.size() >= 3) {
+    above(1) -= 0.15;  // shoulder back and elbow in: above the workpiece
+    above(2) -= 0.10;
+  }
+  std::vector<WaypointTrajectory::Waypoint> wps;
+  for (int r = 0; r < repetitions; ++r) {
+    wps.push_back({above, 2.0, 0.2});
+    wps.push_back({workpiece, 1.0, 0.5});
+    wps.push_back({above, 1.0, 0.2});
+    wps.push_back({home, 2.0, 0.5});
+  }
+  return std::make_unique<WaypointTrajectory>(home, std::move(wps));
+}
+
+std::unique_ptr<Trajectory> make_random_moves(const JointVector& start, const JointVector& lower,
+                                              const JointVector& upper, double max_speed, double total_s,
+                                              unsigned long long seed) {
+  if (!(max_speed > 0.0) || lower.size() != start.size() || upper.size() != start.size()) {
+    throw std::invalid_argument("make_random_moves: bounds or speed invalid");
+  }
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<WaypointTrajectory::Waypoint> wps;
+  JointVector from = start;
+  double t = 0.0;
+  while (t < total_s) {
+    JointVector target(start.size());
+    for (Eigen::Index j = 0; j < start.size(); ++j) target(j) = lower(j) + (upper(j) - lower(j)) * unit(rng);
+    const double distance = (target - from).cwiseAbs().maxCoeff();
+    const double move = std::max(0.5, 1.875 * distance / max_speed);
+    const double dwell = 0.2 * unit(rng);
+    wps.push_back({target, move, dwell});
+    t += move + dwell;
+    from = target;
+  }
+  return std::make_unique<WaypointTrajectory>(start, std::move(wps));
+}
+
+}  // namespace jg::sim

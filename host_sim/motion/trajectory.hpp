@@ -1,0 +1,68 @@
+// Joint-space reference trajectories for the simulated controller.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "motion/excitation.hpp"
+#include "plant/rigid_body.hpp"
+
+namespace jg::sim {
+
+struct TrajectorySample {
+  JointVector q, dq, ddq;
+};
+
+class Trajectory {
+ public:
+  virtual ~Trajectory() = default;
+  [[nodiscard]] virtual TrajectorySample at(double t) const = 0;
+  [[nodiscard]] virtual double duration() const = 0;
+  [[nodiscard]] virtual int joints() const = 0;
+};
+
+/// The paper's excitation on the selected joints about an offset posture; `direction`
+/// -1 runs the same path with reversed velocity (paper Table 2 validation).
+class ExcitationTrajectory final : public Trajectory {
+ public:
+  ExcitationTrajectory(JointVector offset, std::vector<bool> active, PaperExcitation excitation, double direction = 1.0);
+  [[nodiscard]] TrajectorySample at(double t) const override;
+  [[nodiscard]] double duration() const override { return excitation_.duration(); }
+  [[nodiscard]] int joints() const override { return static_cast<int>(offset_.size()); }
+  [[nodiscard]] const PaperExcitation& excitation() const { return excitation_; }
+
+ private:
+  JointVector offset_;
+  std::vector<bool> active_;
+  PaperExcitation excitation_;
+  double direction_;
+};
+
+/// Rest-to-rest quintic moves through joint-space waypoints, with dwell times.
+class WaypointTrajectory final : public Trajectory {
+ public:
+  struct Waypoint {
+    JointVector q;
+    double move_s = 1.0;   ///< duration of the move that reaches this waypoint
+    double dwell_s = 0.0;  ///< rest at the waypoint afterwards
+  };
+  WaypointTrajectory(JointVector start, std::vector<Waypoint> waypoints);
+  [[nodiscard]] TrajectorySample at(double t) const override;
+  [[nodiscard]] double duration() const override { return duration_; }
+  [[nodiscard]] int joints() const override { return static_cast<int>(start_.size()); }
+
+ private:
+  JointVector start_;
+  std::vector<Waypoint> waypoints_;
+  double duration_ = 0.0;
+};
+
+/// Pick task: from `home` to above a workpiece lower left, down to it, dwell, up, home.
+std::unique_ptr<Trajectory> make_pick_task(const JointVector& home, const JointVector& workpiece, int repetitions = 1);
+/// Random smooth point-to-point moves within [lower, upper], seeded; each move's duration
+/// keeps the peak joint speed (1.875 x mean for a quintic) under `max_speed`.
+std::unique_ptr<Trajectory> make_random_moves(const JointVector& start, const JointVector& lower,
+                                              const JointVector& upper, double max_speed, double total_s,
+                                              unsigned long long seed);
+
+}  // namespace jg::sim

@@ -1,0 +1,123 @@
+#include "plant/collision.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace jg::sim {
+
+const char* to_string(CollisionProfile p) {
+  switch (p) {
+    case CollisionProfile::impact: return "impact";
+    case CollisionProfile::push: return "push";
+    case CollisionProfile::clamp: return "clamp";
+  }
+  return "unknown";
+}
+
+bool parse_profile(const std::string& s, CollisionProfile& out) {
+  for (const auto p : {CollisionProfile::impact, CollisionProfile::push, CollisionProfile::clamp}) {
+    if (s == to_string(p)) {
+      out = p;
+      return true;
+    }
+  }
+  return false;
+}
+
+CollisionSchedule::CollisionSchedule(std::vector<CollisionEvent> events) : events_(std::move(events)) {
+  for (auto& e : events_) {
+    const double n = e.direction_base.norm();
+    if (!(n > 0.0) || e.link < 1 || !(e.peak_force_n >= 0.0) || !(e.duration_s > 0.0) || e.rise_s < 0.0) {
+      throw std::invalid_argument("CollisionSchedule: invalid collision event (direction, link, force or timing)");
+    }
+    e.direction_base /= n;
+  }
+  reset();
+}
+
+void CollisionSchedule::reset() {
+  anchored_.assign(events_.size(), false);
+  anchor_.assign(events_.size(), Eigen::Vector3d::Zero());
+}
+
+ContactForce CollisionSchedule::operator()(double t, const ArmDynamics& arm, const JointVector& q,
+                                           const JointVector& qd) {
+  for (std::size_t k = 0; k < events_.size(); ++k) {
+    const CollisionEvent& e = events_[k];
+    const double tau = t - e.t_start;
+    if (tau < 0.0 || tau > e.duration_s + (e.profile == CollisionProfile::push ? e.rise_s : 0.0)) {
+      continue;
+    }
+    if (e.link > arm.joints()) {
+      throw std::invalid_argument("collision on link " + std::to_string(e.link) + " of a " +
+                                  std::to_string(arm.joints()) + "-link arm");
+    }
+    double magnitude = 0.0;
+    switch (e.profile) {
+      case CollisionProfile::impact: magnitude = e.peak_force_n * std::sin(M_PI * tau / e.duration_s); break;
+      case CollisionProfile::push: {
+        const double up = e.rise_s > 0.0 ? std::min(1.0, tau / e.rise_s) : 1.0;
+        const double down = e.rise_s > 0.0 ? std::clamp((e.duration_s + e.rise_s - tau) / e.rise_s, 0.0, 1.0)
+                                           : (tau <= e.duration_s ? 1.0 : 0.0);
+        magnitude = e.peak_force_n * std::min(up, down);
+        break;
+      }
+      case CollisionProfile::clamp: {
+        const LinkPoses P = arm.poses(q);
+        const int i = e.link - 1;
+        const Eigen::Vector3d x = P.origin[i] + P.rotation[i] * e.point_in_link;
+        if (!anchored_[k]) {
+          anchor_[k] = x;
+          anchored_[k] = true;
+        }
+        // The obstacle pushes along `direction`; the arm penetrates by moving against it.
+        const double penetration = -(x - anchor_[k]).dot(e.direction_base);
+        const Eigen::Vector3d v = arm.point_jacobian(q, i, e.point_in_link) * qd;
+        const double rate = -v.dot(e.direction_base);
+        magnitude = penetration > 0.0
+                        ? std::clamp(e.stiffness_n_per_m * penetration + e.damping_n_s_per_m * rate, 0.0, e.peak_force_n)
+                        : 0.0;
+        break;
+      }
+    }
+    ContactForce f;
+    f.link = e.link - 1;
+    f.point_in_link = e.point_in_link;
+    f.force_base = std::max(0.0, magnitude) * e.direction_base;
+    return f;
+  }
+  return {};
+}
+
+std::vector<CollisionEvent> draw_campaign(const CampaignSpec& spec, const std::vector<double>& link_lengths) {
+  if (spec.links.empty() || spec.count < 0 || !(spec.t_max > spec.t_min) || spec.profiles.empty()) {
+    throw std::invalid_argument("draw_campaign: empty link set, negative count or empty time window");
+  }
+  std::mt19937_64 rng(spec.seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::vector<CollisionEvent> out;
+  double t = spec.t_min;
+  for (int k = 0; k < spec.count; ++k) {
+    CollisionEvent e;
+    e.link = spec.links[static_cast<std::size_t>(unit(rng) * static_cast<double>(spec.links.size())) % spec.links.size()];
+    const double len = e.link - 1 < static_cast<int>(link_lengths.size()) ? link_lengths[static_cast<std::size_t>(e.link - 1)] : 0.3;
+    e.point_in_link = Eigen::Vector3d((0.3 + 0.6 * unit(rng)) * std::max(len, 0.05), 0.03 * gauss(rng), 0.03 * gauss(rng));
+    Eigen::Vector3d d(gauss(rng), gauss(rng), gauss(rng));
+    e.direction_base = d.normalized();
+    e.profile = spec.profiles[static_cast<std::size_t>(unit(rng) * static_cast<double>(spec.profiles.size())) % spec.profiles.size()];
+    e.peak_force_n = spec.force_min_n + (spec.force_max_n - spec.force_min_n) * unit(rng);
+    e.duration_s = e.profile == CollisionProfile::impact ? 0.03 + 0.07 * unit(rng) : 0.5 + unit(rng);
+    e.rise_s = 0.05 + 0.25 * unit(rng);
+    e.t_start = t + 0.5 * spec.spacing_s * unit(rng);
+    t = e.t_start + spec.spacing_s;
+    if (e.t_start > spec.t_max) {
+      break;
+    }
+    out.push_back(e);
+  }
+  return out;
+}
+
+}  // namespace jg::sim

@@ -1,0 +1,66 @@
+// Collisions: a force on a chosen link at a chosen point, in a chosen direction, with a
+// profile. The external joint torque it causes (J^T F) is the ground truth recorded.
+#pragma once
+
+#include <random>
+#include <string>
+#include <vector>
+
+#include "plant/plant.hpp"
+
+namespace jg::sim {
+
+enum class CollisionProfile {
+  impact,  ///< half-sine pulse of `duration_s`
+  push,    ///< linear ramp over `rise_s` to the peak, held until `duration_s`, released over `rise_s`
+  clamp,   ///< a stiff obstacle appears at the contact point: force = stiffness x penetration
+           ///< (plus damping), capped at the peak, for `duration_s`; depends on the arm's motion
+};
+
+[[nodiscard]] const char* to_string(CollisionProfile p);
+[[nodiscard]] bool parse_profile(const std::string& s, CollisionProfile& out);
+
+struct CollisionEvent {
+  double t_start = 0.0;     ///< [s]
+  int link = 1;             ///< 1-based link number
+  Eigen::Vector3d point_in_link = Eigen::Vector3d::Zero();  ///< [m], link frame
+  Eigen::Vector3d direction_base{1.0, 0.0, 0.0};            ///< unit, base frame (force direction)
+  CollisionProfile profile = CollisionProfile::impact;
+  double peak_force_n = 100.0;
+  double duration_s = 0.1;
+  double rise_s = 0.1;
+  double stiffness_n_per_m = 25000.0;  ///< clamp only (ISO/TS 15066 body-region order)
+  double damping_n_s_per_m = 200.0;    ///< clamp only
+};
+
+/// Applies a list of events (at most one active at a time: the earliest active wins).
+class CollisionSchedule {
+ public:
+  explicit CollisionSchedule(std::vector<CollisionEvent> events);
+  /// The contact model for Plant::advance. Stateful (clamp obstacles remember where they
+  /// appeared); call reset() before reusing.
+  ContactForce operator()(double t, const ArmDynamics& arm, const JointVector& q, const JointVector& qd);
+  void reset();
+  [[nodiscard]] const std::vector<CollisionEvent>& events() const { return events_; }
+
+ private:
+  std::vector<CollisionEvent> events_;
+  std::vector<bool> anchored_;
+  std::vector<Eigen::Vector3d> anchor_;
+};
+
+/// Draws a random campaign (seeded): link from `links`, point along the link, direction
+/// (random, unit), profile, time within [t_min, t_max] at least `spacing_s` apart, force.
+struct CampaignSpec {
+  std::vector<int> links{2, 3};
+  int count = 50;
+  double t_min = 2.0, t_max = 60.0, spacing_s = 3.0;
+  double force_min_n = 60.0, force_max_n = 150.0;
+  std::vector<CollisionProfile> profiles{CollisionProfile::impact, CollisionProfile::push, CollisionProfile::clamp};
+  unsigned long long seed = 1;
+};
+/// `link_lengths[i]` is the distance along link i's x axis to the next joint (or the
+/// tool), used to place the contact point on the link's body.
+[[nodiscard]] std::vector<CollisionEvent> draw_campaign(const CampaignSpec& spec, const std::vector<double>& link_lengths);
+
+}  // namespace jg::sim

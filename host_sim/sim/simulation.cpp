@@ -1,0 +1,103 @@
+#include "sim/simulation.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace jg::sim {
+
+SimulationResult run_simulation(const SimulationSetup& setup, const ControlOverride& override,
+                                const std::function<void(double)>& progress) {
+  if (!setup.trajectory) {
+    throw std::invalid_argument("simulation: no trajectory");
+  }
+  if (!(setup.control_rate_hz > 0.0)) {
+    throw std::invalid_argument("simulation: control rate must be > 0 Hz");
+  }
+  Plant plant(setup.plant);
+  const int n = plant.arm().joints();
+  if (setup.trajectory->joints() != n) {
+    throw std::invalid_argument("simulation: trajectory has " + std::to_string(setup.trajectory->joints()) +
+                                " joints, the model " + std::to_string(n));
+  }
+  if (setup.controller.kp.size() != static_cast<std::size_t>(n) || setup.controller.kd.size() != static_cast<std::size_t>(n)) {
+    throw std::invalid_argument("simulation: controller gains needed for every joint");
+  }
+  const ArmDynamics nominal(setup.nominal_links.empty() ? setup.plant.links : setup.nominal_links,
+                            setup.plant.gravity);
+  JointSensors sensors(setup.sensors, n);
+  CollisionSchedule schedule(setup.collisions);
+  const ContactModel contact = [&schedule](double t, const ArmDynamics& arm, const JointVector& q,
+                                           const JointVector& qd) { return schedule(t, arm, q, qd); };
+
+  const double dt = 1.0 / setup.control_rate_hz;
+  const double duration = setup.duration_s > 0.0 ? setup.duration_s : setup.trajectory->duration();
+  const long cycles = static_cast<long>(std::floor(duration * setup.control_rate_hz + 1e-9)) + 1;
+
+  const TrajectorySample start = setup.trajectory->at(0.0);
+  if (plant.elastic()) {
+    JointVector theta0 = start.q;
+    const JointVector g = plant.arm().gravity_torque(start.q);
+    for (int j = 0; j < n; ++j) theta0(j) += g(j) / setup.plant.elasticity[static_cast<std::size_t>(j)].stiffness;
+    plant.reset(start.q, theta0);
+  } else {
+    plant.reset(start.q);
+  }
+
+  SimulationResult result;
+  io::Recording& rec = result.recording;
+  if (setup.record) {
+    rec.resize(static_cast<std::size_t>(n), static_cast<std::size_t>(cycles), true, true, true, true);
+    rec.meta = setup.meta;
+    rec.meta.sample_time = dt;
+  }
+  JointVector current_cmd = JointVector::Zero(n);
+  JointVector external = JointVector::Zero(n);
+  int contact_link = 0;
+  const long progress_every = std::max(1L, cycles / 200);
+  for (long k = 0; k < cycles; ++k) {
+    const double t = static_cast<double>(k) * dt;
+    const auto& s = plant.state();
+    const Measurement m = sensors.sample(s.q, s.theta, current_cmd, dt);
+    const TrajectorySample ref = setup.trajectory->at(t);
+    JointVector demand = nominal.gravity_torque(m.q);
+    if (setup.controller.inertia_feedforward) {
+      demand += nominal.mass_matrix(m.q) * ref.ddq;
+    }
+    for (int j = 0; j < n; ++j) {
+      const auto u = static_cast<std::size_t>(j);
+      demand(j) += setup.controller.kp[u] * (ref.q(j) - m.q(j)) + setup.controller.kd[u] * (ref.dq(j) - m.dq(j));
+    }
+    if (override) {
+      const CycleContext ctx{t, &m, &ref, &demand};
+      if (const auto replaced = override(ctx)) {
+        demand = *replaced;
+      }
+    }
+    current_cmd = sensors.current_command(demand);
+    if (setup.record) {
+      const auto uk = static_cast<std::size_t>(k);
+      rec.t[uk] = t;
+      for (int j = 0; j < n; ++j) {
+        const auto u = static_cast<std::size_t>(j);
+        rec.q[u][uk] = m.q(j);
+        rec.dq[u][uk] = m.dq(j);
+        rec.current[u][uk] = m.current(j);
+        rec.tau_m[u][uk] = m.tau_m(j);
+        rec.tau_ext[u][uk] = external(j);
+      }
+      rec.collision[uk] = contact_link;
+    }
+    plant.advance(dt, sensors.produced_torque(current_cmd), contact);
+    external = plant.external_torque();
+    contact_link = plant.contact_link();
+    result.peak_contact_force_n = std::max(result.peak_contact_force_n, plant.peak_contact_force());
+    if (progress && k % progress_every == 0) {
+      progress(static_cast<double>(k) / static_cast<double>(cycles));
+    }
+  }
+  result.simulated_s = static_cast<double>(cycles) * dt;
+  result.cycles = cycles;
+  return result;
+}
+
+}  // namespace jg::sim
