@@ -3,6 +3,10 @@
 // and Q16.16 side by side, at the paper's 125 Hz and at 1 kHz.
 #include "cli/demo.hpp"
 
+#include <memory>
+
+#include "cli/commands.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -93,6 +97,13 @@ int run_demo(const DemoOptions& options) {
   }
   std::printf("\nTrace of joint 1 at 1 kHz: %s\n", csv_path.string().c_str());
   return 0;
+}
+
+Command add_demo(CLI::App& app) {
+  auto opt = std::make_shared<DemoOptions>();
+  auto* cmd = app.add_subcommand("demo", "Run the main job and print what it measured.\nExample: jointguard demo --out out");
+  cmd->add_option("--out", opt->out_dir, "Output directory")->capture_default_str();
+  return {cmd, [opt]() { return run_demo(*opt); }};
 }
 
 }  // namespace jg::cli

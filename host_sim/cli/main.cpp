@@ -1,32 +1,34 @@
-// jointguard: the host command line. Exit codes: 0 success, 1 runtime failure,
-// 2 usage error (bad arguments).
+// jointguard: the host command line. Exit codes: 0 success, 1 the work failed (the
+// message names the file, line and field or what is missing), 2 bad command line.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <vector>
 
-#include "cli/demo.hpp"
+#include "cli/commands.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"jointguard: sensorless collision detection for robot arms (host tools)"};
   app.require_subcommand(1);
-
-  jg::cli::DemoOptions demo;
-  auto* demo_cmd = app.add_subcommand("demo", "Run the main job and print what it measured.\n"
-                                              "Example: jointguard demo --out out");
-  demo_cmd->add_option("--out", demo.out_dir, "Output directory")->capture_default_str();
-
+  app.set_help_all_flag("--help-all", "Help for every subcommand");
+  const std::vector<jg::cli::Command> commands = {
+      jg::cli::add_demo(app),
+  };
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
+    const int rc = app.exit(e);
+    return rc == 0 ? 0 : 2;
   }
-  try {
-    if (demo_cmd->parsed()) {
-      return jg::cli::run_demo(demo);
+  for (const auto& c : commands) {
+    if (c.app->parsed()) {
+      try {
+        return c.run();
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "jointguard %s: error: %s\n", c.app->get_name().c_str(), e.what());
+        return 1;
+      }
     }
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "jointguard: error: %s\n", e.what());
-    return 1;
   }
-  return 0;
+  return 2;
 }

@@ -1,0 +1,21 @@
+// Subcommands of the jointguard CLI. Each registers itself on the app and returns the
+// function that runs it once parsed. Exit codes (all subcommands):
+//   0 success; 1 the work failed (bad input file, unusable data: the message says which);
+//   2 bad command line (CLI11's usage message).
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+
+namespace jg::cli {
+
+using Runner = std::function<int()>;
+struct Command {
+  CLI::App* app = nullptr;
+  Runner run;
+};
+
+Command add_demo(CLI::App& app);
+Command add_simulate(CLI::App& app);
+
+}  // namespace jg::cli

@@ -1,0 +1,161 @@
+#include "io/yaml_fields.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+namespace jg::io {
+namespace {
+std::string where(const std::string& file, const YAML::Mark& m) {
+  std::ostringstream os;
+  os << file;
+  if (!m.is_null()) {
+    os << ':' << m.line + 1 << ':' << m.column + 1;
+  }
+  return os.str();
+}
+}  // namespace
+
+YamlFields YamlFields::load_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) {
+    throw FormatError(path + ": cannot open");
+  }
+  try {
+    YAML::Node root = YAML::Load(in);
+    if (!root.IsMap()) {
+      throw FormatError(path + ": expected a mapping of keys at the top level");
+    }
+    return YamlFields(path, root);
+  } catch (const YAML::Exception& e) {
+    throw FormatError(where(path, e.mark) + ": YAML syntax: " + e.msg);
+  }
+}
+
+YamlFields::YamlFields(std::string file, YAML::Node node, std::string path)
+    : file_(std::move(file)), node_(std::move(node)), path_(std::move(path)) {}
+
+void YamlFields::fail(const std::string& key, const std::string& problem) const {
+  YAML::Mark mark = node_.Mark();
+  if (!key.empty() && node_.IsMap() && node_[key]) {
+    mark = node_[key].Mark();
+  }
+  const std::string field = path_.empty() ? key : (key.empty() ? path_ : path_ + "." + key);
+  throw FormatError(where(file_, mark) + ": field '" + field + "': " + problem);
+}
+
+void YamlFields::allow_only(std::initializer_list<const char*> allowed) const {
+  if (!node_.IsMap()) {
+    fail("", "expected a mapping");
+  }
+  for (const auto& kv : node_) {
+    const std::string key = kv.first.as<std::string>();
+    bool ok = false;
+    for (const char* a : allowed) ok = ok || key == a;
+    if (!ok) {
+      std::string list;
+      for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+      YamlFields(file_, node_, path_).fail(key, "unknown key (allowed: " + list + ")");
+    }
+  }
+}
+
+bool YamlFields::has(const std::string& key) const { return node_.IsMap() && node_[key] && !node_[key].IsNull(); }
+
+YAML::Node YamlFields::get(const std::string& key) const {
+  if (!has(key)) {
+    fail(key, "missing");
+  }
+  return node_[key];
+}
+
+YamlFields YamlFields::child(const std::string& key) const {
+  const YAML::Node n = get(key);
+  if (!n.IsMap()) {
+    fail(key, "expected a mapping");
+  }
+  return YamlFields(file_, n, path_.empty() ? key : path_ + "." + key);
+}
+
+std::vector<YamlFields> YamlFields::sequence(const std::string& key) const {
+  const YAML::Node n = get(key);
+  if (!n.IsSequence()) {
+    fail(key, "expected a list");
+  }
+  std::vector<YamlFields> out;
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    out.emplace_back(file_, n[i], (path_.empty() ? key : path_ + "." + key) + "[" + std::to_string(i) + "]");
+  }
+  return out;
+}
+
+double YamlFields::to_number(const YAML::Node& n, const std::string& key) const {
+  if (!n.IsScalar()) {
+    fail(key, "expected a number");
+  }
+  const std::string s = n.Scalar();
+  errno = 0;
+  char* end = nullptr;
+  const double v = std::strtod(s.c_str(), &end);
+  if (s.empty() || end != s.c_str() + s.size() || errno == ERANGE) {
+    fail(key, "'" + s + "' is not a number in the unit the key names (SI)");
+  }
+  if (!std::isfinite(v)) {
+    fail(key, "'" + s + "' is not finite");
+  }
+  return v;
+}
+
+double YamlFields::number(const std::string& key) const { return to_number(get(key), key); }
+double YamlFields::number(const std::string& key, double fallback) const {
+  return has(key) ? number(key) : fallback;
+}
+long YamlFields::integer(const std::string& key, long fallback) const {
+  if (!has(key)) {
+    return fallback;
+  }
+  const double v = number(key);
+  if (v != std::floor(v) || std::fabs(v) > 9e15) {
+    fail(key, "expected a whole number");
+  }
+  return static_cast<long>(v);
+}
+bool YamlFields::boolean(const std::string& key, bool fallback) const {
+  if (!has(key)) {
+    return fallback;
+  }
+  const std::string s = get(key).Scalar();
+  if (s == "true") return true;
+  if (s == "false") return false;
+  fail(key, "expected true or false, got '" + s + "'");
+}
+std::string YamlFields::text(const std::string& key) const {
+  const YAML::Node n = get(key);
+  if (!n.IsScalar()) {
+    fail(key, "expected text");
+  }
+  return n.Scalar();
+}
+std::string YamlFields::text(const std::string& key, const std::string& fallback) const {
+  return has(key) ? text(key) : fallback;
+}
+std::vector<double> YamlFields::numbers(const std::string& key) const {
+  const YAML::Node n = get(key);
+  if (!n.IsSequence()) {
+    fail(key, "expected a list of numbers");
+  }
+  std::vector<double> out;
+  for (std::size_t i = 0; i < n.size(); ++i) out.push_back(to_number(n[i], key + "[" + std::to_string(i) + "]"));
+  return out;
+}
+std::vector<double> YamlFields::numbers(const std::string& key, std::size_t expected_size) const {
+  auto v = numbers(key);
+  if (v.size() != expected_size) {
+    fail(key, "expected " + std::to_string(expected_size) + " values, got " + std::to_string(v.size()));
+  }
+  return v;
+}
+
+}  // namespace jg::io
