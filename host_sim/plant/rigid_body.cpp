@@ -35,16 +35,27 @@ void ArmDynamics::link_transform(int i, double q, Eigen::Matrix3d& R, Eigen::Vec
   p << l.a_prev, -sa * l.d, ca * l.d;
 }
 
+void ArmDynamics::transforms(const JointVector& q, Transforms& t) const {
+  for (int i = 0; i < joints(); ++i) link_transform(i, q(i), t.R[i], t.p[i]);
+}
+
 JointVector ArmDynamics::inverse_dynamics(const JointVector& q, const JointVector& qd, const JointVector& qdd,
                                           bool with_gravity) const {
+  Transforms t;
+  transforms(q, t);
+  return rnea(t, qd, qdd, with_gravity);
+}
+
+JointVector ArmDynamics::rnea(const Transforms& t, const JointVector& qd, const JointVector& qdd,
+                              bool with_gravity) const {
   const int n = joints();
-  Eigen::Matrix3d R[kPlantMaxJoints];
-  Eigen::Vector3d p[kPlantMaxJoints], F[kPlantMaxJoints], N[kPlantMaxJoints];
+  const Eigen::Matrix3d* R = t.R;
+  const Eigen::Vector3d* p = t.p;
+  Eigen::Vector3d F[kPlantMaxJoints], N[kPlantMaxJoints];
   Eigen::Vector3d w = Eigen::Vector3d::Zero(), wd = Eigen::Vector3d::Zero();
   // Gravity as a fictitious upward acceleration of the base.
   Eigen::Vector3d vd = with_gravity ? Eigen::Vector3d(-gravity_) : Eigen::Vector3d::Zero();
   for (int i = 0; i < n; ++i) {
-    link_transform(i, q(i), R[i], p[i]);
     const Eigen::Matrix3d Rt = R[i].transpose();
     const Eigen::Vector3d w_parent = w;
     const Eigen::Vector3d wd_parent = wd;
@@ -73,14 +84,17 @@ JointVector ArmDynamics::inverse_dynamics(const JointVector& q, const JointVecto
 }
 
 JointMatrix ArmDynamics::mass_matrix(const JointVector& q) const {
+  Transforms t;
+  transforms(q, t);
+  return crba(t);
+}
+
+JointMatrix ArmDynamics::crba(const Transforms& t) const {
   // Composite-rigid-body algorithm. Composite body of links i..n-1 in frame i: mass m,
   // first moment h = m c, rotational inertia I about the origin of frame i.
   const int n = joints();
-  Eigen::Matrix3d R[kPlantMaxJoints];
-  Eigen::Vector3d p[kPlantMaxJoints];
-  for (int i = 0; i < n; ++i) {
-    link_transform(i, q(i), R[i], p[i]);
-  }
+  const Eigen::Matrix3d* R = t.R;
+  const Eigen::Vector3d* p = t.p;
   JointMatrix M = JointMatrix::Zero(n, n);
   double m = 0.0;
   Eigen::Vector3d h = Eigen::Vector3d::Zero();
@@ -118,8 +132,10 @@ JointVector ArmDynamics::gravity_torque(const JointVector& q) const {
 }
 
 JointVector ArmDynamics::forward_dynamics(const JointVector& q, const JointVector& qd, const JointVector& tau) const {
-  const JointVector bias = inverse_dynamics(q, qd, JointVector::Zero(joints()), true);
-  return mass_matrix(q).llt().solve(tau - bias);
+  Transforms t;
+  transforms(q, t);
+  const JointVector bias = rnea(t, qd, JointVector::Zero(joints()), true);
+  return crba(t).llt().solve(tau - bias);
 }
 
 LinkPoses ArmDynamics::poses(const JointVector& q) const {

@@ -58,6 +58,14 @@ class ArmDynamics {
   [[nodiscard]] double potential_energy(const JointVector& q) const;
 
  private:
+  /// Parent-to-link transforms for one configuration, shared by the algorithms below.
+  struct Transforms {
+    Eigen::Matrix3d R[kPlantMaxJoints];
+    Eigen::Vector3d p[kPlantMaxJoints];
+  };
+  void transforms(const JointVector& q, Transforms& t) const;
+  JointVector rnea(const Transforms& t, const JointVector& qd, const JointVector& qdd, bool with_gravity) const;
+  JointMatrix crba(const Transforms& t) const;
   void link_transform(int i, double q, Eigen::Matrix3d& parent_R_i, Eigen::Vector3d& parent_p_i) const;
   std::vector<PlantLink> links_;
   Eigen::Vector3d gravity_;
