@@ -1,0 +1,332 @@
+#include "diagnosis/diagnose.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+namespace jg::diag {
+namespace {
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+struct Split {
+  std::vector<std::size_t> train, test;
+};
+
+Split make_split(std::size_t n, const DiagnoseOptions& o) {
+  Split s;
+  for (std::size_t k = 0; k < n; ++k) {
+    const int block = static_cast<int>(k * static_cast<std::size_t>(o.blocks) / n);
+    const bool held = std::find(o.heldout.begin(), o.heldout.end(), block) != o.heldout.end();
+    (held ? s.test : s.train).push_back(k);
+  }
+  return s;
+}
+
+MatrixXd rows_of(const std::vector<const std::vector<double>*>& cols, const std::vector<std::size_t>& rows) {
+  MatrixXd X(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(cols.size()));
+  for (std::size_t c = 0; c < cols.size(); ++c) {
+    for (std::size_t r = 0; r < rows.size(); ++r) X(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = (*cols[c])[rows[r]];
+  }
+  return X;
+}
+
+VectorXd vec_of(const std::vector<double>& v, const std::vector<std::size_t>& rows) {
+  VectorXd x(static_cast<Eigen::Index>(rows.size()));
+  for (std::size_t r = 0; r < rows.size(); ++r) x(static_cast<Eigen::Index>(r)) = v[rows[r]];
+  return x;
+}
+
+VectorXd solve(const MatrixXd& X, const VectorXd& y) {
+  if (X.cols() == 0) return VectorXd();
+  return X.colPivHouseholderQr().solve(y);
+}
+
+double rms(const VectorXd& e) { return e.size() ? std::sqrt(e.squaredNorm() / static_cast<double>(e.size())) : 0.0; }
+
+double bic(double rss, std::size_t n, int k) {
+  const double nn = static_cast<double>(n);
+  return nn * std::log(std::max(rss, 1e-300) / nn) + k * std::log(nn);
+}
+
+// Chi-square upper tail by the Wilson-Hilferty approximation.
+double chi2_sf(double x, int k) {
+  if (x <= 0.0) return 1.0;
+  const double kk = k;
+  const double z = (std::cbrt(x / kk) - (1.0 - 2.0 / (9.0 * kk))) / std::sqrt(2.0 / (9.0 * kk));
+  return 0.5 * std::erfc(z / std::sqrt(2.0));
+}
+
+double ljung_box(const std::vector<double>& e, int lags) {
+  const std::size_t n = e.size();
+  const double mean = std::accumulate(e.begin(), e.end(), 0.0) / static_cast<double>(n);
+  double c0 = 0.0;
+  for (const double v : e) c0 += (v - mean) * (v - mean);
+  double q = 0.0;
+  for (int h = 1; h <= lags; ++h) {
+    double ch = 0.0;
+    for (std::size_t k = static_cast<std::size_t>(h); k < n; ++k) ch += (e[k] - mean) * (e[k - static_cast<std::size_t>(h)] - mean);
+    const double rho = ch / c0;
+    q += rho * rho / static_cast<double>(n - static_cast<std::size_t>(h));
+  }
+  return static_cast<double>(n) * (static_cast<double>(n) + 2.0) * q;
+}
+
+/// Share of the residual's variance explained by binning it against a variable.
+double binned_share(const std::vector<double>& r, const std::vector<double>& x, int bins = 20) {
+  const auto [lo_it, hi_it] = std::minmax_element(x.begin(), x.end());
+  const double lo = *lo_it, hi = *hi_it;
+  if (!(hi > lo)) return 0.0;
+  std::vector<double> sum(static_cast<std::size_t>(bins), 0.0), cnt(static_cast<std::size_t>(bins), 0.0);
+  for (std::size_t k = 0; k < r.size(); ++k) {
+    const auto b = static_cast<std::size_t>(std::min(bins - 1, static_cast<int>((x[k] - lo) / (hi - lo) * bins)));
+    sum[b] += r[k];
+    cnt[b] += 1.0;
+  }
+  const double mean = std::accumulate(r.begin(), r.end(), 0.0) / static_cast<double>(r.size());
+  double total = 0.0, between = 0.0;
+  for (const double v : r) total += (v - mean) * (v - mean);
+  for (std::size_t b = 0; b < sum.size(); ++b) {
+    if (cnt[b] > 0.0) between += cnt[b] * (sum[b] / cnt[b] - mean) * (sum[b] / cnt[b] - mean);
+  }
+  return total > 0.0 ? between / total : 0.0;
+}
+
+Location locate(const JointSignals& s, double noise) {
+  Location loc;
+  const std::size_t n = s.size();
+  const auto& r = s.residual;
+  // Significant segments: moving RMS over ~50 samples above 3 noise levels.
+  const std::size_t w = std::max<std::size_t>(5, std::min<std::size_t>(50, n / 20));
+  double acc = 0.0;
+  bool open = false;
+  Segment seg;
+  double seg_acc = 0.0;
+  std::size_t seg_n = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    acc += r[k] * r[k];
+    if (k >= w) acc -= r[k - w] * r[k - w];
+    const double mov = std::sqrt(std::max(0.0, acc) / static_cast<double>(std::min(k + 1, w)));
+    const bool hot = mov > 3.0 * noise && k >= w;
+    if (hot && !open) {
+      open = true;
+      seg = Segment{s.t[k - w], s.t[k], 0.0};
+      seg_acc = 0.0;
+      seg_n = 0;
+    }
+    if (open) {
+      seg_acc += r[k] * r[k];
+      ++seg_n;
+    }
+    if (open && (!hot || k + 1 == n)) {
+      open = false;
+      seg.t_end = s.t[k];
+      seg.rms = std::sqrt(seg_acc / static_cast<double>(std::max<std::size_t>(1, seg_n)));
+      if (loc.segments.size() < 50) loc.segments.push_back(seg);
+    }
+  }
+  std::vector<double> sgn(n), absload(n);
+  for (std::size_t k = 0; k < n; ++k) sgn[k] = s.dq[k] > 0 ? 1.0 : (s.dq[k] < 0 ? -1.0 : 0.0);
+  loc.dependence["velocity"] = binned_share(r, s.dq);
+  loc.dependence["velocity_sign"] = binned_share(r, sgn, 3);
+  loc.dependence["position"] = binned_share(r, s.q);
+  loc.dependence["acceleration"] = binned_share(r, s.ddq);
+  loc.dependence["time"] = binned_share(r, s.t);
+  if (!s.load.empty()) loc.dependence["load"] = binned_share(r, s.load);
+  loc.dependence["model_torque"] = binned_share(r, s.tau_model);
+  // Periodicity in position: strongest k by correlation with sin/cos(k q).
+  double best = 0.0;
+  for (int k = 1; k <= 200; ++k) {
+    double a = 0.0, b = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      a += r[i] * std::sin(k * s.q[i]);
+      b += r[i] * std::cos(k * s.q[i]);
+    }
+    if (a * a + b * b > best) {
+      best = a * a + b * b;
+      loc.best_periods_per_rev = k;
+    }
+  }
+  // Lag: correlation of the residual with the model torque's rate over +/-50 samples.
+  const auto rate = derivative(s.tau_model, s.dt);
+  double best_c = 0.0;
+  for (int lag = -50; lag <= 50; ++lag) {
+    double c = 0.0;
+    for (std::size_t i = 50; i + 50 < n; ++i) c += r[i] * rate[static_cast<std::size_t>(static_cast<long>(i) + lag)];
+    if (std::fabs(c) > best_c) {
+      best_c = std::fabs(c);
+      loc.lag_s = lag * s.dt;
+    }
+  }
+  // Near velocity reversals (within 50 ms) against elsewhere.
+  std::vector<bool> near(n, false);
+  for (std::size_t k = 1; k < n; ++k) {
+    if (sgn[k] != 0.0 && sgn[k - 1] != 0.0 && sgn[k] != sgn[k - 1]) {
+      const auto span = static_cast<std::size_t>(0.05 / s.dt);
+      for (std::size_t j = k > span ? k - span : 0; j < std::min(n, k + span); ++j) near[j] = true;
+    }
+  }
+  double a1 = 0, n1 = 0, a2 = 0, n2 = 0;
+  for (std::size_t k = 0; k < n; ++k) (near[k] ? (a1 += r[k] * r[k], n1 += 1) : (a2 += r[k] * r[k], n2 += 1));
+  loc.reversal_rms = n1 > 0 ? std::sqrt(a1 / n1) : 0.0;
+  loc.elsewhere_rms = n2 > 0 ? std::sqrt(a2 / n2) : 0.0;
+  return loc;
+}
+}  // namespace
+
+JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
+  const std::size_t n = s.size();
+  if (n < 200) throw std::invalid_argument("joint " + std::to_string(s.joint) + ": too few samples to diagnose (" + std::to_string(n) + ", need 200)");
+  for (const auto* v : {&s.q, &s.dq, &s.ddq, &s.tau_real, &s.tau_model, &s.residual}) {
+    if (v->size() != n) throw std::invalid_argument("diagnose: signals of different lengths");
+    for (const double x : *v) if (!std::isfinite(x)) throw std::invalid_argument("joint " + std::to_string(s.joint) + ": non-finite value in the signals");
+  }
+  JointDiagnosis d;
+  d.joint = s.joint;
+  d.noise_rms = noise_level(s.residual);
+  d.location = locate(s, d.noise_rms);
+  const Split split = make_split(n, o);
+  const VectorXd y_train = vec_of(s.residual, split.train), y_test = vec_of(s.residual, split.test);
+  const auto all_candidates = build_candidates(s);
+
+  std::vector<const Candidate*> chosen;
+  std::vector<bool> used(all_candidates.size(), false), rejected(all_candidates.size(), false);
+  auto columns_of = [](const std::vector<const Candidate*>& cs) {
+    std::vector<const std::vector<double>*> cols;
+    for (const auto* c : cs) for (const auto& col : c->columns) cols.push_back(&col);
+    return cols;
+  };
+  auto param_count = [](const std::vector<const Candidate*>& cs) {
+    int k = 0;
+    for (const auto* c : cs) k += static_cast<int>(c->columns.size()) + c->nonlinear_params;
+    return k;
+  };
+  auto heldout_rms = [&](const std::vector<const Candidate*>& cs) {
+    const auto cols = columns_of(cs);
+    if (cols.empty()) return rms(y_test);
+    const VectorXd b = solve(rows_of(cols, split.train), y_train);
+    return rms(y_test - rows_of(cols, split.test) * b);
+  };
+  double current_rss = y_train.squaredNorm();
+  double current_bic = bic(current_rss, split.train.size(), 0);
+  double current_heldout = rms(y_test);
+  d.heldout_rms_before = current_heldout;
+  while (static_cast<int>(chosen.size()) < o.max_effects) {
+    // Orthonormal basis of the chosen columns (train rows): candidates are judged on
+    // what they add beyond them (Frisch-Waugh).
+    const MatrixXd Xs = rows_of(columns_of(chosen), split.train);
+    MatrixXd Q;
+    if (Xs.cols() > 0) {
+      Eigen::HouseholderQR<MatrixXd> qr(Xs);
+      Q = qr.householderQ() * MatrixXd::Identity(Xs.rows(), Xs.cols());
+    }
+    const VectorXd r_s = Xs.cols() > 0 ? VectorXd(y_train - Q * (Q.transpose() * y_train)) : y_train;
+    double best_delta = 0.0;
+    std::size_t best_group = all_candidates.size();
+    const Candidate* best_cand = nullptr;
+    for (std::size_t g = 0; g < all_candidates.size(); ++g) {
+      if (used[g] || rejected[g]) continue;
+      for (const auto& cand : all_candidates[g]) {
+        std::vector<const std::vector<double>*> cols;
+        for (const auto& col : cand.columns) cols.push_back(&col);
+        MatrixXd Xc = rows_of(cols, split.train);
+        if (Q.cols() > 0) Xc -= Q * (Q.transpose() * Xc);
+        if (Xc.norm() < 1e-9) continue;
+        const VectorXd b = Xc.colPivHouseholderQr().solve(r_s);
+        const double rss = (r_s - Xc * b).squaredNorm();
+        const int k = param_count(chosen) + static_cast<int>(cand.columns.size()) + cand.nonlinear_params;
+        const double delta = bic(rss, split.train.size(), k) - current_bic;
+        if (delta < best_delta) {
+          best_delta = delta;
+          best_group = g;
+          best_cand = &cand;
+        }
+      }
+    }
+    if (best_cand == nullptr || best_delta > -o.min_delta_bic) break;
+    std::vector<const Candidate*> trial = chosen;
+    trial.push_back(best_cand);
+    const double h = heldout_rms(trial);
+    if (h > current_heldout * (1.0 - o.min_heldout_gain)) {
+      rejected[best_group] = true;  // fits the training blocks only: not claimed
+      d.notes.push_back(best_cand->effect + " improved the training fit but not the held-out blocks: not claimed");
+      continue;
+    }
+    chosen = trial;
+    used[best_group] = true;
+    current_heldout = h;
+    const VectorXd b = solve(rows_of(columns_of(chosen), split.train), y_train);
+    current_rss = (y_train - rows_of(columns_of(chosen), split.train) * b).squaredNorm();
+    current_bic = bic(current_rss, split.train.size(), param_count(chosen));
+  }
+  d.heldout_rms_after = current_heldout;
+  // Final fit on all samples, ranking by the evidence each effect carries.
+  std::vector<std::size_t> all_rows(n);
+  std::iota(all_rows.begin(), all_rows.end(), 0U);
+  const VectorXd y = vec_of(s.residual, all_rows);
+  d.rms_before = rms(y);
+  d.fitted.assign(n, 0.0);
+  if (chosen.empty()) {
+    d.rms_after = d.rms_before;
+  } else {
+    const auto cols = columns_of(chosen);
+    const MatrixXd X = rows_of(cols, all_rows);
+    const VectorXd b = solve(X, y);
+    const VectorXd fit = X * b;
+    for (std::size_t k = 0; k < n; ++k) d.fitted[k] = fit(static_cast<Eigen::Index>(k));
+    d.rms_after = rms(y - fit);
+    const double full_bic = bic((y - fit).squaredNorm(), n, param_count(chosen));
+    Eigen::Index offset = 0;
+    for (std::size_t i = 0; i < chosen.size(); ++i) {
+      const Candidate& c = *chosen[i];
+      std::vector<double> coef;
+      for (std::size_t j = 0; j < c.columns.size(); ++j) coef.push_back(b(offset + static_cast<Eigen::Index>(j)));
+      offset += static_cast<Eigen::Index>(c.columns.size());
+      std::vector<const Candidate*> without = chosen;
+      without.erase(without.begin() + static_cast<std::ptrdiff_t>(i));
+      double rss_without = y.squaredNorm();
+      if (!without.empty()) {
+        const MatrixXd Xw = rows_of(columns_of(without), all_rows);
+        rss_without = (y - Xw * solve(Xw, y)).squaredNorm();
+      }
+      Finding f;
+      f.effect = c.effect;
+      f.delta_bic = bic(rss_without, n, param_count(without)) - full_bic;
+      f.confidence = 1.0 / (1.0 + std::exp(-(f.delta_bic - o.min_delta_bic) / 10.0));
+      f.params = describe(c, coef, s, f.text);
+      d.findings.push_back(f);
+    }
+    std::sort(d.findings.begin(), d.findings.end(), [](const Finding& a, const Finding& b2) { return a.delta_bic > b2.delta_bic; });
+  }
+  // Joint elasticity shows in the velocity channel: motor-side velocity minus the link
+  // encoder's derivative follows the torque rate / stiffness.
+  if (!s.velocity_mismatch.empty()) {
+    const auto rate = derivative(s.tau_real, s.dt);
+    const VectorXd v_train = vec_of(s.velocity_mismatch, split.train), v_test = vec_of(s.velocity_mismatch, split.test);
+    const std::vector<const std::vector<double>*> cols{&rate};
+    const MatrixXd Xtr = rows_of(cols, split.train), Xte = rows_of(cols, split.test);
+    const VectorXd b = solve(Xtr, v_train);
+    const double rss0 = v_train.squaredNorm(), rss1 = (v_train - Xtr * b).squaredNorm();
+    const double delta = bic(rss0, split.train.size(), 0) - bic(rss1, split.train.size(), 1);
+    const double h0 = rms(v_test), h1 = rms(v_test - Xte * b);
+    if (delta > o.min_delta_bic && h1 < h0 * (1.0 - o.min_heldout_gain) && b(0) > 0.0) {
+      Finding f;
+      f.effect = "joint_elasticity";
+      f.delta_bic = delta;
+      f.confidence = 1.0 / (1.0 + std::exp(-(delta - o.min_delta_bic) / 10.0));
+      f.params = describe(Candidate{"joint_elasticity", {}, {}, 0}, {b(0)}, s, f.text);
+      f.params["velocity_rms_before"] = h0;
+      f.params["velocity_rms_after"] = h1;
+      d.findings.push_back(f);
+    }
+  }
+  std::vector<double> final_residual(n);
+  for (std::size_t k = 0; k < n; ++k) final_residual[k] = s.residual[k] - d.fitted[k];
+  d.whiteness_q = ljung_box(final_residual, 20);
+  d.whiteness_p = chi2_sf(d.whiteness_q, 20);
+  return d;
+}
+
+}  // namespace jg::diag

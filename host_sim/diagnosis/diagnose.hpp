@@ -1,0 +1,61 @@
+// Model-mismatch diagnosis of one joint: locate where the residual is significant and
+// what it depends on, select the physical effects that explain it (forward selection of
+// effect groups by the Bayesian information criterion, each addition confirmed on held-out
+// blocks of the recording), fit them, and report before/after figures.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "diagnosis/effects.hpp"
+#include "diagnosis/signals.hpp"
+
+namespace jg::diag {
+
+struct Finding {
+  std::string effect;
+  std::map<std::string, double> params;
+  double confidence = 0.0;   ///< 0..1, from the evidence for keeping it (information criterion)
+  double delta_bic = 0.0;    ///< BIC increase when it is removed from the final model
+  std::string text;          ///< human description
+};
+
+struct Segment {
+  double t_begin = 0.0, t_end = 0.0;
+  double rms = 0.0;
+};
+
+/// Where the residual lives: significant segments, what it depends on, periodicity, lag.
+struct Location {
+  std::vector<Segment> segments;               ///< smoothed |residual| above 3 sigma
+  std::map<std::string, double> dependence;     ///< variable -> share of residual variance it explains (binned)
+  double best_periods_per_rev = 0.0;            ///< strongest periodicity in position
+  double lag_s = 0.0;                           ///< lag maximising correlation with the model torque
+  double reversal_rms = 0.0, elsewhere_rms = 0.0;  ///< residual near velocity reversals vs elsewhere
+};
+
+struct JointDiagnosis {
+  int joint = 1;
+  std::vector<Finding> findings;  ///< ranked, strongest first; empty = "none"
+  double noise_rms = 0.0;          ///< estimated from the data itself
+  double rms_before = 0.0, rms_after = 0.0;
+  double heldout_rms_before = 0.0, heldout_rms_after = 0.0;
+  double whiteness_q = 0.0;        ///< Ljung-Box statistic of the final residual (20 lags)
+  double whiteness_p = 0.0;        ///< its p-value (chi-square, 20 dof)
+  Location location;
+  std::vector<double> fitted;      ///< the fitted effects' torque over the recording
+  std::vector<std::string> notes;
+};
+
+struct DiagnoseOptions {
+  int blocks = 10;            ///< the recording is cut in this many blocks ...
+  std::vector<int> heldout{1, 4, 7};  ///< ... and these are held out
+  double min_delta_bic = 25.0;  ///< evidence an effect must bring (strong, Kass-Raftery)
+  double min_heldout_gain = 0.005;  ///< relative held-out RMS reduction an effect must bring
+  int max_effects = 5;
+};
+
+JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o = {});
+
+}  // namespace jg::diag

@@ -1,0 +1,41 @@
+// The library of candidate physical effects. Each effect is a small parametric model of
+// the torque it adds to the residual, written as regressor columns (linear in its
+// amplitude parameters) for each value of its nonlinear parameter (scanned on a grid).
+// Names are the vocabulary of ../shared/CONTRACT.md.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "diagnosis/signals.hpp"
+
+namespace jg::diag {
+
+inline const std::vector<std::string>& effect_vocabulary() {
+  static const std::vector<std::string> v = {
+      "coulomb",      "viscous",         "stribeck",       "presliding", "asymmetric_friction",
+      "position_ripple", "temperature_drift", "load_dependent_friction", "payload", "inertia_error",
+      "torque_constant", "current_offset", "time_delay",     "backlash",   "joint_elasticity", "none"};
+  return v;
+}
+
+/// One instance of an effect: its columns over the samples, for one setting of its
+/// nonlinear parameter (if any).
+struct Candidate {
+  std::string effect;
+  std::vector<std::vector<double>> columns;
+  std::map<std::string, double> setting;  ///< nonlinear parameter(s) of this instance
+  int nonlinear_params = 0;               ///< counted in the information criterion
+};
+
+/// All instances of all effects that the signals can support (an effect that needs a
+/// model, e.g. payload, is skipped when the model's columns are absent).
+std::vector<std::vector<Candidate>> build_candidates(const JointSignals& s);
+
+/// Physical parameters of an effect from its fitted coefficients, in words a robotics
+/// engineer uses, plus a one-line description.
+std::map<std::string, double> describe(const Candidate& c, const std::vector<double>& coefficients,
+                                       const JointSignals& s, std::string& text);
+
+}  // namespace jg::diag

@@ -1,0 +1,184 @@
+#include "diagnosis/pairing.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "identification/lugre_batch.hpp"
+
+namespace jg::diag {
+namespace {
+
+double uniform_dt(const io::Recording& r, const char* which) {
+  const std::size_t n = r.samples();
+  if (n < 3) throw std::invalid_argument(std::string(which) + " recording has fewer than 3 samples");
+  const double dt = (r.t.back() - r.t.front()) / static_cast<double>(n - 1);
+  for (std::size_t k = 1; k < n; ++k) {
+    const double step = r.t[k] - r.t[k - 1];
+    if (step > 1.5 * dt || step < 0.5 * dt) {
+      throw std::invalid_argument(std::string(which) + " recording has a gap or irregular step at t = " +
+                                  std::to_string(r.t[k - 1]) + " s (step " + std::to_string(step) +
+                                  " s, mean " + std::to_string(dt) + " s): resample it to a uniform rate first");
+    }
+  }
+  return dt;
+}
+
+std::vector<double> torque_of(const io::Recording& r, std::size_t j, const ModelContext& m, const char* which) {
+  if (!r.tau_m.empty()) return r.tau_m[j];
+  if (!r.current.empty() && j < m.torque_constant.size()) {
+    std::vector<double> t(r.current[j]);
+    for (auto& v : t) v *= m.torque_constant[j];
+    return t;
+  }
+  throw std::invalid_argument(std::string(which) + " recording: joint " + std::to_string(r.joint_ids[j]) +
+                              " has currents but the model gives no torque constant; give tau_m<j> columns");
+}
+
+double interp(const std::vector<double>& t, const std::vector<double>& x, double at, std::size_t& hint) {
+  while (hint + 1 < t.size() && t[hint + 1] < at) ++hint;
+  if (hint + 1 >= t.size()) return x.back();
+  const double a = (at - t[hint]) / (t[hint + 1] - t[hint]);
+  return x[hint] + std::clamp(a, 0.0, 1.0) * (x[hint + 1] - x[hint]);
+}
+
+sim::JointVector column_at(const std::vector<std::vector<double>>& sig, std::size_t k) {
+  sim::JointVector v(static_cast<Eigen::Index>(sig.size()));
+  for (std::size_t j = 0; j < sig.size(); ++j) v(static_cast<Eigen::Index>(j)) = sig[j][k];
+  return v;
+}
+
+/// Fills the model-dependent signals: ddq, rigid-body load, payload columns, mismatch.
+void add_model_terms(std::vector<JointSignals>& out, const io::Recording& real, const ModelContext& m) {
+  const std::size_t n = real.samples();
+  const std::size_t nj = real.joints();
+  std::vector<std::vector<double>> ddq(nj);
+  for (std::size_t j = 0; j < nj; ++j) {
+    ddq[j] = derivative(real.dq[j], out[j].dt);
+    out[j].ddq = ddq[j];
+    const auto dq_link = derivative(real.q[j], out[j].dt);
+    out[j].velocity_mismatch.resize(n);
+    for (std::size_t k = 0; k < n; ++k) out[j].velocity_mismatch[k] = real.dq[j][k] - dq_link[k];
+  }
+  if (m.arm == nullptr || m.arm->joints() != static_cast<int>(nj)) return;
+  sim::ArmDynamics plus = *m.arm;
+  const int last = plus.joints() - 1;
+  for (auto& s : out) {
+    s.load.resize(n);
+    s.payload_columns.assign(4, std::vector<double>(n, 0.0));
+  }
+  // d tau / d theta for theta = (m, m cx, m cy, m cz) of the last link: the dynamics are
+  // linear in these, so a unit step gives the exact column (point mass at the CoM).
+  const sim::PlantLink base = m.arm->link(last);
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto q = column_at(real.q, k), dq = column_at(real.dq, k), a = column_at(ddq, k);
+    const sim::JointVector tau0 = m.arm->inverse_dynamics(q, dq, a);
+    for (std::size_t j = 0; j < nj; ++j) out[j].load[k] = tau0(static_cast<Eigen::Index>(j));
+    for (int p = 0; p < 4; ++p) {
+      sim::PlantLink l = base;
+      // Adding mass dm at point c changes (m, m c) by (dm, dm c); choose dm = 1 kg at the
+      // old CoM (p = 0) or shift first moments by 1 kg·m along an axis (p = 1..3).
+      const double m0 = l.mass;
+      Eigen::Vector3d first = m0 * l.com;
+      double mass = m0;
+      if (p == 0) mass += 1.0;
+      else first(p - 1) += 1.0;
+      l.mass = mass;
+      l.com = mass > 0.0 ? Eigen::Vector3d(first / mass) : Eigen::Vector3d::Zero();
+      // Keep the rotational inertia about the origin unchanged apart from the point mass.
+      plus.link(last) = l;
+      const sim::JointVector tau1 = plus.inverse_dynamics(q, dq, a);
+      for (std::size_t j = 0; j < nj; ++j) out[j].payload_columns[static_cast<std::size_t>(p)][k] = tau1(static_cast<Eigen::Index>(j)) - tau0(static_cast<Eigen::Index>(j));
+    }
+    plus.link(last) = base;
+  }
+}
+
+}  // namespace
+
+std::vector<JointSignals> signals_from_pair(const io::Recording& real, const io::Recording& simulated,
+                                            const ModelContext& model) {
+  if (real.joint_ids != simulated.joint_ids) {
+    throw std::invalid_argument("real and simulated recordings have different joints (" +
+                                std::to_string(real.joints()) + " vs " + std::to_string(simulated.joints()) + ")");
+  }
+  const double dt = uniform_dt(real, "real");
+  if (simulated.t.front() > real.t.front() + dt || simulated.t.back() < real.t.back() - dt) {
+    throw std::invalid_argument("the simulated recording does not cover the real one's time span [" +
+                                std::to_string(real.t.front()) + ", " + std::to_string(real.t.back()) + "] s");
+  }
+  std::vector<JointSignals> out(real.joints());
+  for (std::size_t j = 0; j < real.joints(); ++j) {
+    JointSignals& s = out[j];
+    s.joint = real.joint_ids[j];
+    s.dt = dt;
+    s.t = real.t;
+    s.q = real.q[j];
+    s.dq = real.dq[j];
+    s.tau_real = torque_of(real, j, model, "real");
+    const auto sim_tau = torque_of(simulated, j, model, "simulated");
+    s.tau_model.resize(s.t.size());
+    std::size_t hint = 0;
+    for (std::size_t k = 0; k < s.t.size(); ++k) s.tau_model[k] = interp(simulated.t, sim_tau, s.t[k], hint);
+  }
+  add_model_terms(out, real, model);
+  // With a model, correct the simulated torque for the difference between the two runs'
+  // motions (the same reference, tracked slightly differently): otherwise that
+  // difference, not missing physics, would dominate near reversals and accelerations.
+  if (model.arm != nullptr && model.arm->joints() == static_cast<int>(real.joints()) && !out.empty() &&
+      !out[0].load.empty()) {
+    const std::size_t nj = real.joints();
+    std::vector<std::vector<double>> q_s(nj), dq_s(nj), ddq_s(nj);
+    for (std::size_t j = 0; j < nj; ++j) {
+      std::size_t h1 = 0, h2 = 0;
+      q_s[j].resize(real.samples());
+      dq_s[j].resize(real.samples());
+      for (std::size_t k = 0; k < real.samples(); ++k) {
+        q_s[j][k] = interp(simulated.t, simulated.q[j], real.t[k], h1);
+        dq_s[j][k] = interp(simulated.t, simulated.dq[j], real.t[k], h2);
+      }
+      ddq_s[j] = derivative(dq_s[j], dt);
+    }
+    for (std::size_t k = 0; k < real.samples(); ++k) {
+      const auto tau_sim_motion = model.arm->inverse_dynamics(column_at(q_s, k), column_at(dq_s, k), column_at(ddq_s, k));
+      for (std::size_t j = 0; j < nj; ++j) out[j].tau_model[k] += out[j].load[k] - tau_sim_motion(static_cast<Eigen::Index>(j));
+    }
+    for (std::size_t j = 0; j < nj && j < model.friction.size() && model.correct_friction; ++j) {
+      const auto f_real = ident::lugre_predict(model.friction[j], real.dq[j], dt);
+      const auto f_sim = ident::lugre_predict(model.friction[j], dq_s[j], dt);
+      for (std::size_t k = 0; k < real.samples(); ++k) out[j].tau_model[k] += f_real[k] - f_sim[k];
+    }
+  }
+  for (auto& s : out) {
+    s.residual.resize(s.t.size());
+    for (std::size_t k = 0; k < s.t.size(); ++k) s.residual[k] = s.tau_real[k] - s.tau_model[k];
+  }
+  return out;
+}
+
+std::vector<JointSignals> signals_from_model(const io::Recording& real, const ModelContext& model) {
+  const double dt = uniform_dt(real, "real");
+  std::vector<JointSignals> out(real.joints());
+  for (std::size_t j = 0; j < real.joints(); ++j) {
+    out[j].joint = real.joint_ids[j];
+    out[j].dt = dt;
+    out[j].t = real.t;
+    out[j].q = real.q[j];
+    out[j].dq = real.dq[j];
+    out[j].tau_real = torque_of(real, j, model, "real");
+  }
+  add_model_terms(out, real, model);
+  for (std::size_t j = 0; j < real.joints(); ++j) {
+    JointSignals& s = out[j];
+    s.tau_model = s.load.empty() ? std::vector<double>(s.t.size(), 0.0) : s.load;
+    if (j < model.friction.size()) {
+      const auto f = ident::lugre_predict(model.friction[j], s.dq, dt);
+      for (std::size_t k = 0; k < s.t.size(); ++k) s.tau_model[k] += f[k];
+    }
+    s.residual.resize(s.t.size());
+    for (std::size_t k = 0; k < s.t.size(); ++k) s.residual[k] = s.tau_real[k] - s.tau_model[k];
+  }
+  return out;
+}
+
+}  // namespace jg::diag

@@ -1,0 +1,34 @@
+// Per-joint signals the diagnosis works on: the residual (real minus simulated or
+// predicted motor torque) and the variables that may explain it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace jg::diag {
+
+struct JointSignals {
+  int joint = 1;                 ///< joint number as in the recording
+  double dt = 0.0;               ///< sample time [s] (uniform)
+  std::vector<double> t;         ///< [s]
+  std::vector<double> q;         ///< link position [rad]
+  std::vector<double> dq;        ///< velocity [rad/s]
+  std::vector<double> ddq;       ///< acceleration estimated by differentiating dq [rad/s^2]
+  std::vector<double> tau_real;  ///< measured motor torque [N·m]
+  std::vector<double> tau_model; ///< simulated or predicted motor torque [N·m]
+  std::vector<double> load;      ///< rigid-body torque of the model (no friction) [N·m]
+  std::vector<double> residual;  ///< tau_real - tau_model
+  /// Payload regressors: d tau_j / d(theta) of the model for theta = (m, m cx, m cy, m cz)
+  /// of the last link; empty when no model is available.
+  std::vector<std::vector<double>> payload_columns;
+  std::vector<double> velocity_mismatch;  ///< dq - d/dt q (elastic deflection rate) [rad/s]
+  [[nodiscard]] std::size_t size() const { return t.size(); }
+};
+
+/// Smoothed derivative (Savitzky-Golay slope over about +/-10 ms; uniform dt).
+std::vector<double> derivative(const std::vector<double>& x, double dt);
+/// Noise level of a signal from itself: 1.4826 MAD of second differences / sqrt(6), which
+/// ignores smooth structure and isolated jumps.
+double noise_level(const std::vector<double>& x);
+
+}  // namespace jg::diag
