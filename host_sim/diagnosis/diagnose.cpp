@@ -232,8 +232,11 @@ JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
         std::vector<const std::vector<double>*> cols;
         for (const auto& col : cand.columns) cols.push_back(&col);
         MatrixXd Xc = rows_of(cols, split.train);
+        const double raw_norm = Xc.norm();
         if (Q.cols() > 0) Xc -= Q * (Q.transpose() * Xc);
-        if (Xc.norm() < 1e-9) continue;
+        // An effect mostly explained by those already chosen (variance inflation > 50)
+        // cannot be told apart from them on these data: it is not a candidate.
+        if (Xc.norm() < 1e-9 || Xc.norm() < o.min_independence * raw_norm) continue;
         const VectorXd b = Xc.colPivHouseholderQr().solve(r_s);
         const double rss = (r_s - Xc * b).squaredNorm();
         const int k = param_count(chosen) + static_cast<int>(cand.columns.size()) + cand.nonlinear_params;
@@ -284,6 +287,7 @@ JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
       std::vector<double> coef;
       for (std::size_t j = 0; j < c.columns.size(); ++j) coef.push_back(b(offset + static_cast<Eigen::Index>(j)));
       offset += static_cast<Eigen::Index>(c.columns.size());
+      d.model.push_back({c.effect, c.setting, coef});
       std::vector<const Candidate*> without = chosen;
       without.erase(without.begin() + static_cast<std::ptrdiff_t>(i));
       double rss_without = y.squaredNorm();
@@ -327,6 +331,20 @@ JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
   d.whiteness_q = ljung_box(final_residual, 20);
   d.whiteness_p = chi2_sf(d.whiteness_q, 20);
   return d;
+}
+
+std::vector<double> predict_effects(const std::vector<FittedEffect>& model, const JointSignals& s) {
+  std::vector<double> out(s.size(), 0.0);
+  for (const auto& m : model) {
+    const Candidate c = make_candidate(m.effect, m.setting, s);
+    if (c.columns.size() != m.coefficients.size()) {
+      throw std::invalid_argument("effect '" + m.effect + "' cannot be predicted on these signals (missing model terms)");
+    }
+    for (std::size_t j = 0; j < c.columns.size(); ++j) {
+      for (std::size_t k = 0; k < out.size(); ++k) out[k] += m.coefficients[j] * c.columns[j][k];
+    }
+  }
+  return out;
 }
 
 }  // namespace jg::diag

@@ -21,6 +21,14 @@ struct Finding {
   std::string text;          ///< human description
 };
 
+/// A selected effect with its setting and fitted coefficients: enough to predict it on
+/// other data of the same joint (predict_effects).
+struct FittedEffect {
+  std::string effect;
+  std::map<std::string, double> setting;
+  std::vector<double> coefficients;
+};
+
 struct Segment {
   double t_begin = 0.0, t_end = 0.0;
   double rms = 0.0;
@@ -45,6 +53,7 @@ struct JointDiagnosis {
   double whiteness_p = 0.0;        ///< its p-value (chi-square, 20 dof)
   Location location;
   std::vector<double> fitted;      ///< the fitted effects' torque over the recording
+  std::vector<FittedEffect> model; ///< the selected effects, for predict_effects
   std::vector<std::string> notes;
 };
 
@@ -54,8 +63,14 @@ struct DiagnoseOptions {
   double min_delta_bic = 25.0;  ///< evidence an effect must bring (strong, Kass-Raftery)
   double min_heldout_gain = 0.005;  ///< relative held-out RMS reduction an effect must bring
   int max_effects = 5;
+  /// Share of an effect's regressor norm that must lie outside the span of the effects
+  /// already chosen (1/sqrt(variance inflation)); below it the effect is not separable.
+  double min_independence = 0.14;
 };
 
 JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o = {});
+
+/// The torque the fitted effects add over other signals of the same joint.
+std::vector<double> predict_effects(const std::vector<FittedEffect>& model, const JointSignals& s);
 
 }  // namespace jg::diag

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 namespace jg::diag {
 namespace {
@@ -17,128 +18,117 @@ double velocity_band(const JointSignals& s) {
 std::vector<double> column(std::size_t n) { return std::vector<double>(n, 0.0); }
 }  // namespace
 
-std::vector<std::vector<Candidate>> build_candidates(const JointSignals& s) {
+Candidate make_candidate(const std::string& effect, const std::map<std::string, double>& setting,
+                         const JointSignals& s) {
   const std::size_t n = s.size();
   const double band = velocity_band(s);
-  std::vector<double> sgn(n);
-  for (std::size_t k = 0; k < n; ++k) sgn[k] = soft_sign(s.dq[k], band);
-  std::vector<std::vector<Candidate>> all;
-
-  auto single = [&](const std::string& name, std::vector<double> col) {
-    Candidate c;
-    c.effect = name;
-    c.columns.push_back(std::move(col));
-    all.push_back({std::move(c)});
+  auto sgn = [&](std::size_t k) { return soft_sign(s.dq[k], band); };
+  auto get = [&](const char* key) {
+    const auto it = setting.find(key);
+    if (it == setting.end()) throw std::invalid_argument("effect '" + effect + "' needs setting '" + key + "'");
+    return it->second;
   };
-  single("coulomb", sgn);
-  single("viscous", s.dq);
-  {  // stribeck: extra friction near zero velocity, decaying with w_s
-    std::vector<Candidate> v;
-    for (const double ws : {0.003, 0.006, 0.01, 0.02, 0.04, 0.07, 0.1, 0.15, 0.25, 0.4}) {
-      Candidate c;
-      c.effect = "stribeck";
-      c.setting["w_s"] = ws;
-      c.nonlinear_params = 1;
-      auto col = column(n);
-      for (std::size_t k = 0; k < n; ++k) col[k] = sgn[k] * std::exp(-(s.dq[k] / ws) * (s.dq[k] / ws));
-      c.columns.push_back(std::move(col));
-      v.push_back(std::move(c));
+  Candidate c;
+  c.effect = effect;
+  c.setting = setting;
+  c.nonlinear_params = static_cast<int>(setting.size());
+  auto col = column(n);
+  if (effect == "coulomb") {
+    for (std::size_t k = 0; k < n; ++k) col[k] = sgn(k);
+  } else if (effect == "viscous") {
+    col = s.dq;
+  } else if (effect == "stribeck") {
+    const double ws = get("w_s");
+    for (std::size_t k = 0; k < n; ++k) col[k] = sgn(k) * std::exp(-(s.dq[k] / ws) * (s.dq[k] / ws));
+  } else if (effect == "presliding") {
+    // The bristles' smooth transition after a reversal: a Dahl state with characteristic
+    // displacement delta, minus the sign it tends to.
+    const double delta = get("displacement_rad");
+    double zeta = 0.0;
+    for (std::size_t k = 0; k < n; ++k) {
+      const double dx = s.dq[k] * s.dt;
+      const double dir = dx > 0.0 ? 1.0 : (dx < 0.0 ? -1.0 : 0.0);
+      if (dir != 0.0) zeta = dir + (zeta - dir) * std::exp(-std::fabs(dx) / delta);
+      col[k] = zeta - sgn(k);
     }
-    all.push_back(std::move(v));
-  }
-  {  // presliding: the bristles' smooth transition after a reversal (Dahl state minus sign)
-    std::vector<Candidate> v;
-    for (const double delta : {2e-5, 5e-5, 1e-4, 2e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2}) {
-      Candidate c;
-      c.effect = "presliding";
-      c.setting["displacement_rad"] = delta;
-      c.nonlinear_params = 1;
-      auto col = column(n);
-      double zeta = 0.0;
-      for (std::size_t k = 0; k < n; ++k) {
-        const double dx = s.dq[k] * s.dt;
-        const double dir = dx > 0.0 ? 1.0 : (dx < 0.0 ? -1.0 : 0.0);
-        if (dir != 0.0) zeta = dir + (zeta - dir) * std::exp(-std::fabs(dx) / delta);
-        col[k] = zeta - sgn[k];
-      }
-      c.columns.push_back(std::move(col));
-      v.push_back(std::move(c));
+  } else if (effect == "asymmetric_friction") {
+    for (std::size_t k = 0; k < n; ++k) col[k] = std::fabs(sgn(k));
+  } else if (effect == "position_ripple") {
+    const double per_rev = get("periods_per_rev");
+    auto cs = column(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      col[k] = std::sin(per_rev * s.q[k]);
+      cs[k] = std::cos(per_rev * s.q[k]);
     }
-    all.push_back(std::move(v));
-  }
-  {  // asymmetric friction: a level present while moving, either way
-    auto col = column(n);
-    for (std::size_t k = 0; k < n; ++k) col[k] = std::fabs(sgn[k]);
-    single("asymmetric_friction", std::move(col));
-  }
-  {  // position ripple: sin/cos of k q for k periods per revolution
-    std::vector<Candidate> v;
-    for (int per_rev = 1; per_rev <= 200; ++per_rev) {
-      Candidate c;
-      c.effect = "position_ripple";
-      c.setting["periods_per_rev"] = per_rev;
-      c.nonlinear_params = 1;
-      auto cs = column(n), sn = column(n);
-      for (std::size_t k = 0; k < n; ++k) {
-        sn[k] = std::sin(per_rev * s.q[k]);
-        cs[k] = std::cos(per_rev * s.q[k]);
-      }
-      c.columns = {std::move(sn), std::move(cs)};
-      v.push_back(std::move(c));
-    }
-    all.push_back(std::move(v));
-  }
-  {  // temperature drift: friction level changing with time (warm-up) or linearly
-    std::vector<Candidate> v;
-    const double span = s.t.back() - s.t.front();
-    for (const double tau : {0.1, 0.25, 0.5, 1.0, 3.0}) {  // time constants as fractions of the span
-      Candidate c;
-      c.effect = "temperature_drift";
-      c.setting["time_constant_s"] = tau * span;
-      c.nonlinear_params = 1;
-      auto col = column(n);
-      for (std::size_t k = 0; k < n; ++k) col[k] = sgn[k] * (1.0 - std::exp(-(s.t[k] - s.t.front()) / (tau * span)));
-      c.columns.push_back(std::move(col));
-      v.push_back(std::move(c));
-    }
-    all.push_back(std::move(v));
-  }
-  if (!s.load.empty()) {
-    auto col = column(n);
-    for (std::size_t k = 0; k < n; ++k) col[k] = sgn[k] * std::fabs(s.load[k]);
-    single("load_dependent_friction", std::move(col));
-  }
-  if (!s.payload_columns.empty()) {
-    Candidate c;
-    c.effect = "payload";
+    c.columns = {std::move(col), std::move(cs)};
+    return c;
+  } else if (effect == "temperature_drift") {
+    const double tc = get("time_constant_s");
+    for (std::size_t k = 0; k < n; ++k) col[k] = sgn(k) * (1.0 - std::exp(-(s.t[k] - s.t.front()) / tc));
+  } else if (effect == "load_dependent_friction") {
+    if (s.load.empty()) return c;
+    for (std::size_t k = 0; k < n; ++k) col[k] = sgn(k) * std::fabs(s.load[k]);
+  } else if (effect == "payload") {
     c.columns = s.payload_columns;
-    all.push_back({std::move(c)});
-  }
-  single("inertia_error", s.ddq);
-  single("torque_constant", s.tau_real);
-  single("current_offset", std::vector<double>(n, 1.0));
-  single("time_delay", derivative(s.tau_model, s.dt));
-  if (!s.load.empty()) {  // backlash: after a reversal the link is not driven until the gap closes
-    std::vector<Candidate> v;
-    for (const double gap : {0.0005, 0.001, 0.002, 0.004, 0.008, 0.016}) {
-      Candidate c;
-      c.effect = "backlash";
-      c.setting["gap_rad"] = gap;
-      c.nonlinear_params = 1;
-      auto col = column(n);
-      double travelled = 1e9, last_dir = 0.0;
-      for (std::size_t k = 0; k < n; ++k) {
-        const double dir = s.dq[k] > band ? 1.0 : (s.dq[k] < -band ? -1.0 : last_dir);
-        if (dir != last_dir && last_dir != 0.0) travelled = 0.0;
-        last_dir = dir;
-        travelled += std::fabs(s.dq[k]) * s.dt;
-        col[k] = travelled < gap ? -s.load[k] : 0.0;
-      }
-      c.columns.push_back(std::move(col));
-      v.push_back(std::move(c));
+    return c;
+  } else if (effect == "inertia_error") {
+    col = s.ddq;
+  } else if (effect == "torque_constant") {
+    // A scale error of current to torque scales the whole modelled torque. The model's
+    // torque, not the measured one, is the regressor: the prediction must never use the
+    // signal it predicts.
+    col = s.tau_model;
+  } else if (effect == "current_offset") {
+    col.assign(n, 1.0);
+  } else if (effect == "time_delay") {
+    col = derivative(s.tau_model, s.dt);
+  } else if (effect == "backlash") {
+    // After a reversal the link is not driven until the motor has crossed the gap.
+    if (s.load.empty()) return c;
+    const double gap = get("gap_rad");
+    double travelled = 1e9, last_dir = 0.0;
+    for (std::size_t k = 0; k < n; ++k) {
+      const double dir = s.dq[k] > band ? 1.0 : (s.dq[k] < -band ? -1.0 : last_dir);
+      if (dir != last_dir && last_dir != 0.0) travelled = 0.0;
+      last_dir = dir;
+      travelled += std::fabs(s.dq[k]) * s.dt;
+      col[k] = travelled < gap ? -s.load[k] : 0.0;
     }
-    all.push_back(std::move(v));
+  } else {
+    throw std::invalid_argument("unknown effect '" + effect + "'");
   }
+  c.columns.push_back(std::move(col));
+  return c;
+}
+
+std::vector<std::vector<Candidate>> build_candidates(const JointSignals& s) {
+  std::vector<std::vector<Candidate>> all;
+  auto group = [&](const std::string& effect, const char* key, const std::vector<double>& grid) {
+    std::vector<Candidate> g;
+    if (key == nullptr) {
+      g.push_back(make_candidate(effect, {}, s));
+    } else {
+      for (const double v : grid) g.push_back(make_candidate(effect, {{key, v}}, s));
+    }
+    if (!g.front().columns.empty()) all.push_back(std::move(g));
+  };
+  group("coulomb", nullptr, {});
+  group("viscous", nullptr, {});
+  group("stribeck", "w_s", {0.003, 0.006, 0.01, 0.02, 0.04, 0.07, 0.1, 0.15, 0.25, 0.4});
+  group("presliding", "displacement_rad", {2e-5, 5e-5, 1e-4, 2e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2});
+  group("asymmetric_friction", nullptr, {});
+  std::vector<double> per_rev;
+  for (int k = 1; k <= 200; ++k) per_rev.push_back(k);
+  group("position_ripple", "periods_per_rev", per_rev);
+  const double span = s.t.back() - s.t.front();
+  group("temperature_drift", "time_constant_s", {0.1 * span, 0.25 * span, 0.5 * span, span, 3.0 * span});
+  group("load_dependent_friction", nullptr, {});
+  group("payload", nullptr, {});
+  group("inertia_error", nullptr, {});
+  group("torque_constant", nullptr, {});
+  group("current_offset", nullptr, {});
+  group("time_delay", nullptr, {});
+  group("backlash", "gap_rad", {0.0005, 0.001, 0.002, 0.004, 0.008, 0.016});
   return all;
 }
 
@@ -196,9 +186,11 @@ std::map<std::string, double> describe(const Candidate& c, const std::vector<dou
     p["delta_inertia"] = b[0];
     os << "inertia (reflected rotor or link) off by " << b[0] << " kg·m²";
   } else if (e == "torque_constant") {
-    p["scale_error"] = -b[0];
-    p["torque_constant_ratio"] = 1.0 - b[0];
-    os << "torque constant (current to torque) off: true/nominal " << 1.0 - b[0];
+    // tau_real = (1 + b) tau_model: the measured torque per unit of true torque.
+    p["scale_error"] = b[0];
+    p["torque_constant_ratio"] = 1.0 / (1.0 + b[0]);
+    os << "torque constant (current to torque) off: measured torque is " << 100.0 * b[0]
+       << " % off the true torque (true/nominal K_I " << 1.0 / (1.0 + b[0]) << ")";
   } else if (e == "current_offset") {
     p["offset_nm"] = b[0];
     os << "current sensor offset worth " << b[0] << " N·m";

@@ -29,6 +29,11 @@ struct Candidate {
   int nonlinear_params = 0;               ///< counted in the information criterion
 };
 
+/// One instance of `effect` at the given nonlinear setting over the signals (empty
+/// columns when the signals cannot support it, e.g. payload without a model).
+Candidate make_candidate(const std::string& effect, const std::map<std::string, double>& setting,
+                         const JointSignals& s);
+
 /// All instances of all effects that the signals can support (an effect that needs a
 /// model, e.g. payload, is skipped when the model's columns are absent).
 std::vector<std::vector<Candidate>> build_candidates(const JointSignals& s);
