@@ -8,4 +8,6 @@ target_compile_options(jg_firmware_flags INTERFACE
   -fno-math-errno)
 
 add_library(jg_host_flags INTERFACE)
-target_compile_options(jg_host_flags INTERFACE -Wall -Wextra -Wshadow -Werror)
+# -Wno-maybe-uninitialized: GCC 12 reports false positives inside Eigen's fixed-capacity
+# storage (copies of Matrix<double, Dynamic, 1, 0, 7, 1>).
+target_compile_options(jg_host_flags INTERFACE -Wall -Wextra -Wshadow -Werror -Wno-maybe-uninitialized)

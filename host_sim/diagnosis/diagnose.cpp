@@ -44,6 +44,11 @@ VectorXd solve(const MatrixXd& X, const VectorXd& y) {
   return X.colPivHouseholderQr().solve(y);
 }
 
+/// Prior cost (BIC units) of explaining a residual by an effect. A scale error of the
+/// current-to-torque conversion reproduces a friction-level error wherever the modelled
+/// torque is mostly friction; it is the rarer cause, so it must fit clearly better.
+double prior_cost(const std::string& effect) { return effect == "torque_constant" ? 15.0 : 0.0; }
+
 double rms(const VectorXd& e) { return e.size() ? std::sqrt(e.squaredNorm() / static_cast<double>(e.size())) : 0.0; }
 
 double bic(double rss, std::size_t n, int k) {
@@ -240,7 +245,7 @@ JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
         const VectorXd b = Xc.colPivHouseholderQr().solve(r_s);
         const double rss = (r_s - Xc * b).squaredNorm();
         const int k = param_count(chosen) + static_cast<int>(cand.columns.size()) + cand.nonlinear_params;
-        const double delta = bic(rss, split.train.size(), k) - current_bic;
+        const double delta = bic(rss, split.train.size(), k) + prior_cost(cand.effect) - current_bic;
         if (delta < best_delta) {
           best_delta = delta;
           best_group = g;

@@ -66,10 +66,14 @@ Candidate make_candidate(const std::string& effect, const std::map<std::string, 
     const double tc = get("time_constant_s");
     for (std::size_t k = 0; k < n; ++k) col[k] = sgn(k) * (1.0 - std::exp(-(s.t[k] - s.t.front()) / tc));
   } else if (effect == "load_dependent_friction") {
+    // Gear-tooth friction grows with the torque the gear transmits: the rigid-body torque.
     if (s.load.empty()) return c;
     for (std::size_t k = 0; k < n; ++k) col[k] = sgn(k) * std::fabs(s.load[k]);
   } else if (effect == "payload") {
-    c.columns = s.payload_columns;
+    // Mass and first moment along the link: what a payload at the tool changes most.
+    // (The other first moments are rarely excited enough to be told apart.)
+    if (s.payload_columns.size() < 2) return c;
+    c.columns = {s.payload_columns[0], s.payload_columns[1]};
     return c;
   } else if (effect == "inertia_error") {
     col = s.ddq;
@@ -117,8 +121,10 @@ std::vector<std::vector<Candidate>> build_candidates(const JointSignals& s) {
   group("stribeck", "w_s", {0.003, 0.006, 0.01, 0.02, 0.04, 0.07, 0.1, 0.15, 0.25, 0.4});
   group("presliding", "displacement_rad", {2e-5, 5e-5, 1e-4, 2e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2});
   group("asymmetric_friction", nullptr, {});
+  // Once per turn, a ripple cannot be told from a gravity-model error on one joint; with
+  // a rigid-body model at hand that is the payload effect's job, so ripple starts at 2.
   std::vector<double> per_rev;
-  for (int k = 1; k <= 200; ++k) per_rev.push_back(k);
+  for (int k = s.payload_columns.empty() ? 1 : 2; k <= 200; ++k) per_rev.push_back(k);
   group("position_ripple", "periods_per_rev", per_rev);
   const double span = s.t.back() - s.t.front();
   group("temperature_drift", "time_constant_s", {0.1 * span, 0.25 * span, 0.5 * span, span, 3.0 * span});
@@ -176,11 +182,7 @@ std::map<std::string, double> describe(const Candidate& c, const std::vector<dou
   } else if (e == "payload") {
     const double m = b[0];
     p["mass_kg"] = m;
-    if (std::fabs(m) > 1e-6) {
-      p["com_x_m"] = b[1] / m;
-      p["com_y_m"] = b[2] / m;
-      p["com_z_m"] = b[3] / m;
-    }
+    if (std::fabs(m) > 1e-6) p["com_x_m"] = b[1] / m;
     os << "payload / last-link mass error: " << m << " kg";
   } else if (e == "inertia_error") {
     p["delta_inertia"] = b[0];

@@ -1,5 +1,6 @@
 #include "diagnosis/pairing.hpp"
 
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -67,28 +68,37 @@ void add_model_terms(std::vector<JointSignals>& out, const io::Recording& real, 
     s.load.resize(n);
     s.payload_columns.assign(4, std::vector<double>(n, 0.0));
   }
-  // d tau / d theta for theta = (m, m cx, m cy, m cz) of the last link: the dynamics are
-  // linear in these, so a unit step gives the exact column (point mass at the CoM).
+  // d tau / d theta for theta = (m, h = m c) of the last link with its rotational inertia
+  // about the link origin held fixed: the dynamics are linear in (m, h, I_origin), so a
+  // small step divided by its size is the exact column.
   const sim::PlantLink base = m.arm->link(last);
+  const Eigen::Matrix3d eye = Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d inertia_origin =
+      base.inertia_com + base.mass * (base.com.squaredNorm() * eye - base.com * base.com.transpose());
+  constexpr double kStep = 0.01;
+  std::array<sim::PlantLink, 4> perturbed;
+  for (int p = 0; p < 4; ++p) {
+    double mass = base.mass;
+    Eigen::Vector3d first = base.mass * base.com;
+    if (p == 0) mass += kStep;
+    else first(p - 1) += kStep;
+    sim::PlantLink l = base;
+    l.mass = mass;
+    l.com = first / mass;
+    l.inertia_com = inertia_origin - mass * (l.com.squaredNorm() * eye - l.com * l.com.transpose());
+    perturbed[static_cast<std::size_t>(p)] = l;
+  }
   for (std::size_t k = 0; k < n; ++k) {
     const auto q = column_at(real.q, k), dq = column_at(real.dq, k), a = column_at(ddq, k);
     const sim::JointVector tau0 = m.arm->inverse_dynamics(q, dq, a);
     for (std::size_t j = 0; j < nj; ++j) out[j].load[k] = tau0(static_cast<Eigen::Index>(j));
     for (int p = 0; p < 4; ++p) {
-      sim::PlantLink l = base;
-      // Adding mass dm at point c changes (m, m c) by (dm, dm c); choose dm = 1 kg at the
-      // old CoM (p = 0) or shift first moments by 1 kg·m along an axis (p = 1..3).
-      const double m0 = l.mass;
-      Eigen::Vector3d first = m0 * l.com;
-      double mass = m0;
-      if (p == 0) mass += 1.0;
-      else first(p - 1) += 1.0;
-      l.mass = mass;
-      l.com = mass > 0.0 ? Eigen::Vector3d(first / mass) : Eigen::Vector3d::Zero();
-      // Keep the rotational inertia about the origin unchanged apart from the point mass.
-      plus.link(last) = l;
+      plus.link(last) = perturbed[static_cast<std::size_t>(p)];
       const sim::JointVector tau1 = plus.inverse_dynamics(q, dq, a);
-      for (std::size_t j = 0; j < nj; ++j) out[j].payload_columns[static_cast<std::size_t>(p)][k] = tau1(static_cast<Eigen::Index>(j)) - tau0(static_cast<Eigen::Index>(j));
+      for (std::size_t j = 0; j < nj; ++j) {
+        out[j].payload_columns[static_cast<std::size_t>(p)][k] =
+            (tau1(static_cast<Eigen::Index>(j)) - tau0(static_cast<Eigen::Index>(j))) / kStep;
+      }
     }
     plus.link(last) = base;
   }

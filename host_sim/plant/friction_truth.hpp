@@ -17,7 +17,8 @@ struct FrictionEffects {
   // temperature_drift: all friction levels scaled by 1 + drift (1 - exp(-t / tau))
   double drift = 0.0;
   double drift_time_constant_s = 600.0;
-  // load_dependent_friction: Coulomb level += mu |tau_load| (gear tooth load)
+  // load_dependent_friction: Coulomb level += mu |tau_load|, tau_load = the torque the gear
+  // transmits (motor torque less friction)
   double load_coefficient = 0.0;
   // current_offset / torque_constant are sensor/actuator effects (see sensors.hpp).
 };

@@ -113,11 +113,14 @@ void Plant::step(double h, const JointVector& motor_torque, const ContactModel& 
   }
   // Friction on the side that slides (motor side when elastic), held over the step.
   const JointVector& w = elastic() ? state_.theta_dot : state_.qd;
+  // The gear carries the motor torque less the friction: that load drives load-dependent
+  // friction (previous step's friction: the load is not known before the step).
+  const JointVector transmitted = motor_torque - (friction_.size() == n ? friction_ : JointVector::Zero(n));
   friction_ = JointVector::Zero(n);
   for (Eigen::Index i = 0; i < n && !config_.friction.empty(); ++i) {
     const auto k = static_cast<std::size_t>(i);
     friction_(i) = friction_truth_step(config_.friction[k], state_.bristles[k], w(i), state_.q(i),
-                                       motor_torque(i), state_.time, h);
+                                       transmitted(i), state_.time, h);
   }
   if (!elastic()) {
     const JointVector drive = motor_torque - friction_ + external_;

@@ -11,7 +11,7 @@ JointSensors::JointSensors(SensorConfig config, int joints) : config_(std::move(
     throw std::invalid_argument("JointSensors: one drive configuration per joint required");
   }
   if (config_.link_encoder_bits < 8 || config_.link_encoder_bits > 30 || config_.motor_encoder_counts_per_rev < 4 ||
-      config_.delay_samples < 0) {
+      config_.delay_samples < 0 || config_.current_delay_samples < 0) {
     throw std::invalid_argument("JointSensors: encoder resolution or delay out of range");
   }
   last_counts_ = JointVector::Zero(joints);
@@ -55,6 +55,16 @@ Measurement JointSensors::sample(const JointVector& q_link, const JointVector& t
     m.tau_m(j) = d.torque_constant_nominal * i;
   }
   first_ = false;
+  if (config_.current_delay_samples > 0) {
+    current_pipeline_.push_back(m.current);
+    if (current_pipeline_.size() > static_cast<std::size_t>(config_.current_delay_samples)) {
+      m.current = current_pipeline_.front();
+      current_pipeline_.pop_front();
+    } else {
+      m.current = current_pipeline_.front();
+    }
+    for (Eigen::Index j = 0; j < n; ++j) m.tau_m(j) = config_.drives[static_cast<std::size_t>(j)].torque_constant_nominal * m.current(j);
+  }
   pipeline_.push_back(m);
   if (pipeline_.size() > static_cast<std::size_t>(config_.delay_samples)) {
     Measurement out = pipeline_.front();

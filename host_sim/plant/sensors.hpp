@@ -30,7 +30,8 @@ struct SensorConfig {
   std::vector<JointDriveConfig> drives;  ///< one per joint
   int link_encoder_bits = 19;
   int motor_encoder_counts_per_rev = 10000;  ///< 2500 lines x4
-  int delay_samples = 0;
+  int delay_samples = 0;          ///< all measurements, whole control periods
+  int current_delay_samples = 0;  ///< extra delay of the current channel alone (torque lags motion)
   unsigned long long seed = 1;
 };
 
@@ -57,6 +58,7 @@ class JointSensors {
   JointVector last_counts_;
   bool first_ = true;
   std::deque<Measurement> pipeline_;
+  std::deque<JointVector> current_pipeline_;
 };
 
 }  // namespace jg::sim

@@ -1,0 +1,177 @@
+#include "diagnosis/testset.hpp"
+
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+#include "diagnosis/pairing.hpp"
+#include "models/paper_friction.hpp"
+#include "sim/simulation.hpp"
+
+namespace jg::diag {
+namespace {
+constexpr double kRate = 500.0;
+
+sim::SimulationSetup nominal_setup(const TestArm& arm, unsigned long long noise_seed) {
+  sim::SimulationSetup s;
+  s.plant.links = arm.links;
+  const std::size_t n = arm.links.size();
+  for (std::size_t j = 0; j < n; ++j) s.plant.friction.push_back({sim::kPaperTable1[std::min<std::size_t>(j, 2)], {}});
+  s.sensors.drives = arm.drives;
+  s.sensors.seed = noise_seed;
+  const sim::ArmDynamics dyn(arm.links);
+  const auto M = dyn.mass_matrix(arm.posture);
+  for (std::size_t j = 0; j < n; ++j) {
+    const double inertia = M(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(j));
+    s.controller.kp.push_back(inertia * 1600.0);
+    s.controller.kd.push_back(inertia * 80.0);
+  }
+  s.trajectory = std::make_shared<sim::ExcitationTrajectory>(arm.posture, std::vector<bool>(n, true),
+                                                             sim::PaperExcitation(0.6, 0.2, 3, 2.5));
+  s.control_rate_hz = kRate;
+  return s;
+}
+
+void apply(const std::string& effect, int joint, double a, double partial_time, sim::SimulationSetup& s,
+           std::mt19937_64& rng) {
+  const auto j = static_cast<std::size_t>(joint - 1);
+  auto& f = s.plant.friction[j];
+  auto& d = s.sensors.drives[j];
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  if (effect == "position_ripple") {
+    f.effects.ripple_amplitude = a;
+    f.effects.ripple_periods_per_rev = std::floor(10.0 + 110.0 * unit(rng));
+    f.effects.ripple_phase = 6.283 * unit(rng);
+  } else if (effect == "asymmetric_friction") {
+    f.effects.asymmetry = a / f.lugre.tau_c;
+  } else if (effect == "temperature_drift") {
+    f.effects.drift = a / f.lugre.tau_c;
+    f.effects.drift_time_constant_s = 5.0 + 15.0 * unit(rng);
+  } else if (effect == "load_dependent_friction") {
+    f.effects.load_coefficient = a / 15.0;
+  } else if (effect == "payload") {
+    s.plant.payload = sim::PayloadChange{partial_time, a / 3.0, Eigen::Vector3d(0.25, 0.0, 0.0)};
+  } else if (effect == "torque_constant") {
+    d.torque_constant_error = a / 15.0;
+  } else if (effect == "current_offset") {
+    d.current_offset_a = a / d.torque_constant_nominal;
+  } else if (effect == "time_delay") {
+    s.sensors.current_delay_samples = 1 + static_cast<int>(3.0 * unit(rng));
+  } else if (effect == "coulomb") {
+    f.lugre.tau_c += a;
+  } else if (effect == "viscous") {
+    f.lugre.sigma2 += a / 0.75;
+  } else if (effect == "stribeck") {
+    f.lugre.tau_s += 2.0 * a;
+  } else if (effect == "inertia_error") {
+    s.plant.links[j].rotor_inertia += a / 2.0;  // ~2 rad/s^2 peak acceleration
+  } else if (effect != "none") {
+    throw std::invalid_argument("the test plant cannot produce effect '" + effect + "'");
+  }
+}
+}  // namespace
+
+const std::vector<std::string>& producible_effects() {
+  static const std::vector<std::string> v = {"position_ripple", "asymmetric_friction", "temperature_drift",
+                                             "load_dependent_friction", "payload", "torque_constant", "current_offset",
+                                             "time_delay", "coulomb", "viscous", "stribeck", "inertia_error"};
+  return v;
+}
+
+std::vector<ConcealedCase> draw_cases(int count, unsigned long long seed, double noise_rms_nm, int joints) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const auto& effects = producible_effects();
+  const char* concealments[] = {"low_amplitude", "partial", "mixed", "masked"};
+  std::vector<ConcealedCase> out;
+  for (int i = 0; i < count; ++i) {
+    ConcealedCase c;
+    c.seed = seed * 1000003ULL + static_cast<unsigned long long>(i);
+    if (i % 6 == 5) {  // one case in six is a matched pair
+      c.effect = "none";
+      c.concealment = "matched";
+      out.push_back(c);
+      continue;
+    }
+    c.effect = effects[static_cast<std::size_t>(unit(rng) * static_cast<double>(effects.size())) % effects.size()];
+    c.joint = 1 + static_cast<int>(unit(rng) * joints) % joints;
+    if (c.effect == "payload") c.joint = joints;  // carried by the last link
+    c.concealment = concealments[static_cast<std::size_t>(unit(rng) * 4.0) % 4];
+    // At or below the noise for low_amplitude; otherwise up to three times the noise.
+    c.amplitude_nm = noise_rms_nm * (c.concealment == std::string("low_amplitude") ? 0.5 + 0.5 * unit(rng) : 1.0 + 2.0 * unit(rng));
+    out.push_back(c);
+  }
+  return out;
+}
+
+CaseOutcome run_case(const ConcealedCase& c, const TestArm& arm) {
+  std::mt19937_64 rng(c.seed);
+  sim::SimulationSetup real = nominal_setup(arm, c.seed * 2 + 1);
+  sim::SimulationSetup nominal = nominal_setup(arm, c.seed * 2 + 2);
+  const double span = real.trajectory->duration();
+  const double partial_time = c.concealment == "partial" ? 0.5 * span : 0.0;
+  apply(c.effect, c.joint, c.amplitude_nm, partial_time, real, rng);
+  if (c.concealment == "partial" && c.effect == "temperature_drift") {
+    real.plant.friction[static_cast<std::size_t>(c.joint - 1)].effects.drift_time_constant_s = span;  // slow: half hidden
+  }
+  if (c.concealment == "mixed") {  // a second, known effect in both: it must not be claimed
+    const int other = c.joint % static_cast<int>(arm.links.size()) + 1;
+    std::mt19937_64 r1(c.seed + 7), r2(c.seed + 7);
+    apply("asymmetric_friction", other, 0.5, 0.0, real, r1);
+    apply("asymmetric_friction", other, 0.5, 0.0, nominal, r2);
+  }
+  if (c.concealment == "masked") {  // a benign model error: the real last link is 3 % heavier
+    real.plant.links.back().mass *= 1.03;
+  }
+  CaseOutcome out;
+  out.c = c;
+  const auto r = sim::run_simulation(real).recording;
+  const auto s = sim::run_simulation(nominal).recording;
+  const sim::ArmDynamics model(arm.links);
+  ModelContext m;
+  m.arm = &model;
+  for (const auto& f : nominal.plant.friction) m.friction.push_back(f.lugre);
+  for (const auto& sig : signals_from_pair(r, s, m)) out.joints.push_back(diagnose_joint(sig));
+  for (const auto& j : out.joints) {
+    if (c.effect == "none" && !j.findings.empty()) out.false_claim = true;
+    // A payload belongs to the last link but shows on every joint it loads; naming it on
+    // any of them names the right cause. Every other effect must be named on its joint.
+    if (c.effect == "payload") {
+      for (const auto& f : j.findings) out.named = out.named || f.effect == c.effect;
+    }
+    if (j.joint == c.joint) {
+      for (const auto& f : j.findings) out.named = out.named || f.effect == c.effect;
+      out.heldout_before = j.heldout_rms_before;
+      out.heldout_after = j.heldout_rms_after;
+      out.noise = j.noise_rms;
+    }
+  }
+  return out;
+}
+
+TestArm default_test_arm() {
+  TestArm a;
+  a.name = "test3";
+  a.links.resize(3);
+  a.links[0].d = 0.3;
+  a.links[0].mass = 4.0;
+  a.links[0].com = {0.0, 0.01, -0.05};
+  a.links[0].inertia_com = Eigen::Vector3d(0.03, 0.03, 0.02).asDiagonal();
+  a.links[0].rotor_inertia = 0.4;
+  a.links[1].alpha_prev = M_PI / 2;
+  a.links[1].mass = 3.5;
+  a.links[1].com = {0.2, 0.0, 0.02};
+  a.links[1].inertia_com = Eigen::Vector3d(0.01, 0.06, 0.06).asDiagonal();
+  a.links[1].rotor_inertia = 0.4;
+  a.links[2].a_prev = 0.4;
+  a.links[2].mass = 2.0;
+  a.links[2].com = {0.18, 0.01, 0.0};
+  a.links[2].inertia_com = Eigen::Vector3d(0.005, 0.03, 0.03).asDiagonal();
+  a.links[2].rotor_inertia = 0.2;
+  a.drives.assign(3, sim::JointDriveConfig{100.0, 12.0, 0.0, 15.0, 0.0, 0.01, 0.0005});
+  a.posture = sim::JointVector(3);
+  a.posture << 0.0, 0.6, -0.8;
+  return a;
+}
+
+}  // namespace jg::diag

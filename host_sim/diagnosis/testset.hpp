@@ -1,0 +1,50 @@
+// The concealed-effect test set: pairs of recordings made by the plant, a "real" one with
+// one effect the nominal model lacks and a "simulated" one from the nominal model, each
+// with its own sensor noise. Effects, joints, amplitudes, concealment and seeds are drawn
+// at random (seeded), so no case is tuned by hand.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "diagnosis/diagnose.hpp"
+#include "plant/rigid_body.hpp"
+#include "plant/sensors.hpp"
+
+namespace jg::diag {
+
+struct TestArm {
+  std::string name;
+  std::vector<sim::PlantLink> links;
+  std::vector<sim::JointDriveConfig> drives;
+  sim::JointVector posture;  ///< the excitation's centre [rad]
+};
+
+struct ConcealedCase {
+  std::string effect;       ///< vocabulary word; "none" for a matched pair
+  int joint = 1;            ///< 1-based joint carrying the effect
+  double amplitude_nm = 0;  ///< the effect's torque amplitude [N·m] (ignored for time_delay, elasticity)
+  std::string concealment;  ///< low_amplitude, partial, mixed, masked or matched
+  unsigned long long seed = 1;
+};
+
+/// The effects the plant can hide (presliding and backlash need sub-sample dynamics the
+/// 500 Hz recordings cannot resolve and are not drawn).
+const std::vector<std::string>& producible_effects();
+
+std::vector<ConcealedCase> draw_cases(int count, unsigned long long seed, double noise_rms_nm, int joints);
+
+struct CaseOutcome {
+  ConcealedCase c;
+  std::vector<JointDiagnosis> joints;
+  bool named = false;        ///< the effect named on its joint
+  bool false_claim = false;  ///< (matched pairs) anything claimed
+  double heldout_before = 0, heldout_after = 0, noise = 0;  ///< on the effect's joint
+};
+
+CaseOutcome run_case(const ConcealedCase& c, const TestArm& arm);
+
+/// The project's 3-joint test arm used when no model file is given.
+TestArm default_test_arm();
+
+}  // namespace jg::diag
