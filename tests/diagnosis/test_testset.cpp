@@ -1,0 +1,30 @@
+// CI subset of the concealed-effect test set (the full set is the documented benchmark
+// jg_diagnosis_testset): random effects, joints, amplitudes and concealments, seeded.
+#include <gtest/gtest.h>
+
+#include "diagnosis/testset.hpp"
+
+namespace {
+TEST(DiagnosisTestSet, NamesConcealedEffectsAndClaimsNothingOnMatchedPairs) {
+  const auto arm = jg::diag::default_test_arm();
+  const auto cases = jg::diag::draw_cases(18, 11, 0.17, 3);
+  int effects = 0, named = 0, matched = 0, false_claims = 0, at_floor = 0;
+  for (const auto& c : cases) {
+    const auto o = jg::diag::run_case(c, arm);
+    if (c.effect == "none") {
+      ++matched;
+      false_claims += o.false_claim ? 1 : 0;
+      continue;
+    }
+    ++effects;
+    named += o.named ? 1 : 0;
+    at_floor += o.heldout_after <= 1.1 * o.noise ? 1 : 0;
+    std::printf("%-24s joint %d %-13s -> %s\n", c.effect.c_str(), c.joint, c.concealment.c_str(), o.named ? "named" : "missed");
+  }
+  std::printf("named %d / %d, false claims %d / %d, held-out at noise floor %d / %d\n", named, effects, false_claims, matched,
+              at_floor, effects);
+  EXPECT_EQ(false_claims, 0);
+  EXPECT_GE(named, static_cast<int>(0.8 * effects));  // the full benchmark reaches 90 %
+  EXPECT_GE(at_floor, static_cast<int>(0.9 * effects));
+}
+}  // namespace
