@@ -1,0 +1,81 @@
+// Collision detection, isolation and the reaction request (READING.md section 6).
+//
+// Per joint: the compensated external torque mu (observer output with the friction
+// prediction inside its momentum balance) is compared with a threshold band
+// eps(w) = eps0 + eps_per_speed |w| (eps_per_speed = 0 gives the paper's constant eps);
+// `debounce_cycles` consecutive cycles over the band raise the joint's flag, which stays
+// latched until reset. Across joints: a force on link i loads joints 1..i only, so the
+// highest joint whose flag is up names the collided link (fault signature [1..1 0..0]).
+//
+// Scalar: any (float, double, Q16.16). Q16.16: thresholds and torques in N·m; the band
+// is one product and one sum, saturating.
+#pragma once
+
+#include <cstdint>
+
+#include "jointguard/numeric/qmath.hpp"
+
+namespace jg {
+
+inline constexpr int kMaxDetectorJoints = 7;
+
+template <class S>
+struct JointThreshold {
+  S base{};       ///< eps0 [N·m]
+  S per_speed{};  ///< band growth with |velocity| [N·m·s/rad]; 0 = constant threshold
+};
+
+struct DebounceSettings {
+  std::uint8_t cycles = 1;  ///< consecutive cycles over threshold before the flag rises (>= 1)
+};
+
+struct JointDetectorState {
+  std::uint8_t over_count = 0;
+  bool flagged = false;  ///< latched until reset_detector()
+};
+
+/// One joint, one cycle: updates the debounce counter and returns the (latched) flag.
+template <class S>
+[[nodiscard]] constexpr bool detector_step(const JointThreshold<S>& threshold, DebounceSettings debounce,
+                                           JointDetectorState& state, S external_torque, S velocity) noexcept {
+  const S band = threshold.base + threshold.per_speed * jg::abs(velocity);
+  if (band < jg::abs(external_torque)) {
+    if (state.over_count < 255U) {
+      ++state.over_count;
+    }
+  } else {
+    state.over_count = 0U;
+  }
+  const std::uint8_t needed = debounce.cycles == 0U ? std::uint8_t{1} : debounce.cycles;
+  if (state.over_count >= needed) {
+    state.flagged = true;
+  }
+  return state.flagged;
+}
+
+constexpr void reset_detector(JointDetectorState& state) noexcept { state = JointDetectorState{}; }
+
+/// Bit j (0-based) set when joint j+1 is flagged.
+using JointMask = std::uint8_t;
+
+/// The collided link (1-based) from the joints over threshold: the highest flagged joint.
+/// 0 when no joint is flagged.
+[[nodiscard]] constexpr int isolate_link(JointMask flagged) noexcept {
+  int link = 0;
+  for (int j = 0; j < kMaxDetectorJoints; ++j) {
+    if ((flagged & (1U << static_cast<unsigned>(j))) != 0U) {
+      link = j + 1;
+    }
+  }
+  return link;
+}
+
+/// What the arm does once a collision is detected (stable numbers: they travel in frames).
+enum class Reaction : std::uint8_t {
+  none = 0,          ///< report only
+  stop = 1,          ///< hold the position where the collision was detected
+  zero_gravity = 2,  ///< torque mode: gravity and friction compensated, the arm yields
+  retreat = 3,       ///< move back along the path for a short distance, then hold
+};
+
+}  // namespace jg

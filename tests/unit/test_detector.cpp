@@ -1,0 +1,44 @@
+// Detector: threshold band, debounce, latching, isolation by signature; float and Q.
+#include <gtest/gtest.h>
+
+#include "jointguard/detection/detector.hpp"
+
+namespace {
+template <class S>
+class DetectorTyped : public ::testing::Test {};
+using Scalars = ::testing::Types<float, double, jg::q16>;
+TYPED_TEST_SUITE(DetectorTyped, Scalars);
+
+TYPED_TEST(DetectorTyped, DebounceAndLatch) {
+  using S = TypeParam;
+  const jg::JointThreshold<S> th{jg::from_double<S>(5.0), jg::from_double<S>(0.0)};
+  jg::JointDetectorState st;
+  const jg::DebounceSettings three{3};
+  EXPECT_FALSE(jg::detector_step(th, three, st, jg::from_double<S>(6.0), S{}));
+  EXPECT_FALSE(jg::detector_step(th, three, st, jg::from_double<S>(-6.0), S{}));
+  EXPECT_FALSE(jg::detector_step(th, three, st, jg::from_double<S>(4.0), S{})) << "a dip resets the count";
+  EXPECT_FALSE(jg::detector_step(th, three, st, jg::from_double<S>(6.0), S{}));
+  EXPECT_FALSE(jg::detector_step(th, three, st, jg::from_double<S>(6.0), S{}));
+  EXPECT_TRUE(jg::detector_step(th, three, st, jg::from_double<S>(-6.0), S{}));
+  EXPECT_TRUE(jg::detector_step(th, three, st, jg::from_double<S>(0.0), S{})) << "latched";
+  jg::reset_detector(st);
+  EXPECT_FALSE(jg::detector_step(th, three, st, jg::from_double<S>(0.0), S{}));
+}
+
+TYPED_TEST(DetectorTyped, BandGrowsWithSpeed) {
+  using S = TypeParam;
+  const jg::JointThreshold<S> th{jg::from_double<S>(2.0), jg::from_double<S>(4.0)};
+  jg::JointDetectorState st;
+  EXPECT_FALSE(jg::detector_step(th, {1}, st, jg::from_double<S>(3.5), jg::from_double<S>(0.5)));  // band 4
+  EXPECT_TRUE(jg::detector_step(th, {1}, st, jg::from_double<S>(3.5), jg::from_double<S>(0.2)));   // band 2.8
+}
+
+TEST(Detector, IsolationNamesTheHighestFlaggedJoint) {
+  static_assert(jg::isolate_link(0b000) == 0);
+  static_assert(jg::isolate_link(0b001) == 1);
+  static_assert(jg::isolate_link(0b011) == 2);
+  static_assert(jg::isolate_link(0b111) == 3);
+  static_assert(jg::isolate_link(0b101) == 3);
+  EXPECT_EQ(jg::isolate_link(0b1000000), 7);
+}
+}  // namespace
