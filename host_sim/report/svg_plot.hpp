@@ -1,0 +1,47 @@
+// Small SVG line plots for reports (no external dependency): series, horizontal
+// reference lines (thresholds), vertical markers (collision, detection), axes with ticks.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace jg::report {
+
+struct Series {
+  std::string label;
+  std::vector<double> x, y;
+  std::string color = "#1f77b4";
+  double width = 1.2;
+  bool dashed = false;
+};
+
+struct Marker {
+  double x = 0.0;
+  std::string label;
+  std::string color = "#d62728";
+};
+
+struct HLine {
+  double y = 0.0;
+  std::string label;
+  std::string color = "#7f7f7f";
+};
+
+struct Plot {
+  std::string title, x_label, y_label;
+  std::vector<Series> series;
+  std::vector<Marker> markers;
+  std::vector<HLine> hlines;
+  int width = 760, height = 300;
+  /// Optional fixed ranges (used when lo < hi).
+  double x_lo = 0.0, x_hi = 0.0, y_lo = 0.0, y_hi = 0.0;
+};
+
+/// Renders the plot as a standalone <svg> element (long series are decimated to about
+/// 2000 points per series, keeping each bucket's extremes so spikes stay visible).
+std::string render_svg(const Plot& plot);
+
+/// Escapes text for HTML/SVG.
+std::string escape(const std::string& s);
+
+}  // namespace jg::report
