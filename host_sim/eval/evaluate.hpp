@@ -1,0 +1,47 @@
+// Closed-loop evaluation: the simulated arm runs a scenario while the estimator and the
+// detector run every control cycle; on detection the reaction takes over the controller.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "eval/estimator.hpp"
+#include "jointguard/detection/detector.hpp"
+#include "sim/simulation.hpp"
+
+namespace jg::eval {
+
+struct DetectionConfig {
+  std::vector<double> threshold;  ///< eps0 per joint [N·m]
+  std::vector<double> per_speed;  ///< band growth per joint [N·m·s/rad] (empty = 0)
+  int debounce_cycles = 1;
+  Reaction reaction = Reaction::stop;
+  std::vector<LuGreParams<double>> friction;  ///< for the zero-gravity mode's friction compensation
+};
+
+struct Trace {
+  std::vector<double> t;
+  std::vector<std::vector<double>> mu, tau_ext;  ///< [joint][sample]
+};
+
+struct RunResult {
+  std::string name;
+  double t_collision = 0.0;                ///< start of the first scheduled collision [s]
+  std::optional<double> t_threshold;       ///< first time the true |tau_ext| exceeds the threshold
+  std::optional<double> t_detected;
+  int link_true = 0, link_isolated = 0;
+  double peak_force_n = 0.0;
+  double max_true_ratio = 0.0;             ///< max over joints of max|tau_ext| / threshold
+  std::vector<double> false_alarm_times;   ///< detections with no contact in the preceding 0.5 s
+  Trace trace;
+};
+
+/// Runs one scenario. `record_trace` keeps mu and tau_ext per cycle for plots.
+RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator, const DetectionConfig& detection,
+                        const std::string& name, bool record_trace);
+
+/// Collision-free run for calibration: max |mu| per joint (the observer band).
+std::vector<double> observer_band(const sim::SimulationSetup& setup, Estimator& estimator, double settle_s = 0.5);
+
+}  // namespace jg::eval
