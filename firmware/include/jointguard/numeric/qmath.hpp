@@ -115,6 +115,22 @@ template <class T, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
 
 // ---------------------------------------------------------------- generic
 
+/// Coefficients close to 1 (filter decays exp(-K dT)) need more resolution than a signal
+/// format gives: for Q<F> they are held in Q2.30 (|c| < 2, LSB 9.3e-10); float and double
+/// keep their own type.
+template <class S>
+struct precise_coefficient {
+  using type = S;
+};
+template <class S>
+using precise_coefficient_t = typename precise_coefficient<S>::type;
+
+/// coefficient * x for float/double.
+template <class T, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
+[[nodiscard]] constexpr T scale(T coefficient, T x) noexcept {
+  return coefficient * x;
+}
+
 /// (a*b - c*d) * scale for float/double.
 template <class T, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
 [[nodiscard]] constexpr T diff_of_products_scaled(T a, T b, T c, T d, T scale) noexcept {
@@ -287,6 +303,16 @@ template <int F>
   const auto den = static_cast<std::uint64_t>(b.raw() < 0 ? -std::int64_t{b.raw()} : std::int64_t{b.raw()});
   const auto quotient = static_cast<std::int64_t>((num + den / 2U) / den);
   return Q<F>::from_raw(detail::saturate32(negative ? -quotient : quotient));
+}
+
+template <int F>
+struct precise_coefficient<Q<F>> {
+  using type = Q<30>;
+};
+/// Q2.30 coefficient * Q<F> -> Q<F>: 64-bit product, one rounding, saturation.
+template <int F>
+[[nodiscard]] constexpr Q<F> scale(Q<30> coefficient, Q<F> x) noexcept {
+  return mul<F>(coefficient, x);
 }
 
 /// (a*b - c*d) * scale, Q<F> -> Q<F>, with one rounding instead of three: the

@@ -1,0 +1,156 @@
+// Generalized-momentum disturbance observers per joint (READING.md section 3), first and
+// second order, parameters apart from state, discretised on the host.
+//
+// The momentum balance over one sample gives the mean disturbance over that sample
+// exactly, with no acceleration: d_k = tau_m - beta - f - (p_k - p_{k-1}) / dT
+// (f: the friction prediction, fed into the balance so that the estimate's lag applies
+// to the friction too — READING.md section 6). The observer filters d_k by D(s):
+//   first order      D = K / (s + K)
+//   second order     D = (b1 s + b0) / ((s + K1)(s + K2)), presets
+//     lowpass2         b1 = 0,       b0 = K1 K2   (unit DC gain)
+//     paper_bandpass   b1 = K1,      b0 = 0       (DC gain 0: a sustained contact fades)
+//     paper_improved   b1 = K1 + K3, b0 = K2 K3   (DC gain K3 / K1)
+// realised as a sum of first-order sections A_i / (s + K_i) (partial fractions), each
+// discretised step-invariantly (exact at the samples for a disturbance constant over each
+// sample). Every state is a low-pass of the bounded d_k: nothing integrates without
+// bound, so a fixed-point state cannot run away (the textbook form integrates tau_m).
+//
+// Q16.16: d_k, section states and output in N·m; decay in (0, 1) held in Q2.30 (a slow
+// pole's decay 0.998 would be off by 0.8 % of its distance to 1 in Q16.16), input gains
+// likewise in Q2.30 (|gain| < 2, else discretize() reports out_of_range); 1/dT <= 32767 Hz;
+// momentum in N·m·s. Each operation rounds to 0.5 LSB and saturates.
+#pragma once
+
+#include <cstdint>
+
+#include "jointguard/error.hpp"
+#include "jointguard/numeric/qmath.hpp"
+
+namespace jg {
+
+enum class ObserverKind : std::uint8_t { first_order = 0, lowpass2 = 1, paper_bandpass = 2, paper_improved = 3 };
+
+[[nodiscard]] constexpr const char* to_string(ObserverKind k) noexcept {
+  switch (k) {
+    case ObserverKind::first_order: return "first_order";
+    case ObserverKind::lowpass2: return "lowpass2";
+    case ObserverKind::paper_bandpass: return "paper_bandpass";
+    case ObserverKind::paper_improved: return "paper_improved";
+  }
+  return "unknown";
+}
+
+/// Continuous-time gains (host side) [1/s].
+struct ObserverGains {
+  ObserverKind kind = ObserverKind::first_order;
+  double k1 = 60.0, k2 = 0.0, k3 = 0.0;
+};
+
+/// Numerator b1 s + b0 and poles K1, K2 of the preset (first order: b1 = 0, b0 = K, one pole).
+struct ObserverTransfer {
+  double b1 = 0.0, b0 = 0.0, pole1 = 0.0, pole2 = 0.0;
+  int order = 1;
+};
+
+[[nodiscard]] constexpr ObserverTransfer transfer_of(const ObserverGains& g) noexcept {
+  switch (g.kind) {
+    case ObserverKind::first_order: return {0.0, g.k1, g.k1, 0.0, 1};
+    case ObserverKind::lowpass2: return {0.0, g.k1 * g.k2, g.k1, g.k2, 2};
+    case ObserverKind::paper_bandpass: return {g.k1, 0.0, g.k1, g.k2, 2};
+    case ObserverKind::paper_improved: return {g.k1 + g.k3, g.k2 * g.k3, g.k1, g.k2, 2};
+  }
+  return {};
+}
+
+template <class S>
+struct ObserverCoeffs {
+  std::uint8_t sections = 1;
+  precise_coefficient_t<S> decay[2]{};  ///< exp(-K_i dT) (Q2.30 when S is fixed point)
+  precise_coefficient_t<S> input_gain[2]{};  ///< (A_i / K_i)(1 - exp(-K_i dT)), |.| < 2
+  S inv_dt{};         ///< 1 / dT [1/s]
+};
+
+template <class S>
+struct ObserverState {
+  S section[2]{};
+  S last_momentum{};
+  S last_output{};
+  bool primed = false;
+};
+
+/// Host side: partial fractions and step-invariant discretisation in double, converted to
+/// S with a range check. Poles closer than 1 % are separated by 1 % (documented: the
+/// response changes by far less than the noise). `out` written only on success.
+template <class S>
+[[nodiscard]] Error discretize(const ObserverGains& g, double dt, ObserverCoeffs<S>& out) noexcept {
+  if (!(dt > 0.0) || dt > 0.1) {
+    return Error::invalid_parameter;
+  }
+  ObserverTransfer t = transfer_of(g);
+  if (!detail::is_finite(t.b0) || !detail::is_finite(t.b1) || !(t.pole1 > 0.0) || (t.order == 2 && !(t.pole2 > 0.0))) {
+    return Error::invalid_parameter;
+  }
+  double poles[2] = {t.pole1, t.pole2};
+  double residues[2] = {t.b0, 0.0};  // first order: A = K
+  if (t.order == 2) {
+    if (std::fabs(poles[1] - poles[0]) < 0.01 * poles[0]) {
+      poles[1] = poles[0] * 1.01;
+    }
+    residues[0] = (t.b0 - t.b1 * poles[0]) / (poles[1] - poles[0]);
+    residues[1] = (t.b1 * poles[1] - t.b0) / (poles[1] - poles[0]);
+  }
+  NumericStatus st{};
+  ObserverCoeffs<S> c{};
+  c.sections = static_cast<std::uint8_t>(t.order);
+  for (int i = 0; i < t.order; ++i) {
+    const double a = std::exp(-poles[i] * dt);
+    c.decay[i] = convert<precise_coefficient_t<S>>(a, st);
+    c.input_gain[i] = convert<precise_coefficient_t<S>>(residues[i] / poles[i] * (1.0 - a), st);
+  }
+  c.inv_dt = convert<S>(1.0 / dt, st);
+  if (!st.ok()) {
+    return Error::out_of_range;
+  }
+  out = c;
+  return Error::ok;
+}
+
+struct ObserverInputStatus {
+  Error error = Error::ok;  ///< not_finite: inputs rejected, last output repeated
+};
+
+/// One sample. Returns the estimate r of the disturbance d - f (d = tau_f - tau_ext with
+/// the plant's sign: the external torque estimate is -r). Non-finite inputs (float) are
+/// rejected: the state is untouched and the last output is returned with the error set.
+template <class S>
+[[nodiscard]] constexpr S observer_step(const ObserverCoeffs<S>& c, ObserverState<S>& st, S momentum, S motor_torque,
+                                        S beta, S friction, ObserverInputStatus* status = nullptr) noexcept {
+  if constexpr (!is_q_v<S>) {
+    if (!detail::is_finite(momentum) || !detail::is_finite(motor_torque) || !detail::is_finite(beta) ||
+        !detail::is_finite(friction)) {
+      if (status != nullptr) {
+        status->error = Error::not_finite;
+      }
+      return st.last_output;
+    }
+  }
+  if (status != nullptr) {
+    status->error = Error::ok;
+  }
+  if (!st.primed) {  // the first sample has no momentum difference yet
+    st.last_momentum = momentum;
+    st.primed = true;
+    return st.last_output;
+  }
+  const S disturbance = motor_torque - beta - friction - (momentum - st.last_momentum) * c.inv_dt;
+  st.last_momentum = momentum;
+  S out{};
+  for (std::uint8_t i = 0; i < c.sections && i < 2U; ++i) {
+    st.section[i] = scale(c.decay[i], st.section[i]) + scale(c.input_gain[i], disturbance);
+    out = out + st.section[i];
+  }
+  st.last_output = out;
+  return out;
+}
+
+}  // namespace jg
