@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Help for every subcommand");
   const std::vector<jg::cli::Command> commands = {
+      jg::cli::add_simulate(app),
       jg::cli::add_demo(app),
   };
   try {

@@ -314,6 +314,9 @@ void write_recording(const std::string& path, const Recording& rec) {
     throw std::invalid_argument("write_recording: q, dq and one of i/tau_m are required");
   }
   const std::filesystem::path target(path);
+  if (target.has_parent_path()) {
+    std::filesystem::create_directories(target.parent_path());
+  }
   const std::filesystem::path tmp = target.string() + ".tmp";
   {
     std::ofstream out(tmp);

@@ -1,0 +1,116 @@
+#include "robot/robot_model.hpp"
+
+#include <cmath>
+#include <filesystem>
+
+#include "io/yaml_fields.hpp"
+#include "robot/urdf_import.hpp"
+
+namespace jg::robot {
+namespace {
+
+RobotModel load_yaml(const std::string& path) {
+  const io::YamlFields root = io::YamlFields::load_file(path);
+  root.allow_only({"name", "description", "gravity_m_s2", "joints", "sources"});
+  RobotModel m;
+  m.source = path;
+  m.name = root.text("name");
+  if (root.has("gravity_m_s2")) {
+    const auto g = root.numbers("gravity_m_s2", 3);
+    for (int k = 0; k < 3; ++k) m.gravity[k] = g[static_cast<std::size_t>(k)];
+  }
+  const auto joints = root.sequence("joints");
+  if (joints.empty() || joints.size() > static_cast<std::size_t>(kMaxJoints)) {
+    root.fail("joints", "expected 1 to " + std::to_string(kMaxJoints) + " joints");
+  }
+  for (const auto& j : joints) {
+    j.allow_only({"name", "a_prev_m", "alpha_prev_rad", "d_m", "theta_offset_rad", "mass_kg", "com_m", "inertia_kg_m2",
+                  "rotor_inertia_kg_m2", "gear_ratio", "torque_constant_nm_per_a", "current_limit_a", "limits_rad",
+                  "reach_m"});
+    JointDescription d;
+    d.name = j.text("name", "joint" + std::to_string(m.joints.size() + 1));
+    d.link.a_prev = j.number("a_prev_m", 0.0);
+    d.link.alpha_prev = j.number("alpha_prev_rad", 0.0);
+    d.link.d = j.number("d_m", 0.0);
+    d.link.theta_offset = j.number("theta_offset_rad", 0.0);
+    d.link.mass = j.number("mass_kg");
+    if (d.link.mass < 0.0) j.fail("mass_kg", "must be >= 0");
+    const auto com = j.numbers("com_m", 3);
+    for (int k = 0; k < 3; ++k) d.link.com[k] = com[static_cast<std::size_t>(k)];
+    const io::YamlFields in = j.child("inertia_kg_m2");
+    in.allow_only({"xx", "yy", "zz", "xy", "xz", "yz"});
+    const char* keys[] = {"xx", "yy", "zz", "xy", "xz", "yz"};
+    for (int k = 0; k < 6; ++k) d.link.inertia_com[k] = in.number(keys[k], 0.0);
+    for (int k = 0; k < 3; ++k) {
+      if (d.link.inertia_com[k] < 0.0) in.fail(keys[k], "diagonal inertia must be >= 0");
+    }
+    d.link.rotor_inertia = j.number("rotor_inertia_kg_m2", 0.0);
+    if (d.link.rotor_inertia < 0.0) j.fail("rotor_inertia_kg_m2", "must be >= 0");
+    d.gear_ratio = j.number("gear_ratio", 100.0);
+    if (!(d.gear_ratio > 0.0)) j.fail("gear_ratio", "must be > 0");
+    d.link.torque_constant = j.number("torque_constant_nm_per_a", 10.0);
+    if (!(d.link.torque_constant > 0.0)) j.fail("torque_constant_nm_per_a", "must be > 0");
+    d.link.current_limit = j.number("current_limit_a", 10.0);
+    if (!(d.link.current_limit > 0.0)) j.fail("current_limit_a", "must be > 0");
+    if (j.has("limits_rad")) {
+      const auto lim = j.numbers("limits_rad", 2);
+      if (!(lim[0] < lim[1])) j.fail("limits_rad", "lower must be below upper");
+      d.lower_rad = lim[0];
+      d.upper_rad = lim[1];
+    }
+    d.reach_m = j.number("reach_m", 0.3);
+    m.joints.push_back(d);
+  }
+  return m;
+}
+
+}  // namespace
+
+std::vector<sim::PlantLink> RobotModel::plant_links() const {
+  std::vector<sim::PlantLink> out;
+  for (const auto& j : joints) {
+    sim::PlantLink l;
+    l.a_prev = j.link.a_prev;
+    l.alpha_prev = j.link.alpha_prev;
+    l.d = j.link.d;
+    l.theta_offset = j.link.theta_offset;
+    l.mass = j.link.mass;
+    l.com = Eigen::Vector3d(j.link.com[0], j.link.com[1], j.link.com[2]);
+    const double* I = j.link.inertia_com;
+    l.inertia_com << I[0], I[3], I[4], I[3], I[1], I[5], I[4], I[5], I[2];
+    l.rotor_inertia = j.link.rotor_inertia;
+    out.push_back(l);
+  }
+  return out;
+}
+
+std::vector<sim::JointDriveConfig> RobotModel::drives() const {
+  std::vector<sim::JointDriveConfig> out;
+  for (const auto& j : joints) {
+    sim::JointDriveConfig d;
+    d.gear_ratio = j.gear_ratio;
+    d.torque_constant_nominal = j.link.torque_constant;
+    d.current_limit_a = j.link.current_limit;
+    out.push_back(d);
+  }
+  return out;
+}
+
+std::vector<double> RobotModel::reaches() const {
+  std::vector<double> out;
+  for (const auto& j : joints) out.push_back(j.reach_m);
+  return out;
+}
+
+RobotModel load_robot(const std::string& path) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  if (ext == ".urdf") {
+    return import_urdf(path);
+  }
+  if (ext == ".yaml" || ext == ".yml") {
+    return load_yaml(path);
+  }
+  throw io::FormatError(path + ": unknown robot file type '" + ext + "' (expected .yaml, .yml or .urdf)");
+}
+
+}  // namespace jg::robot

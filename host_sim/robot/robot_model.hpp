@@ -1,0 +1,38 @@
+// Robot descriptions on the host: read from the project's YAML format (docs/robot-model.md)
+// or from a URDF serial chain (urdfdom), converted per link into the firmware's
+// LinkConstants and into the plant's links.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "jointguard/dynamics/link.hpp"
+#include "plant/rigid_body.hpp"
+#include "plant/sensors.hpp"
+
+namespace jg::robot {
+
+struct JointDescription {
+  std::string name;
+  LinkDescription link;
+  double gear_ratio = 100.0;
+  double lower_rad = -3.14, upper_rad = 3.14;
+  double reach_m = 0.3;  ///< distance to the next joint (for placing contacts)
+};
+
+struct RobotModel {
+  std::string name;
+  std::string source;  ///< file it was read from
+  double gravity[3] = {0.0, 0.0, -9.81};
+  std::vector<JointDescription> joints;
+
+  [[nodiscard]] std::vector<sim::PlantLink> plant_links() const;
+  [[nodiscard]] std::vector<sim::JointDriveConfig> drives() const;
+  [[nodiscard]] std::vector<double> reaches() const;
+};
+
+/// Reads a robot file: .yaml/.yml in the project's format or .urdf. Errors name the file,
+/// line and field (io::FormatError).
+RobotModel load_robot(const std::string& path);
+
+}  // namespace jg::robot

@@ -1,0 +1,249 @@
+#include "sim/scenario.hpp"
+
+#include <filesystem>
+
+#include "io/yaml_fields.hpp"
+#include "models/paper_friction.hpp"
+#include "robot/robot_model.hpp"
+
+namespace jg::sim {
+namespace {
+using io::YamlFields;
+
+JointVector to_joint_vector(const std::vector<double>& v) {
+  JointVector out(static_cast<Eigen::Index>(v.size()));
+  for (std::size_t i = 0; i < v.size(); ++i) out(static_cast<Eigen::Index>(i)) = v[i];
+  return out;
+}
+
+std::shared_ptr<const Trajectory> parse_trajectory(const YamlFields& t, std::size_t n, unsigned long long seed) {
+  const std::string type = t.text("type");
+  if (type == "excitation") {
+    t.allow_only({"type", "offset_rad", "joints", "amplitude_rad", "frequency_hz", "periods", "blend_s", "direction"});
+    std::vector<bool> active(n, false);
+    for (const double j : t.numbers("joints")) {
+      if (j < 1 || j > static_cast<double>(n) || j != std::floor(j)) t.fail("joints", "joint numbers are 1.." + std::to_string(n));
+      active[static_cast<std::size_t>(j) - 1] = true;
+    }
+    const double direction = t.number("direction", 1.0);
+    if (direction != 1.0 && direction != -1.0) t.fail("direction", "expected 1 or -1");
+    const long periods = t.integer("periods", 4);
+    if (periods < 1) t.fail("periods", "expected at least 1");
+    const double freq = t.number("frequency_hz", 0.2), blend = t.number("blend_s", 2.5);
+    if (!(freq > 0.0)) t.fail("frequency_hz", "expected > 0");
+    if (!(blend > 0.0)) t.fail("blend_s", "expected > 0");
+    return std::make_shared<ExcitationTrajectory>(to_joint_vector(t.numbers("offset_rad", n)), active,
+                                                  PaperExcitation(t.number("amplitude_rad", 0.6), freq,
+                                                                  static_cast<int>(periods), blend),
+                                                  direction);
+  }
+  if (type == "pick") {
+    t.allow_only({"type", "home_rad", "workpiece_rad", "repetitions"});
+    const long reps = t.integer("repetitions", 1);
+    if (reps < 1) t.fail("repetitions", "expected at least 1");
+    return make_pick_task(to_joint_vector(t.numbers("home_rad", n)), to_joint_vector(t.numbers("workpiece_rad", n)),
+                          static_cast<int>(reps));
+  }
+  if (type == "random") {
+    t.allow_only({"type", "start_rad", "lower_rad", "upper_rad", "max_speed_rad_s", "duration_s"});
+    const double speed = t.number("max_speed_rad_s");
+    if (!(speed > 0.0)) t.fail("max_speed_rad_s", "expected > 0");
+    return make_random_moves(to_joint_vector(t.numbers("start_rad", n)), to_joint_vector(t.numbers("lower_rad", n)),
+                             to_joint_vector(t.numbers("upper_rad", n)), speed, t.number("duration_s"), seed);
+  }
+  t.fail("type", "unknown trajectory type '" + type + "' (excitation, pick, random)");
+}
+
+JointFrictionTruth parse_friction(const YamlFields& f, const JointFrictionTruth& base) {
+  f.allow_only({"joint", "sigma0", "sigma1", "sigma2", "tau_c", "tau_s", "w_s", "ripple_amplitude_nm",
+                "ripple_periods_per_rev", "ripple_phase_rad", "asymmetry", "drift", "drift_time_constant_s",
+                "load_coefficient"});
+  JointFrictionTruth t = base;
+  t.lugre.sigma0 = f.number("sigma0", t.lugre.sigma0);
+  t.lugre.sigma1 = f.number("sigma1", t.lugre.sigma1);
+  t.lugre.sigma2 = f.number("sigma2", t.lugre.sigma2);
+  t.lugre.tau_c = f.number("tau_c", t.lugre.tau_c);
+  t.lugre.tau_s = f.number("tau_s", t.lugre.tau_s);
+  t.lugre.w_s = f.number("w_s", t.lugre.w_s);
+  if (validate(t.lugre) != Error::ok) f.fail("", "LuGre parameters invalid (need sigma0, tau_c, tau_s, w_s > 0; sigma1, sigma2 >= 0)");
+  auto& e = t.effects;
+  e.ripple_amplitude = f.number("ripple_amplitude_nm", e.ripple_amplitude);
+  e.ripple_periods_per_rev = f.number("ripple_periods_per_rev", e.ripple_periods_per_rev);
+  e.ripple_phase = f.number("ripple_phase_rad", e.ripple_phase);
+  e.asymmetry = f.number("asymmetry", e.asymmetry);
+  if (std::fabs(e.asymmetry) >= 1.0) f.fail("asymmetry", "expected |asymmetry| < 1");
+  e.drift = f.number("drift", e.drift);
+  e.drift_time_constant_s = f.number("drift_time_constant_s", e.drift_time_constant_s);
+  if (!(e.drift_time_constant_s > 0.0)) f.fail("drift_time_constant_s", "expected > 0");
+  e.load_coefficient = f.number("load_coefficient", e.load_coefficient);
+  return t;
+}
+
+CollisionEvent parse_collision(const YamlFields& c, std::size_t n) {
+  c.allow_only({"t_s", "link", "point_m", "direction", "profile", "peak_force_n", "duration_s", "rise_s",
+                "stiffness_n_per_m", "damping_n_s_per_m"});
+  CollisionEvent e;
+  e.t_start = c.number("t_s");
+  const long link = c.integer("link", -1);
+  if (link < 1 || link > static_cast<long>(n)) c.fail("link", "expected a link number 1.." + std::to_string(n));
+  e.link = static_cast<int>(link);
+  const auto p = c.numbers("point_m", 3);
+  e.point_in_link = {p[0], p[1], p[2]};
+  const auto d = c.numbers("direction", 3);
+  e.direction_base = {d[0], d[1], d[2]};
+  if (!(e.direction_base.norm() > 0.0)) c.fail("direction", "must not be zero");
+  if (!parse_profile(c.text("profile", "impact"), e.profile)) c.fail("profile", "expected impact, push or clamp");
+  e.peak_force_n = c.number("peak_force_n");
+  if (!(e.peak_force_n > 0.0)) c.fail("peak_force_n", "expected > 0");
+  e.duration_s = c.number("duration_s", e.duration_s);
+  if (!(e.duration_s > 0.0)) c.fail("duration_s", "expected > 0");
+  e.rise_s = c.number("rise_s", e.rise_s);
+  if (e.rise_s < 0.0) c.fail("rise_s", "expected >= 0");
+  e.stiffness_n_per_m = c.number("stiffness_n_per_m", e.stiffness_n_per_m);
+  e.damping_n_s_per_m = c.number("damping_n_s_per_m", e.damping_n_s_per_m);
+  return e;
+}
+}  // namespace
+
+Scenario load_scenario(const std::string& path, unsigned long long seed_override, bool has_seed_override) {
+  const YamlFields root = YamlFields::load_file(path);
+  root.allow_only({"name", "model", "duration_s", "control_rate_hz", "plant_rate_hz", "seed", "trajectory",
+                   "friction", "friction_enabled", "sensors", "controller", "collisions", "campaign", "elasticity",
+                   "payload"});
+  Scenario s;
+  s.file = path;
+  const std::filesystem::path model_path =
+      std::filesystem::path(path).parent_path() / std::filesystem::path(root.text("model"));
+  try {
+    s.model = load_plant_model(model_path.string());
+  } catch (const io::FormatError&) {
+    throw;
+  } catch (const std::exception& e) {
+    root.fail("model", e.what());
+  }
+  const std::size_t n = s.model.links.size();
+  SimulationSetup& st = s.setup;
+  const long seed = root.integer("seed", 1);
+  if (seed < 0) root.fail("seed", "expected >= 0");
+  const unsigned long long seed_used = has_seed_override ? seed_override : static_cast<unsigned long long>(seed);
+  st.meta.model = s.model.name;
+  st.meta.scenario = root.text("name", std::filesystem::path(path).stem().string());
+  st.meta.seed = seed_used;
+  st.control_rate_hz = root.number("control_rate_hz", 1000.0);
+  if (!(st.control_rate_hz > 0.0) || st.control_rate_hz > 100000.0) root.fail("control_rate_hz", "expected 0 < rate <= 100000");
+  st.plant.plant_rate_hz = root.number("plant_rate_hz", std::max(2000.0, 2.0 * st.control_rate_hz));
+  if (!(st.plant.plant_rate_hz >= st.control_rate_hz)) root.fail("plant_rate_hz", "must be >= control_rate_hz");
+  st.duration_s = root.number("duration_s", 0.0);
+  if (st.duration_s < 0.0) root.fail("duration_s", "expected >= 0");
+  st.plant.links = s.model.links;
+  st.trajectory = parse_trajectory(root.child("trajectory"), n, seed_used);
+
+  // True friction: the paper's Table 1 for the first three joints by default.
+  std::vector<JointFrictionTruth> friction(n);
+  for (std::size_t j = 0; j < n; ++j) friction[j].lugre = kPaperTable1[std::min<std::size_t>(j, 2)];
+  if (root.has("friction")) {
+    for (const auto& f : root.sequence("friction")) {
+      const long j = f.integer("joint", -1);
+      if (j < 1 || j > static_cast<long>(n)) f.fail("joint", "expected a joint number 1.." + std::to_string(n));
+      friction[static_cast<std::size_t>(j - 1)] = parse_friction(f, friction[static_cast<std::size_t>(j - 1)]);
+    }
+  }
+  if (root.boolean("friction_enabled", true)) st.plant.friction = friction;
+
+  st.sensors.drives = s.model.drives;
+  st.sensors.seed = seed_used;
+  if (root.has("sensors")) {
+    const YamlFields se = root.child("sensors");
+    se.allow_only({"current_noise_rms_a", "current_lsb_a", "current_offset_a", "torque_constant_error", "delay_samples",
+                   "link_encoder_bits", "motor_encoder_counts_per_rev"});
+    for (auto& d : st.sensors.drives) {
+      d.current_noise_rms_a = se.number("current_noise_rms_a", d.current_noise_rms_a);
+      d.current_lsb_a = se.number("current_lsb_a", d.current_lsb_a);
+      d.current_offset_a = se.number("current_offset_a", d.current_offset_a);
+      d.torque_constant_error = se.number("torque_constant_error", d.torque_constant_error);
+    }
+    if (st.sensors.drives.front().current_noise_rms_a < 0.0) se.fail("current_noise_rms_a", "expected >= 0");
+    st.sensors.delay_samples = static_cast<int>(se.integer("delay_samples", 0));
+    if (st.sensors.delay_samples < 0 || st.sensors.delay_samples > 100) se.fail("delay_samples", "expected 0..100");
+    st.sensors.link_encoder_bits = static_cast<int>(se.integer("link_encoder_bits", 19));
+    st.sensors.motor_encoder_counts_per_rev = static_cast<int>(se.integer("motor_encoder_counts_per_rev", 10000));
+  }
+  // Controller: defaults scaled by the reflected inertia of each joint.
+  st.controller.kp.assign(n, 0.0);
+  st.controller.kd.assign(n, 0.0);
+  const ArmDynamics arm(s.model.links);
+  const auto M = arm.mass_matrix(st.trajectory->at(0.0).q);
+  for (std::size_t j = 0; j < n; ++j) {
+    const double inertia = M(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(j));
+    const double bandwidth = 40.0;  // [rad/s]
+    st.controller.kp[j] = inertia * bandwidth * bandwidth;
+    st.controller.kd[j] = 2.0 * inertia * bandwidth;
+  }
+  if (root.has("controller")) {
+    const YamlFields c = root.child("controller");
+    c.allow_only({"kp", "kd", "inertia_feedforward"});
+    if (c.has("kp")) st.controller.kp = c.numbers("kp", n);
+    if (c.has("kd")) st.controller.kd = c.numbers("kd", n);
+    st.controller.inertia_feedforward = c.boolean("inertia_feedforward", true);
+  }
+  if (root.has("elasticity")) {
+    const YamlFields e = root.child("elasticity");
+    e.allow_only({"stiffness_nm_per_rad", "damping_nm_s_per_rad", "backlash_rad"});
+    const auto k = e.numbers("stiffness_nm_per_rad", n);
+    const auto d = e.has("damping_nm_s_per_rad") ? e.numbers("damping_nm_s_per_rad", n) : std::vector<double>(n, 0.0);
+    const auto b = e.has("backlash_rad") ? e.numbers("backlash_rad", n) : std::vector<double>(n, 0.0);
+    for (std::size_t j = 0; j < n; ++j) {
+      if (!(k[j] > 0.0)) e.fail("stiffness_nm_per_rad", "expected > 0 for every joint");
+      st.plant.elasticity.push_back({k[j], d[j], b[j]});
+    }
+  }
+  if (root.has("payload")) {
+    const YamlFields p = root.child("payload");
+    p.allow_only({"t_s", "mass_kg", "com_m"});
+    const auto c = p.numbers("com_m", 3);
+    st.plant.payload = PayloadChange{p.number("t_s"), p.number("mass_kg"), {c[0], c[1], c[2]}};
+    if (!(st.plant.payload->mass > 0.0)) p.fail("mass_kg", "expected > 0");
+  }
+  if (root.has("collisions")) {
+    for (const auto& c : root.sequence("collisions")) st.collisions.push_back(parse_collision(c, n));
+  }
+  if (root.has("campaign")) {
+    const YamlFields c = root.child("campaign");
+    c.allow_only({"count", "links", "t_min_s", "t_max_s", "spacing_s", "force_min_n", "force_max_n", "profiles"});
+    CampaignSpec spec;
+    spec.seed = seed_used;
+    spec.count = static_cast<int>(c.integer("count", 50));
+    if (c.has("links")) {
+      spec.links.clear();
+      for (const double l : c.numbers("links")) {
+        if (l < 1 || l > static_cast<double>(n)) c.fail("links", "link numbers are 1.." + std::to_string(n));
+        spec.links.push_back(static_cast<int>(l));
+      }
+    }
+    spec.t_min = c.number("t_min_s", spec.t_min);
+    spec.t_max = c.number("t_max_s", st.duration_s > 0.0 ? st.duration_s - 2.0 : st.trajectory->duration() - 2.0);
+    spec.spacing_s = c.number("spacing_s", spec.spacing_s);
+    spec.force_min_n = c.number("force_min_n", spec.force_min_n);
+    spec.force_max_n = c.number("force_max_n", spec.force_max_n);
+    if (!(spec.t_max > spec.t_min)) c.fail("t_max_s", "must be after t_min_s");
+    const auto drawn = draw_campaign(spec, s.model.link_lengths);
+    st.collisions.insert(st.collisions.end(), drawn.begin(), drawn.end());
+  }
+  return s;
+}
+
+}  // namespace jg::sim
+
+namespace jg::sim {
+
+PlantModel load_plant_model(const std::string& path) {
+  const robot::RobotModel r = robot::load_robot(path);
+  PlantModel m;
+  m.name = r.name;
+  m.links = r.plant_links();
+  m.drives = r.drives();
+  m.link_lengths = r.reaches();
+  return m;
+}
+
+}  // namespace jg::sim

@@ -1,0 +1,31 @@
+// Scenario files (YAML): what `jointguard simulate` runs. Format documented in
+// docs/scenarios.md; every key carries its unit; unknown keys are refused.
+#pragma once
+
+#include <string>
+
+#include "sim/simulation.hpp"
+
+namespace jg::sim {
+
+/// The robot as the plant needs it: links, drives and nominal friction/controller gains.
+struct PlantModel {
+  std::string name;
+  std::vector<PlantLink> links;
+  std::vector<JointDriveConfig> drives;
+  std::vector<double> link_lengths;  ///< reach of each link (for placing contacts) [m]
+};
+
+/// Loads a robot file (the project's YAML or a URDF) for the plant.
+PlantModel load_plant_model(const std::string& path);
+
+struct Scenario {
+  std::string file;
+  PlantModel model;
+  SimulationSetup setup;
+};
+
+/// Parses a scenario; `model` paths are relative to the scenario file's folder.
+Scenario load_scenario(const std::string& path, unsigned long long seed_override = 0, bool has_seed_override = false);
+
+}  // namespace jg::sim
