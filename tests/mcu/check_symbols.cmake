@@ -1,0 +1,12 @@
+# The firmware core's MCU objects must not reference the heap, exceptions or RTTI.
+execute_process(COMMAND ${NM} -u ${LIB} OUTPUT_VARIABLE undefined RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "nm failed on ${LIB}")
+endif()
+message("undefined symbols of ${LIB}:\n${undefined}")
+set(forbidden "malloc|calloc|realloc|free|_Znw|_Zna|_Zdl|_Zda|__cxa_|__gxx_personality|_Unwind_|_ZTI|_ZTS|__dynamic_cast")
+string(REGEX MATCHALL "[^\n]*(${forbidden})[^\n]*" hits "${undefined}")
+if(hits)
+  message(FATAL_ERROR "forbidden symbols referenced by the core: ${hits}")
+endif()
+message("checked for: ${forbidden}: none referenced")
