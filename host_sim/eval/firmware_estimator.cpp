@@ -1,0 +1,73 @@
+#include "eval/firmware_estimator.hpp"
+
+#include <stdexcept>
+#include <vector>
+
+namespace jg::eval {
+namespace {
+
+template <class S>
+class FirmwareEstimator final : public Estimator {
+ public:
+  explicit FirmwareEstimator(const FirmwareEstimatorConfig& c) : n_(c.model.joints.size()) {
+    params_.resize(n_);
+    state_.resize(n_);
+    for (std::size_t j = 0; j < n_; ++j) {
+      JointEstimatorParams<S>& p = params_[j];
+      if (const Error e = convert_link(c.model.joints[j].link, p.link); e != Error::ok) {
+        throw std::invalid_argument("joint " + std::to_string(j + 1) + ": link constants do not fit the scalar: " + to_string(e));
+      }
+      p.compensate_friction = c.compensate_friction && j < c.friction.size();
+      if (p.compensate_friction && discretize(c.friction[j], c.dt, p.friction) != Error::ok) {
+        throw std::invalid_argument("joint " + std::to_string(j + 1) + ": LuGre parameters do not fit the scalar");
+      }
+      if (discretize(c.observer, c.dt, p.observer) != Error::ok) {
+        throw std::invalid_argument("observer gains do not fit the scalar at this sample time");
+      }
+      p.threshold = {from_double<S>(1e4), S{}};  // detection is done by the evaluation
+    }
+    NumericStatus st;
+    gravity_ = {convert<S>(c.model.gravity[0], st), convert<S>(c.model.gravity[1], st), convert<S>(c.model.gravity[2], st)};
+  }
+  void reset(const EstimatorInput&) override {
+    for (auto& s : state_) s = JointEstimatorState<S>{};
+  }
+  void step(const EstimatorInput& in, sim::JointVector& mu) override {
+    NumericStatus st;
+    OutwardMessage<S> msg = base_message(gravity_);
+    for (std::size_t j = 0; j < n_; ++j) {
+      const auto i = static_cast<Eigen::Index>(j);
+      OutwardMessage<S> next{};
+      joint_outward(params_[j], state_[j], from_float<S>(static_cast<float>(in.q(i)), st),
+                    from_float<S>(static_cast<float>(in.dq(i)), st), msg, next);
+      msg = next;
+    }
+    InwardMessage<S> back = tip_message<S>();
+    mu.resize(static_cast<Eigen::Index>(n_));
+    for (std::size_t j = n_; j-- > 0;) {
+      const auto i = static_cast<Eigen::Index>(j);
+      InwardMessage<S> up{};
+      (void)joint_inward_and_estimate(params_[j], state_[j], from_float<S>(static_cast<float>(in.dq(i)), st),
+                                      from_float<S>(static_cast<float>(in.tau_m(i)), st), back, up);
+      back = up;
+      mu(i) = to_double(state_[j].external_torque);
+    }
+  }
+  [[nodiscard]] std::string name() const override { return is_q_v<S> ? "firmware core (Q16.16)" : "firmware core (float)"; }
+
+ private:
+  std::size_t n_;
+  std::vector<JointEstimatorParams<S>> params_;
+  std::vector<JointEstimatorState<S>> state_;
+  Vec3<S> gravity_{};
+};
+
+}  // namespace
+
+std::unique_ptr<Estimator> make_firmware_estimator(const FirmwareEstimatorConfig& c, const std::string& scalar) {
+  if (scalar == "float") return std::make_unique<FirmwareEstimator<float>>(c);
+  if (scalar == "q") return std::make_unique<FirmwareEstimator<q16>>(c);
+  throw std::invalid_argument("scalar must be 'float' or 'q', got '" + scalar + "'");
+}
+
+}  // namespace jg::eval

@@ -1,0 +1,22 @@
+// The firmware's estimation cycle, joint by joint, driven on the host (float or Q16.16):
+// the same per-joint functions the nodes run, composed over the chain in-process.
+#pragma once
+
+#include "eval/estimator.hpp"
+#include "jointguard/node/joint_estimator.hpp"
+#include "robot/robot_model.hpp"
+
+namespace jg::eval {
+
+struct FirmwareEstimatorConfig {
+  robot::RobotModel model;
+  double dt = 0.001;
+  ObserverGains observer{};
+  bool compensate_friction = true;
+  std::vector<LuGreParams<double>> friction;
+};
+
+/// scalar: "float" or "q". Throws when a parameter does not fit the scalar (range check).
+std::unique_ptr<Estimator> make_firmware_estimator(const FirmwareEstimatorConfig& c, const std::string& scalar);
+
+}  // namespace jg::eval
