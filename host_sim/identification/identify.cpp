@@ -52,9 +52,11 @@ struct LogFit {
       return 0;
     }
     LuGreState<double> st{};
+    const double a = s->observer_decay();
+    double filtered = 0.0;
     for (std::size_t k = 0; k < s->velocity.size(); ++k) {
-      const double tau = lugre_step(d, st, s->velocity[k]);
-      if (k >= s->skip) fvec(static_cast<Eigen::Index>(k - s->skip)) = s->friction[k] - tau;
+      filtered = a * filtered + (1.0 - a) * lugre_step(d, st, s->velocity[k]);
+      if (k >= s->skip) fvec(static_cast<Eigen::Index>(k - s->skip)) = s->friction[k] - filtered;
     }
     return 0;
   }
@@ -108,7 +110,7 @@ LuGreParams<double> run_ga(const FrictionSeries& s, const GaSettings& g, const S
   std::vector<double> cost;
   auto evaluate = [&](const std::vector<Genes>& p) {
     for (std::size_t i = 0; i < n; ++i) batch.set(i, to_params(p[i], r));
-    lugre_batch_cost(batch, s.velocity, s.friction, s.dt, s.skip, cost);
+    lugre_batch_cost(batch, s.velocity, s.friction, s.dt, s.skip, cost, s.observer_decay());
   };
   evaluate(pop);
   std::vector<std::size_t> order(n);
@@ -202,7 +204,7 @@ IdentificationResult identify_lugre(const FrictionSeries& s, const GaSettings& g
     for (std::size_t i = 0; i < 6; ++i) sq[i] += (v[i] - mean[i]) * (v[i] - mean[i]);
   }
   LuGreParams<double> best = from_array(mean);
-  out.ga_rms = rms_of(s, lugre_predict(best, s.velocity, s.dt));
+  out.ga_rms = rms_of(s, lugre_predict(best, s.velocity, s.dt, s.observer_decay()));
   for (std::size_t i = 0; i < 6; ++i) {
     out.report[i].ga_mean = mean[i];
     out.report[i].ga_std = g.runs > 1 ? std::sqrt(sq[i] / (g.runs - 1)) : 0.0;
@@ -220,7 +222,7 @@ IdentificationResult identify_lugre(const FrictionSeries& s, const GaSettings& g
     for (std::size_t i = 0; i < 6; ++i) v[i] = std::exp(x(static_cast<Eigen::Index>(i)));
     const LuGreParams<double> refined = from_array(v);
     if (validate(refined) == Error::ok) {
-      const double rms = rms_of(s, lugre_predict(refined, s.velocity, s.dt));
+      const double rms = rms_of(s, lugre_predict(refined, s.velocity, s.dt, s.observer_decay()));
       if (rms < out.rms) {
         best = refined;
         out.rms = rms;
@@ -229,7 +231,7 @@ IdentificationResult identify_lugre(const FrictionSeries& s, const GaSettings& g
   }
   out.params = best;
   // Noise level from the data itself: the residual's sample-to-sample differences.
-  const std::vector<double> pred = lugre_predict(best, s.velocity, s.dt);
+  const std::vector<double> pred = lugre_predict(best, s.velocity, s.dt, s.observer_decay());
   double d2 = 0.0;
   for (std::size_t k = s.skip + 1; k < pred.size(); ++k) {
     const double e1 = s.friction[k] - pred[k], e0 = s.friction[k - 1] - pred[k - 1];
@@ -244,8 +246,8 @@ IdentificationResult identify_lugre(const FrictionSeries& s, const GaSettings& g
     auto up = base, down = base;
     up[i] *= 1.01;
     down[i] /= 1.01;
-    const auto pu = lugre_predict(from_array(up), s.velocity, s.dt);
-    const auto pd = lugre_predict(from_array(down), s.velocity, s.dt);
+    const auto pu = lugre_predict(from_array(up), s.velocity, s.dt, s.observer_decay());
+    const auto pd = lugre_predict(from_array(down), s.velocity, s.dt, s.observer_decay());
     for (Eigen::Index k = 0; k < m; ++k) {
       J(k, static_cast<Eigen::Index>(i)) = (pu[static_cast<std::size_t>(k) + s.skip] - pd[static_cast<std::size_t>(k) + s.skip]) / (2.0 * std::log(1.01));
     }

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <functional>
 #include <string>
 #include <vector>
@@ -41,6 +42,10 @@ struct FrictionSeries {
   std::vector<double> friction;  ///< measured friction torque [N·m]
   double dt = 0.0;               ///< sample time [s]
   std::size_t skip = 0;          ///< leading samples that only warm up the bristle state
+  /// Measured by a first-order momentum observer of this gain [1/s]: candidates are seen
+  /// through the same filter (0 = measured directly, e.g. by a torque sensor).
+  double observer_gain = 0.0;
+  [[nodiscard]] double observer_decay() const { return observer_gain > 0.0 ? std::exp(-observer_gain * dt) : 0.0; }
 };
 
 struct ParameterReport {

@@ -60,10 +60,11 @@ inline double exp_nonpositive(double x) {
 
 // One sample for all candidates; the loop body has no branches and no calls.
 __attribute__((target_clones("avx512f", "avx2", "default")))
-void candidates_step(std::size_t nc, double w, double r, double score, const double* __restrict gain,
+void candidates_step(std::size_t nc, double w, double r, double score, double decay, const double* __restrict gain,
                      const double* __restrict damping, const double* __restrict coulomb,
                      const double* __restrict drop, const double* __restrict inv_ws,
-                     const double* __restrict viscous, double* __restrict z, double* __restrict acc) {
+                     const double* __restrict viscous, double* __restrict z, double* __restrict filtered,
+                     double* __restrict acc) {
   const double speed = std::fabs(w);
   for (std::size_t c = 0; c < nc; ++c) {
     const double u = w * inv_ws[c];
@@ -73,21 +74,23 @@ void candidates_step(std::size_t nc, double w, double r, double score, const dou
     const double next = previous + (w * level - previous * speed) * g;
     z[c] = next;
     const double tau = next + damping[c] * (next - previous) + viscous[c] * w;
-    const double e = r - tau;
+    filtered[c] = decay * filtered[c] + (1.0 - decay) * tau;
+    const double e = r - filtered[c];
     acc[c] += score * e * e;
   }
 }
 }  // namespace
 
 void lugre_batch_cost(const LuGreBatch& b, const std::vector<double>& velocity, const std::vector<double>& measured,
-                      double dt, std::size_t skip, std::vector<double>& cost) {
+                      double dt, std::size_t skip, std::vector<double>& cost, double observer_decay) {
   const std::size_t nc = b.size();
   const std::size_t ns = velocity.size();
   if (measured.size() != ns || skip >= ns) {
     throw std::invalid_argument("lugre_batch_cost: series sizes differ or nothing to score");
   }
   // Per-candidate coefficients, folded with dt exactly as discretize() does.
-  std::vector<double> gain(nc), damping(nc), coulomb(nc), drop(nc), inv_ws(nc), viscous(nc), zeta(nc, 0.0);
+  std::vector<double> gain(nc), damping(nc), coulomb(nc), drop(nc), inv_ws(nc), viscous(nc), zeta(nc, 0.0),
+      filtered(nc, 0.0);
   cost.assign(nc, 0.0);
   for (std::size_t c = 0; c < nc; ++c) {
     gain[c] = b.sigma0[c] * dt;
@@ -98,21 +101,27 @@ void lugre_batch_cost(const LuGreBatch& b, const std::vector<double>& velocity, 
     viscous[c] = b.sigma2[c];
   }
   for (std::size_t k = 0; k < ns; ++k) {
-    candidates_step(nc, velocity[k], measured[k], k >= skip ? 1.0 : 0.0, gain.data(), damping.data(), coulomb.data(),
-                    drop.data(), inv_ws.data(), viscous.data(), zeta.data(), cost.data());
+    candidates_step(nc, velocity[k], measured[k], k >= skip ? 1.0 : 0.0, observer_decay, gain.data(), damping.data(),
+                    coulomb.data(), drop.data(), inv_ws.data(), viscous.data(), zeta.data(), filtered.data(), cost.data());
   }
   const double inv_n = 1.0 / static_cast<double>(ns - skip);
   for (std::size_t c = 0; c < nc; ++c) cost[c] *= inv_n;
 }
 
-std::vector<double> lugre_predict(const LuGreParams<double>& p, const std::vector<double>& velocity, double dt) {
+std::vector<double> lugre_predict(const LuGreParams<double>& p, const std::vector<double>& velocity, double dt,
+                                  double observer_decay) {
   LuGreDiscrete<double> d{};
   if (const Error e = discretize(p, dt, d); e != Error::ok) {
     throw std::invalid_argument(std::string("lugre_predict: invalid parameters: ") + to_string(e));
   }
   LuGreState<double> s{};
   std::vector<double> out(velocity.size());
-  for (std::size_t k = 0; k < velocity.size(); ++k) out[k] = lugre_step(d, s, velocity[k]);
+  double filtered = 0.0;
+  for (std::size_t k = 0; k < velocity.size(); ++k) {
+    const double tau = lugre_step(d, s, velocity[k]);
+    filtered = observer_decay * filtered + (1.0 - observer_decay) * tau;
+    out[k] = filtered;
+  }
   return out;
 }
 

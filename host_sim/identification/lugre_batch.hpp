@@ -24,10 +24,16 @@ struct LuGreBatch {
 /// over the series (velocity w[k], sample time dt), starting from zero bristle state.
 /// Writes one cost per candidate into `cost` (resized). Samples before `skip` warm the
 /// state up but are not scored.
+/// `observer_decay` a = exp(-K dT) > 0 passes each prediction through the first-order
+/// observer's filter y_k = a y_{k-1} + (1 - a) tau_k before scoring, so that friction
+/// "measured" by a momentum observer is compared with what the observer would show for
+/// the candidate (the observer's lag is not mistaken for friction dynamics).
 void lugre_batch_cost(const LuGreBatch& batch, const std::vector<double>& velocity,
-                      const std::vector<double>& measured, double dt, std::size_t skip, std::vector<double>& cost);
+                      const std::vector<double>& measured, double dt, std::size_t skip, std::vector<double>& cost,
+                      double observer_decay = 0.0);
 
 /// One candidate's prediction (double), for residuals and reports.
-std::vector<double> lugre_predict(const LuGreParams<double>& p, const std::vector<double>& velocity, double dt);
+std::vector<double> lugre_predict(const LuGreParams<double>& p, const std::vector<double>& velocity, double dt,
+                                  double observer_decay = 0.0);
 
 }  // namespace jg::ident

@@ -2,7 +2,9 @@
 // the MCU: the host converts a robot description (YAML/URDF) into these with range checks.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
+#include <iterator>
 
 #include "jointguard/dynamics/vec3.hpp"
 #include "jointguard/error.hpp"
@@ -44,10 +46,8 @@ template <class S>
   const double values[] = {l.a_prev, l.alpha_prev, l.d, l.theta_offset, l.mass, l.com[0], l.com[1], l.com[2],
                            l.inertia_com[0], l.inertia_com[1], l.inertia_com[2], l.inertia_com[3], l.inertia_com[4],
                            l.inertia_com[5], l.rotor_inertia, l.torque_constant, l.current_limit};
-  for (const double v : values) {
-    if (!detail::is_finite(v)) {
-      return Error::not_finite;
-    }
+  if (!std::all_of(std::begin(values), std::end(values), [](double v) { return detail::is_finite(v); })) {
+    return Error::not_finite;
   }
   if (l.mass < 0.0 || l.rotor_inertia < 0.0 || !(l.torque_constant > 0.0) || !(l.current_limit > 0.0) ||
       l.inertia_com[0] < 0.0 || l.inertia_com[1] < 0.0 || l.inertia_com[2] < 0.0) {

@@ -1,0 +1,295 @@
+#include "eval/pipeline.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+
+#include "eval/firmware_estimator.hpp"
+#include "jointguard/detection/detector.hpp"
+
+namespace jg::eval {
+namespace {
+double sample_time(const io::Recording& r) {
+  if (r.samples() < 3) throw std::invalid_argument("recording too short (fewer than 3 samples)");
+  return (r.t.back() - r.t.front()) / static_cast<double>(r.samples() - 1);
+}
+
+nlohmann::json read_json(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw io::FormatError(path + ": cannot open");
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw io::FormatError(path + ": invalid JSON at byte " + std::to_string(e.byte));
+  }
+}
+
+void write_json_atomic(const std::string& path, const nlohmann::json& j) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp);
+    if (!out) throw std::runtime_error(path + ": cannot write");
+    out << j.dump(2) << '\n';
+  }
+  std::rename(tmp.c_str(), path.c_str());
+}
+
+double field(const nlohmann::json& j, const char* key, const std::string& path, std::size_t index) {
+  if (!j.contains(key) || !j[key].is_number()) {
+    throw io::FormatError(path + ": joints[" + std::to_string(index) + "]: field '" + key + "' missing or not a number");
+  }
+  const double v = j[key].get<double>();
+  if (!std::isfinite(v)) throw io::FormatError(path + ": joints[" + std::to_string(index) + "]: field '" + key + "' not finite");
+  return v;
+}
+}  // namespace
+
+void write_friction_json(const std::string& path, const std::vector<ident::IdentificationResult>& r,
+                         const std::vector<int>& joint_ids) {
+  nlohmann::json j;
+  j["joints"] = nlohmann::json::array();
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    const auto& p = r[i].params;
+    nlohmann::json e{{"joint", joint_ids[i]}, {"sigma0", p.sigma0}, {"sigma1", p.sigma1}, {"sigma2", p.sigma2},
+                     {"tau_c", p.tau_c},      {"tau_s", p.tau_s},   {"w_s", p.w_s},       {"rms", r[i].rms},
+                     {"noise_rms", r[i].noise_rms}};
+    nlohmann::json rep = nlohmann::json::object();
+    for (std::size_t k = 0; k < 6; ++k) {
+      const auto& pr = r[i].report[k];
+      rep[ident::kParamNames[k]] = {{"ga_mean", pr.ga_mean}, {"ga_std", pr.ga_std}, {"sensitivity", pr.sensitivity},
+                                    {"relative_std_error", pr.relative_std_error}, {"identifiable", pr.identifiable}};
+    }
+    e["report"] = rep;
+    e["warnings"] = r[i].warnings;
+    j["joints"].push_back(e);
+  }
+  write_json_atomic(path, j);
+}
+
+std::vector<LuGreParams<double>> read_friction_json(const std::string& path) {
+  const auto j = read_json(path);
+  if (!j.contains("joints") || !j["joints"].is_array()) throw io::FormatError(path + ": field 'joints' missing");
+  std::vector<LuGreParams<double>> out;
+  for (std::size_t i = 0; i < j["joints"].size(); ++i) {
+    const auto& e = j["joints"][i];
+    LuGreParams<double> p{field(e, "sigma0", path, i), field(e, "sigma1", path, i), field(e, "sigma2", path, i),
+                          field(e, "tau_c", path, i),  field(e, "tau_s", path, i),  field(e, "w_s", path, i)};
+    if (validate(p) != Error::ok) throw io::FormatError(path + ": joints[" + std::to_string(i) + "]: invalid LuGre parameters");
+    out.push_back(p);
+  }
+  return out;
+}
+
+void write_threshold_json(const std::string& path, const Thresholds& t, const std::vector<int>& joint_ids) {
+  nlohmann::json j;
+  j["margin"] = t.margin;
+  j["joints"] = nlohmann::json::array();
+  for (std::size_t i = 0; i < t.threshold.size(); ++i) {
+    j["joints"].push_back({{"joint", joint_ids[i]}, {"threshold", t.threshold[i]},
+                           {"threshold_uncompensated", t.threshold_uncompensated[i]}, {"band", t.band[i]},
+                           {"band_uncompensated", t.band_uncompensated[i]},
+                           {"shrink_factor", t.band[i] > 0 ? t.band_uncompensated[i] / t.band[i] : 0.0}});
+  }
+  write_json_atomic(path, j);
+}
+
+Thresholds read_threshold_json(const std::string& path) {
+  const auto j = read_json(path);
+  if (!j.contains("joints") || !j["joints"].is_array()) throw io::FormatError(path + ": field 'joints' missing");
+  Thresholds t;
+  for (std::size_t i = 0; i < j["joints"].size(); ++i) {
+    const auto& e = j["joints"][i];
+    t.threshold.push_back(field(e, "threshold", path, i));
+    t.threshold_uncompensated.push_back(e.contains("threshold_uncompensated") ? field(e, "threshold_uncompensated", path, i) : 0.0);
+    if (!(t.threshold.back() > 0.0)) throw io::FormatError(path + ": joints[" + std::to_string(i) + "]: threshold must be > 0");
+  }
+  return t;
+}
+
+std::vector<std::vector<double>> motor_torque(const io::Recording& rec, const robot::RobotModel& model) {
+  if (rec.joints() != model.joints.size()) {
+    throw std::invalid_argument("the recording has " + std::to_string(rec.joints()) + " joints, the model " +
+                                std::to_string(model.joints.size()));
+  }
+  if (!rec.tau_m.empty()) return rec.tau_m;
+  std::vector<std::vector<double>> out = rec.current;
+  for (std::size_t j = 0; j < out.size(); ++j) {
+    for (auto& v : out[j]) v *= model.joints[j].link.torque_constant;
+  }
+  return out;
+}
+
+io::Recording resample(const io::Recording& rec, double rate_hz) {
+  const double dt = sample_time(rec);
+  if (!(rate_hz > 0.0) || std::fabs(dt * rate_hz - 1.0) < 1e-3) return rec;
+  const double new_dt = 1.0 / rate_hz;
+  const auto n = static_cast<std::size_t>(std::floor((rec.t.back() - rec.t.front()) / new_dt)) + 1;
+  io::Recording out = rec;
+  out.t.resize(n);
+  auto interp = [&](const std::vector<double>& x, double t) {
+    const double pos = (t - rec.t.front()) / dt;
+    const auto i = std::min(static_cast<std::size_t>(std::max(0.0, pos)), rec.samples() - 2);
+    const double a = std::clamp(pos - static_cast<double>(i), 0.0, 1.0);
+    return x[i] + a * (x[i + 1] - x[i]);
+  };
+  for (auto* sig : {&out.q, &out.dq, &out.current, &out.tau_m, &out.tau_ext}) {
+    for (auto& v : *sig) v.resize(n);
+  }
+  std::vector<int> coll(out.collision.empty() ? 0 : n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const double t = rec.t.front() + static_cast<double>(k) * new_dt;
+    out.t[k] = t;
+    for (std::size_t j = 0; j < rec.joints(); ++j) {
+      out.q[j][k] = interp(rec.q[j], t);
+      out.dq[j][k] = interp(rec.dq[j], t);
+      if (!rec.current.empty()) out.current[j][k] = interp(rec.current[j], t);
+      if (!rec.tau_m.empty()) out.tau_m[j][k] = interp(rec.tau_m[j], t);
+      if (!rec.tau_ext.empty()) out.tau_ext[j][k] = interp(rec.tau_ext[j], t);
+    }
+    if (!coll.empty()) coll[k] = rec.collision[std::min(rec.samples() - 1, static_cast<std::size_t>(std::lround((t - rec.t.front()) / dt)))];
+  }
+  out.collision = coll;
+  out.extra.clear();
+  out.meta.sample_time = new_dt;
+  return out;
+}
+
+std::vector<std::vector<double>> observer_disturbance(const io::Recording& rec, const robot::RobotModel& model,
+                                                     const ObserverGains& gains, bool compensate,
+                                                     const std::vector<LuGreParams<double>>& friction,
+                                                     const std::string& scalar) {
+  const auto tau = motor_torque(rec, model);
+  FirmwareEstimatorConfig c;
+  c.model = model;
+  c.dt = sample_time(rec);
+  c.observer = gains;
+  c.compensate_friction = compensate;
+  c.friction = friction;
+  auto est = make_firmware_estimator(c, scalar);
+  const std::size_t n = rec.joints();
+  std::vector<std::vector<double>> out(n, std::vector<double>(rec.samples()));
+  sim::JointVector mu;
+  for (std::size_t k = 0; k < rec.samples(); ++k) {
+    EstimatorInput in{sim::JointVector(static_cast<Eigen::Index>(n)), sim::JointVector(static_cast<Eigen::Index>(n)),
+                      sim::JointVector(static_cast<Eigen::Index>(n))};
+    for (std::size_t j = 0; j < n; ++j) {
+      in.q(static_cast<Eigen::Index>(j)) = rec.q[j][k];
+      in.dq(static_cast<Eigen::Index>(j)) = rec.dq[j][k];
+      in.tau_m(static_cast<Eigen::Index>(j)) = tau[j][k];
+    }
+    if (k == 0) est->reset(in);
+    est->step(in, mu);
+    // The observer estimates d - f = tau_f - tau_ext - f: report it as a disturbance.
+    for (std::size_t j = 0; j < n; ++j) out[j][k] = -mu(static_cast<Eigen::Index>(j));
+  }
+  return out;
+}
+
+std::vector<ident::IdentificationResult> identify_recording(const io::Recording& rec, const robot::RobotModel& model,
+                                                            const ObserverGains& gains, const ident::GaSettings& ga,
+                                                            const std::function<void(double)>& progress) {
+  if (gains.kind != ObserverKind::first_order) throw std::invalid_argument("identification uses the first-order observer");
+  const auto d = observer_disturbance(rec, model, gains, false, {});
+  const double dt = sample_time(rec);
+  // Decimate to at most ~2500 samples: the paper identifies from 1251 samples at 125 Hz.
+  const std::size_t step = std::max<std::size_t>(1, rec.samples() / 2500);
+  std::vector<ident::IdentificationResult> out;
+  for (std::size_t j = 0; j < rec.joints(); ++j) {
+    ident::FrictionSeries s;
+    s.dt = dt * static_cast<double>(step);
+    for (std::size_t k = 0; k < rec.samples(); k += step) {
+      s.velocity.push_back(rec.dq[j][k]);
+      s.friction.push_back(d[j][k]);
+    }
+    s.skip = std::min<std::size_t>(s.velocity.size() / 10, static_cast<std::size_t>(0.5 / s.dt));
+    s.observer_gain = gains.k1;
+    try {
+      out.push_back(ident::identify_lugre(s, ga, {}, [&](double f) {
+        if (progress) progress((static_cast<double>(j) + f) / static_cast<double>(rec.joints()));
+      }));
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("joint " + std::to_string(rec.joint_ids[j]) + ": " + e.what());
+    }
+  }
+  return out;
+}
+
+Thresholds calibrate_recording(const io::Recording& rec, const robot::RobotModel& model,
+                               const std::vector<LuGreParams<double>>& friction, const ObserverGains& gains,
+                               double margin, double settle_s) {
+  if (!rec.collision.empty()) {
+    for (const int c : rec.collision) {
+      if (c != 0) throw std::invalid_argument("calibration needs a collision-free recording (its collision column is not all 0)");
+    }
+  }
+  Thresholds t;
+  t.margin = margin;
+  const auto with = observer_disturbance(rec, model, gains, true, friction);
+  const auto without = observer_disturbance(rec, model, gains, false, friction);
+  for (std::size_t j = 0; j < rec.joints(); ++j) {
+    double b1 = 0.0, b0 = 0.0;
+    for (std::size_t k = 0; k < rec.samples(); ++k) {
+      if (rec.t[k] - rec.t.front() < settle_s) continue;
+      b1 = std::max(b1, std::fabs(with[j][k]));
+      b0 = std::max(b0, std::fabs(without[j][k]));
+    }
+    t.band.push_back(b1);
+    t.band_uncompensated.push_back(b0);
+    t.threshold.push_back(b1 + margin);
+    t.threshold_uncompensated.push_back(b0 + margin);
+  }
+  return t;
+}
+
+ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel& model,
+                              const std::vector<LuGreParams<double>>& friction, const std::vector<double>& thresholds,
+                              const ObserverGains& gains, const std::string& scalar, int debounce_cycles) {
+  const std::size_t n = rec.joints();
+  if (thresholds.size() != n) throw std::invalid_argument("one threshold per joint needed");
+  if (friction.size() != n) throw std::invalid_argument("one friction parameter set per joint needed");
+  const auto d = observer_disturbance(rec, model, gains, true, friction, scalar);
+  ReplayResult r;
+  r.t = rec.t;
+  r.external_torque_max.assign(n, 0.0);
+  r.mu.assign(n, std::vector<double>(rec.samples()));
+  std::vector<JointDetectorState> st(n);
+  JointMask previous = 0;
+  for (std::size_t k = 0; k < rec.samples(); ++k) {
+    JointMask mask = 0;
+    for (std::size_t j = 0; j < n; ++j) {
+      const double mu = -d[j][k];
+      r.mu[j][k] = mu;
+      r.external_torque_max[j] = std::max(r.external_torque_max[j], std::fabs(mu));
+      if (detector_step(JointThreshold<double>{thresholds[j], 0.0}, DebounceSettings{static_cast<std::uint8_t>(debounce_cycles)},
+                        st[j], mu, rec.dq[j][k])) {
+        mask |= static_cast<JointMask>(1U << j);
+      }
+    }
+    if (mask != 0 && previous == 0) {
+      ReplayEvent e;
+      e.t = rec.t[k];
+      e.link = rec.joint_ids[static_cast<std::size_t>(isolate_link(mask) - 1)];
+      for (std::size_t j = 0; j < n; ++j) {
+        if ((mask & (1U << j)) != 0U) e.joints_over.push_back(rec.joint_ids[j]);
+      }
+      r.events.push_back(e);
+    }
+    // Re-arm once every joint is back under its threshold for 0.2 s (a new event can follow).
+    bool all_quiet = true;
+    for (std::size_t j = 0; j < n; ++j) all_quiet = all_quiet && std::fabs(r.mu[j][k]) < thresholds[j];
+    if (mask != 0 && all_quiet) {
+      static thread_local double quiet_since = -1.0;
+      if (quiet_since < 0.0) quiet_since = rec.t[k];
+      if (rec.t[k] - quiet_since > 0.2) {
+        for (auto& s : st) reset_detector(s);
+        mask = 0;
+        quiet_since = -1.0;
+      }
+    }
+    previous = mask;
+  }
+  return r;
+}
+
+}  // namespace jg::eval
