@@ -18,7 +18,10 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
   const sim::ArmDynamics nominal(setup.nominal_links.empty() ? setup.plant.links : setup.nominal_links, setup.plant.gravity);
   std::vector<JointThreshold<double>> thresholds(n);
   std::vector<JointDetectorState> states(n);
-  for (std::size_t j = 0; j < n; ++j) thresholds[j] = {d.threshold[j], d.per_speed.empty() ? 0.0 : d.per_speed[j]};
+  for (std::size_t j = 0; j < n; ++j) {
+    thresholds[j] = {d.threshold[j], d.per_speed.empty() ? 0.0 : d.per_speed[j],
+                     d.low_speed_extra.empty() ? 0.0 : d.low_speed_extra[j], 1.0 / d.low_speed_width};
+  }
   std::vector<LuGreDiscrete<double>> friction(d.friction.size());
   std::vector<LuGreState<double>> friction_state(d.friction.size());
   const double dt = 1.0 / setup.control_rate_hz;
@@ -28,7 +31,6 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
   bool started = false, reacting = false;
   sim::JointVector hold;
   sim::JointVector mu;
-  double last_contact_t = -1e9;
   JointMask mask = 0;
   const sim::ControlOverride hook = [&](const sim::CycleContext& ctx) -> std::optional<sim::JointVector> {
     const sim::Measurement& m = *ctx.measurement;
@@ -45,13 +47,16 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
         now |= static_cast<JointMask>(1U << j);
       }
     }
-    if (now != 0 && mask == 0) {
-      const bool in_contact = ctx.t - last_contact_t < 0.5;
-      if (!out.t_detected && (in_contact || !setup.collisions.empty())) {
-        out.t_detected = ctx.t;
-        out.link_isolated = isolate_link(now);
-      }
-      if (!in_contact && (setup.collisions.empty() || ctx.t < out.t_collision)) out.false_alarm_times.push_back(ctx.t);
+    if (now != 0 && mask == 0 && (setup.collisions.empty() || ctx.t < out.t_collision)) {
+      // An alarm with no contact: count it, re-arm, do not react.
+      out.false_alarm_times.push_back(ctx.t);
+      for (auto& st : states) reset_detector(st);
+      now = 0;
+    } else if (now != 0 && !out.t_detected) {
+      // Isolation from the signature at the detection cycle itself: joints crossing later
+      // mostly see the reaction's own transients, not the contact.
+      out.t_detected = ctx.t;
+      out.link_isolated = isolate_link(now);
       reacting = d.reaction != Reaction::none;
       hold = m.q;
     }
@@ -62,12 +67,6 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
         out.trace.mu.resize(n);
       }
       for (std::size_t j = 0; j < n; ++j) out.trace.mu[j].push_back(mu(static_cast<Eigen::Index>(j)));
-    }
-    if (setup.collisions.empty() && mask != 0) {
-      // Collision-free run: count the alarm, reset, keep going (no reaction).
-      for (auto& st : states) reset_detector(st);
-      mask = 0;
-      return std::nullopt;
     }
     if (!reacting) return std::nullopt;
     sim::JointVector demand = nominal.gravity_torque(m.q);
@@ -94,7 +93,6 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       out.max_true_ratio = std::max(out.max_true_ratio, ratio);
       if (!out.t_threshold && ratio > 1.0) out.t_threshold = rec.t[k];
     }
-    if (rec.collision[k] != 0) last_contact_t = rec.t[k];
   }
   out.peak_force_n = r.peak_contact_force_n;
   if (record_trace) {

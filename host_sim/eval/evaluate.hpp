@@ -15,6 +15,8 @@ namespace jg::eval {
 struct DetectionConfig {
   std::vector<double> threshold;  ///< eps0 per joint [N·m]
   std::vector<double> per_speed;  ///< band growth per joint [N·m·s/rad] (empty = 0)
+  std::vector<double> low_speed_extra;  ///< stiction allowance near standstill [N·m] (empty = 0)
+  double low_speed_width = 0.03;        ///< [rad/s]
   int debounce_cycles = 1;
   Reaction reaction = Reaction::stop;
   std::vector<LuGreParams<double>> friction;  ///< for the zero-gravity mode's friction compensation

@@ -87,6 +87,8 @@ void write_threshold_json(const std::string& path, const Thresholds& t, const st
   j["joints"] = nlohmann::json::array();
   for (std::size_t i = 0; i < t.threshold.size(); ++i) {
     j["joints"].push_back({{"joint", joint_ids[i]}, {"threshold", t.threshold[i]},
+                           {"low_speed_extra", t.low_speed_extra.empty() ? 0.0 : t.low_speed_extra[i]},
+                           {"low_speed_width", t.low_speed_width},
                            {"threshold_uncompensated", t.threshold_uncompensated[i]}, {"band", t.band[i]},
                            {"band_uncompensated", t.band_uncompensated[i]},
                            {"shrink_factor", t.band[i] > 0 ? t.band_uncompensated[i] / t.band[i] : 0.0}});
@@ -102,6 +104,8 @@ Thresholds read_threshold_json(const std::string& path) {
     const auto& e = j["joints"][i];
     t.threshold.push_back(field(e, "threshold", path, i));
     t.threshold_uncompensated.push_back(e.contains("threshold_uncompensated") ? field(e, "threshold_uncompensated", path, i) : 0.0);
+    t.low_speed_extra.push_back(e.contains("low_speed_extra") ? field(e, "low_speed_extra", path, i) : 0.0);
+    if (e.contains("low_speed_width")) t.low_speed_width = field(e, "low_speed_width", path, i);
     if (!(t.threshold.back() > 0.0)) throw io::FormatError(path + ": joints[" + std::to_string(i) + "]: threshold must be > 0");
   }
   return t;
@@ -192,8 +196,9 @@ std::vector<ident::IdentificationResult> identify_recording(const io::Recording&
   if (gains.kind != ObserverKind::first_order) throw std::invalid_argument("identification uses the first-order observer");
   const auto d = observer_disturbance(rec, model, gains, false, {});
   const double dt = sample_time(rec);
-  // Decimate to at most ~2500 samples: the paper identifies from 1251 samples at 125 Hz.
-  const std::size_t step = std::max<std::size_t>(1, rec.samples() / 2500);
+  // Decimate to at most ~6000 samples (the paper used 1251 at 125 Hz): the bristle
+  // dynamics need a few ms of resolution around reversals.
+  const std::size_t step = std::max<std::size_t>(1, rec.samples() / 6000);
   std::vector<ident::IdentificationResult> out;
   for (std::size_t j = 0; j < rec.joints(); ++j) {
     ident::FrictionSeries s;
@@ -228,24 +233,38 @@ Thresholds calibrate_recording(const io::Recording& rec, const robot::RobotModel
   const auto with = observer_disturbance(rec, model, gains, true, friction);
   const auto without = observer_disturbance(rec, model, gains, false, friction);
   for (std::size_t j = 0; j < rec.joints(); ++j) {
-    double b1 = 0.0, b0 = 0.0;
+    double moving = 0.0, slow = 0.0, b0 = 0.0;
     for (std::size_t k = 0; k < rec.samples(); ++k) {
       if (rec.t[k] - rec.t.front() < settle_s) continue;
-      b1 = std::max(b1, std::fabs(with[j][k]));
+      const double m = std::fabs(with[j][k]);
+      (std::fabs(rec.dq[j][k]) > 2.0 * t.low_speed_width ? moving : slow) =
+          std::max(std::fabs(rec.dq[j][k]) > 2.0 * t.low_speed_width ? moving : slow, m);
       b0 = std::max(b0, std::fabs(without[j][k]));
     }
-    t.band.push_back(b1);
+    t.band.push_back(std::max(moving, slow));
     t.band_uncompensated.push_back(b0);
-    t.threshold.push_back(b1 + margin);
+    t.threshold.push_back(moving + margin);
+    t.low_speed_extra.push_back(std::max(0.0, slow - moving));
     t.threshold_uncompensated.push_back(b0 + margin);
   }
   return t;
 }
 
+std::vector<JointThreshold<double>> threshold_bands(const Thresholds& t) {
+  std::vector<JointThreshold<double>> out;
+  for (std::size_t j = 0; j < t.threshold.size(); ++j) {
+    out.push_back({t.threshold[j], 0.0, j < t.low_speed_extra.size() ? t.low_speed_extra[j] : 0.0,
+                   1.0 / t.low_speed_width});
+  }
+  return out;
+}
+
 ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel& model,
-                              const std::vector<LuGreParams<double>>& friction, const std::vector<double>& thresholds,
+                              const std::vector<LuGreParams<double>>& friction, const Thresholds& thresholds_in,
                               const ObserverGains& gains, const std::string& scalar, int debounce_cycles) {
   const std::size_t n = rec.joints();
+  const auto bands = threshold_bands(thresholds_in);
+  const std::vector<double>& thresholds = thresholds_in.threshold;
   if (thresholds.size() != n) throw std::invalid_argument("one threshold per joint needed");
   if (friction.size() != n) throw std::invalid_argument("one friction parameter set per joint needed");
   const auto d = observer_disturbance(rec, model, gains, true, friction, scalar);
@@ -261,7 +280,7 @@ ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel&
       const double mu = -d[j][k];
       r.mu[j][k] = mu;
       r.external_torque_max[j] = std::max(r.external_torque_max[j], std::fabs(mu));
-      if (detector_step(JointThreshold<double>{thresholds[j], 0.0}, DebounceSettings{static_cast<std::uint8_t>(debounce_cycles)},
+      if (detector_step(bands[j], DebounceSettings{static_cast<std::uint8_t>(debounce_cycles)},
                         st[j], mu, rec.dq[j][k])) {
         mask |= static_cast<JointMask>(1U << j);
       }

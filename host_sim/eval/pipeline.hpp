@@ -9,6 +9,7 @@
 #include "eval/estimator.hpp"
 #include "identification/identify.hpp"
 #include "io/recording.hpp"
+#include "jointguard/detection/detector.hpp"
 #include "jointguard/observer/momentum_observer.hpp"
 #include "robot/robot_model.hpp"
 
@@ -20,7 +21,9 @@ void write_friction_json(const std::string& path, const std::vector<ident::Ident
 std::vector<LuGreParams<double>> read_friction_json(const std::string& path);
 
 struct Thresholds {
-  std::vector<double> threshold;               ///< with friction compensation [N·m]
+  std::vector<double> threshold;               ///< with friction compensation, while moving [N·m]
+  std::vector<double> low_speed_extra;         ///< added near standstill (stiction) [N·m]
+  double low_speed_width = 0.03;               ///< w_band [rad/s]
   std::vector<double> threshold_uncompensated; ///< without [N·m]
   std::vector<double> band, band_uncompensated;  ///< observed max |mu| before the margin
   double margin = 0.0;
@@ -61,8 +64,11 @@ struct ReplayResult {
   std::vector<double> t;
   std::vector<std::vector<double>> mu;  ///< [joint][sample]
 };
+/// The detector's band per joint from calibrated thresholds.
+std::vector<JointThreshold<double>> threshold_bands(const Thresholds& t);
+
 ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel& model,
-                              const std::vector<LuGreParams<double>>& friction, const std::vector<double>& thresholds,
+                              const std::vector<LuGreParams<double>>& friction, const Thresholds& thresholds,
                               const ObserverGains& gains, const std::string& scalar, int debounce_cycles);
 
 }  // namespace jg::eval

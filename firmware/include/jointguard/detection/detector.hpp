@@ -2,7 +2,10 @@
 //
 // Per joint: the compensated external torque mu (observer output with the friction
 // prediction inside its momentum balance) is compared with a threshold band
-// eps(w) = eps0 + eps_per_speed |w| (eps_per_speed = 0 gives the paper's constant eps);
+//   eps(w) = eps0 + eps_per_speed |w| + eps_low_speed exp(-(w / w_band)^2)
+// (eps_per_speed = eps_low_speed = 0 gives the paper's constant eps). The low-speed term
+// exists because friction in stiction is not observable: at rest the bristles hold any
+// torque up to tau_s, which no velocity-driven model can predict.
 // `debounce_cycles` consecutive cycles over the band raise the joint's flag, which stays
 // latched until reset. Across joints: a force on link i loads joints 1..i only, so the
 // highest joint whose flag is up names the collided link (fault signature [1..1 0..0]).
@@ -23,6 +26,8 @@ template <class S>
 struct JointThreshold {
   S base{};       ///< eps0 [N·m]
   S per_speed{};  ///< band growth with |velocity| [N·m·s/rad]; 0 = constant threshold
+  S low_speed_extra{};      ///< extra allowance near standstill [N·m]
+  S inv_low_speed_width{};  ///< 1 / w_band [s/rad]
 };
 
 struct DebounceSettings {
@@ -38,7 +43,8 @@ struct JointDetectorState {
 template <class S>
 [[nodiscard]] constexpr bool detector_step(const JointThreshold<S>& threshold, DebounceSettings debounce,
                                            JointDetectorState& state, S external_torque, S velocity) noexcept {
-  const S band = threshold.base + threshold.per_speed * jg::abs(velocity);
+  const S u = velocity * threshold.inv_low_speed_width;
+  const S band = threshold.base + threshold.per_speed * jg::abs(velocity) + threshold.low_speed_extra * jg::exp(-(u * u));
   if (band < jg::abs(external_torque)) {
     if (state.over_count < 255U) {
       ++state.over_count;

@@ -1,0 +1,216 @@
+#include "eval/experiments.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "eval/firmware_estimator.hpp"
+#include "models/paper_friction.hpp"
+
+namespace jg::eval {
+namespace {
+sim::JointVector home_of(const robot::RobotModel& m) {
+  sim::JointVector h = sim::JointVector::Zero(static_cast<Eigen::Index>(m.joints.size()));
+  if (h.size() >= 3) {
+    h(1) = 0.6;
+    h(2) = -0.8;
+  }
+  return h;
+}
+}  // namespace
+
+sim::SimulationSetup base_setup(const ExperimentConfig& c, std::shared_ptr<const sim::Trajectory> trajectory,
+                                unsigned long long seed) {
+  sim::SimulationSetup s;
+  s.plant.links = c.model.plant_links();
+  const std::size_t n = s.plant.links.size();
+  for (std::size_t j = 0; j < n; ++j) s.plant.friction.push_back({sim::kPaperTable1[std::min<std::size_t>(j, 2)], {}});
+  s.plant.plant_rate_hz = std::max(2000.0, 2.0 * c.rate_hz);
+  s.sensors.drives = c.model.drives();
+  for (auto& d : s.sensors.drives) {
+    d.current_noise_rms_a = c.current_noise_a;
+    d.current_lsb_a = 0.0005;
+  }
+  s.sensors.seed = seed;
+  const sim::ArmDynamics arm(s.plant.links);
+  const auto M = arm.mass_matrix(trajectory->at(0.0).q);
+  const double bandwidth = std::min(40.0, c.rate_hz / 8.0);
+  for (std::size_t j = 0; j < n; ++j) {
+    const double inertia = M(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(j));
+    s.controller.kp.push_back(inertia * bandwidth * bandwidth);
+    s.controller.kd.push_back(2.0 * inertia * bandwidth);
+  }
+  s.trajectory = std::move(trajectory);
+  s.control_rate_hz = c.rate_hz;
+  s.meta.model = c.model.name;
+  s.meta.seed = seed;
+  return s;
+}
+
+std::unique_ptr<Estimator> estimator_for(const ExperimentConfig& c) {
+  FirmwareEstimatorConfig f;
+  f.model = c.model;
+  f.dt = 1.0 / c.rate_hz;
+  f.observer = c.gains;
+  f.compensate_friction = !c.friction.empty();
+  f.friction = c.friction;
+  return make_firmware_estimator(f, c.scalar);
+}
+
+Preparation prepare(ExperimentConfig& c, double margin_nm, const std::function<void(double)>& progress) {
+  Preparation p;
+  const std::size_t n = c.model.joints.size();
+  auto excitation = std::make_shared<sim::ExcitationTrajectory>(home_of(c.model), std::vector<bool>(n, true),
+                                                                sim::PaperExcitation(0.6, 0.2, 4, 2.5));
+  sim::SimulationSetup ex = base_setup(c, excitation, c.seed * 11 + 1);
+  ex.meta.scenario = "paper_excitation";
+  p.excitation = sim::run_simulation(ex).recording;
+  ident::GaSettings ga;
+  ga.seed = c.seed;
+  p.identification = identify_recording(p.excitation, c.model, ObserverGains{ObserverKind::first_order, c.gains.k1, 0, 0}, ga,
+                                        [&](double f) { if (progress) progress(0.8 * f); });
+  c.friction.clear();
+  for (const auto& r : p.identification) c.friction.push_back(r.params);
+  // Calibration on collision-free motion unlike the identification run: random moves.
+  sim::JointVector lower = home_of(c.model), upper = home_of(c.model);
+  for (Eigen::Index j = 0; j < lower.size(); ++j) {
+    lower(j) -= 0.7;
+    upper(j) += 0.7;
+  }
+  auto moves = sim::make_random_moves(home_of(c.model), lower, upper, 0.8, 60.0, c.seed * 13 + 2);
+  sim::SimulationSetup free = base_setup(c, std::shared_ptr<const sim::Trajectory>(std::move(moves)), c.seed * 17 + 3);
+  free.meta.scenario = "calibration_free_run";
+  free.duration_s = 60.0;
+  p.free_run = sim::run_simulation(free).recording;
+  p.thresholds = calibrate_recording(p.free_run, c.model, c.friction, c.gains, margin_nm);
+  c.thresholds = p.thresholds.threshold;
+  c.low_speed_extra = p.thresholds.low_speed_extra;
+  c.low_speed_width = p.thresholds.low_speed_width;
+  if (progress) progress(1.0);
+  return p;
+}
+
+std::vector<RunResult> paper_experiments(const ExperimentConfig& c, bool traces) {
+  // The paper's occurrence times: waist 7.104 s, shoulder 5.872 s, elbow 5.912 s, during
+  // a pick task (move to a workpiece lower left and back).
+  struct Spec {
+    const char* name;
+    int link;
+    double t;
+    Eigen::Vector3d point, direction;
+  };
+  const Spec specs[] = {{"collision 1 (waist)", 1, 7.104, {0.1, 0.0, 0.0}, {0.0, 1.0, 0.0}},
+                        {"collision 2 (shoulder)", 2, 5.872, {0.25, 0.0, 0.05}, {0.0, 0.0, 1.0}},
+                        {"collision 3 (elbow)", 3, 5.912, {0.2, 0.0, 0.04}, {0.0, 0.0, 1.0}}};
+  std::vector<RunResult> out;
+  const auto home = home_of(c.model);
+  sim::JointVector work = home;
+  if (work.size() >= 3) {
+    work(0) += 0.9;  // to the left
+    work(1) += 0.45;  // lower
+    work(2) -= 0.5;
+  }
+  for (const Spec& s : specs) {
+    if (s.link > static_cast<int>(c.model.joints.size())) continue;
+    auto traj = sim::make_pick_task(home, work, 2);
+    sim::SimulationSetup setup = base_setup(c, std::shared_ptr<const sim::Trajectory>(std::move(traj)), c.seed * 101 + static_cast<unsigned long long>(s.link));
+    sim::CollisionEvent e;
+    e.t_start = s.t;
+    e.link = s.link;
+    e.point_in_link = s.point;
+    // Push against the joint's motion, tangentially: the direction that loads the
+    // collided link's own joint (a person standing in the way).
+    const sim::ArmDynamics arm(setup.plant.links);
+    const auto ref = setup.trajectory->at(s.t);
+    const auto poses = arm.poses(ref.q);
+    const int i = s.link - 1;
+    const Eigen::Vector3d axis = poses.rotation[i].col(2);
+    const Eigen::Vector3d lever = poses.rotation[i] * s.point;
+    Eigen::Vector3d tangential = axis.cross(lever);
+    if (tangential.norm() < 1e-6) tangential = s.direction;
+    const double moving = ref.dq(i) >= 0.0 ? -1.0 : 1.0;
+    e.direction_base = moving * tangential.normalized();
+    e.profile = sim::CollisionProfile::push;
+    e.peak_force_n = 60.0;
+    e.rise_s = 0.03;
+    e.duration_s = 0.6;
+    setup.collisions = {e};
+    setup.duration_s = s.t + 1.5;
+    auto est = estimator_for(c);
+    DetectionConfig d;
+    d.threshold = c.thresholds;
+    d.low_speed_extra = c.low_speed_extra;
+    d.low_speed_width = c.low_speed_width;
+    d.debounce_cycles = c.debounce_cycles;
+    d.reaction = c.reaction;
+    d.friction = c.friction;
+    out.push_back(run_detection(setup, *est, d, s.name, traces));
+  }
+  return out;
+}
+
+std::vector<RunResult> campaign(const ExperimentConfig& c, int count, const std::vector<int>& links,
+                                const std::function<void(double)>& progress) {
+  std::vector<RunResult> out;
+  std::mt19937_64 rng(c.seed * 7919 + 5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const auto home = home_of(c.model);
+  sim::JointVector lower = home, upper = home;
+  for (Eigen::Index j = 0; j < lower.size(); ++j) {
+    lower(j) -= 0.7;
+    upper(j) += 0.7;
+  }
+  sim::CampaignSpec spec;
+  spec.links = links;
+  spec.count = count;
+  spec.seed = c.seed;
+  spec.t_min = 2.5;
+  spec.t_max = 2.5 + 3.0 * count;
+  spec.spacing_s = 3.0;
+  const auto events = sim::draw_campaign(spec, c.model.reaches());
+  for (std::size_t i = 0; i < events.size(); ++i) {
+    sim::CollisionEvent e = events[i];
+    e.t_start = 2.5 + 0.5 * unit(rng);
+    auto moves = sim::make_random_moves(home, lower, upper, 0.8, 8.0, c.seed * 1000 + i);
+    sim::SimulationSetup setup = base_setup(c, std::shared_ptr<const sim::Trajectory>(std::move(moves)), c.seed * 2000 + i);
+    setup.collisions = {e};
+    setup.duration_s = e.t_start + std::max(1.0, e.duration_s + e.rise_s + 0.5);
+    auto est = estimator_for(c);
+    DetectionConfig d;
+    d.threshold = c.thresholds;
+    d.low_speed_extra = c.low_speed_extra;
+    d.low_speed_width = c.low_speed_width;
+    d.debounce_cycles = c.debounce_cycles;
+    d.reaction = c.reaction;
+    d.friction = c.friction;
+    out.push_back(run_detection(setup, *est, d, "campaign " + std::to_string(i + 1) + " (" + sim::to_string(e.profile) + ")", false));
+    if (progress) progress(static_cast<double>(i + 1) / static_cast<double>(events.size()));
+  }
+  return out;
+}
+
+double false_alarms_per_hour(const ExperimentConfig& c, double seconds, int& alarms,
+                             const std::function<void(double)>& progress) {
+  const auto home = home_of(c.model);
+  sim::JointVector lower = home, upper = home;
+  for (Eigen::Index j = 0; j < lower.size(); ++j) {
+    lower(j) -= 0.7;
+    upper(j) += 0.7;
+  }
+  auto moves = sim::make_random_moves(home, lower, upper, 0.8, seconds + 5.0, c.seed * 31 + 7);
+  sim::SimulationSetup setup = base_setup(c, std::shared_ptr<const sim::Trajectory>(std::move(moves)), c.seed * 37 + 11);
+  setup.duration_s = seconds;
+  auto est = estimator_for(c);
+  DetectionConfig d;
+  d.threshold = c.thresholds;
+  d.low_speed_extra = c.low_speed_extra;
+  d.low_speed_width = c.low_speed_width;
+  d.debounce_cycles = c.debounce_cycles;
+  d.reaction = Reaction::none;
+  (void)progress;
+  const RunResult r = run_detection(setup, *est, d, "collision-free", false);
+  alarms = static_cast<int>(r.false_alarm_times.size());
+  return static_cast<double>(alarms) * 3600.0 / seconds;
+}
+
+}  // namespace jg::eval

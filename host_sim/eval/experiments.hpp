@@ -1,0 +1,58 @@
+// The paper's experiments and the campaigns on the simulated arm, with the firmware core
+// (float or Q16.16) as the estimator: set-up (excitation run -> identification from
+// observer output -> calibration on a collision-free run), the three collisions, random
+// campaigns, and the collision-free false-alarm run.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "eval/evaluate.hpp"
+#include "eval/pipeline.hpp"
+#include "robot/robot_model.hpp"
+
+namespace jg::eval {
+
+struct ExperimentConfig {
+  robot::RobotModel model;
+  double rate_hz = 1000.0;
+  std::string scalar = "float";
+  ObserverGains gains{ObserverKind::first_order, 60.0, 0.0, 0.0};
+  std::vector<LuGreParams<double>> friction;  ///< identified (the plant's truth is the paper's Table 1)
+  std::vector<double> thresholds;
+  std::vector<double> low_speed_extra;
+  double low_speed_width = 0.03;
+  int debounce_cycles = 1;
+  Reaction reaction = Reaction::stop;
+  double current_noise_a = 0.01;
+  unsigned long long seed = 1;
+};
+
+/// A simulation set-up on the model at the configured rate with realistic sensors and the
+/// paper's friction as truth.
+sim::SimulationSetup base_setup(const ExperimentConfig& c, std::shared_ptr<const sim::Trajectory> trajectory,
+                                unsigned long long seed);
+
+/// Excitation run -> LuGre from observer output; collision-free run -> thresholds.
+struct Preparation {
+  std::vector<ident::IdentificationResult> identification;
+  Thresholds thresholds;
+  io::Recording excitation, free_run;
+};
+Preparation prepare(ExperimentConfig& c, double margin_nm, const std::function<void(double)>& progress = {});
+
+/// The paper's three collisions (waist, shoulder, elbow) during the pick task.
+std::vector<RunResult> paper_experiments(const ExperimentConfig& c, bool traces);
+
+/// Random collisions (seeded) on `links`, each in its own short run from random motion.
+std::vector<RunResult> campaign(const ExperimentConfig& c, int count, const std::vector<int>& links,
+                                const std::function<void(double)>& progress = {});
+
+/// Collision-free random motion for `seconds`: detections per hour.
+double false_alarms_per_hour(const ExperimentConfig& c, double seconds, int& alarms,
+                             const std::function<void(double)>& progress = {});
+
+std::unique_ptr<Estimator> estimator_for(const ExperimentConfig& c);
+
+}  // namespace jg::eval
