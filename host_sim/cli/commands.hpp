@@ -17,5 +17,11 @@ struct Command {
 
 Command add_demo(CLI::App& app);
 Command add_simulate(CLI::App& app);
+Command add_identify(CLI::App& app);
+Command add_calibrate(CLI::App& app);
+Command add_replay(CLI::App& app);
+Command add_evaluate(CLI::App& app);
+Command add_diagnose(CLI::App& app);
+Command add_bench(CLI::App& app);
 
 }  // namespace jg::cli

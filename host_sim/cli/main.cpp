@@ -12,7 +12,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Help for every subcommand");
   const std::vector<jg::cli::Command> commands = {
-      jg::cli::add_simulate(app),
+      jg::cli::add_simulate(app),  jg::cli::add_identify(app), jg::cli::add_calibrate(app),
+      jg::cli::add_evaluate(app),  jg::cli::add_replay(app),   jg::cli::add_diagnose(app),
       jg::cli::add_demo(app),
   };
   try {

@@ -1,0 +1,38 @@
+#include "cli/common.hpp"
+
+#include <stdexcept>
+
+namespace jg::cli {
+
+void ObserverOptions::add_to(CLI::App* cmd) {
+  cmd->add_option("--observer", preset, "Observer preset")
+      ->check(CLI::IsMember({"first_order", "lowpass2", "paper_bandpass", "paper_improved"}))
+      ->capture_default_str();
+  cmd->add_option("--gains", gains, "Observer gains K1[,K2[,K3]] [1/s]")->delimiter(',')->capture_default_str();
+}
+
+ObserverGains ObserverOptions::to_gains() const {
+  ObserverGains g;
+  if (preset == "first_order") g.kind = ObserverKind::first_order;
+  else if (preset == "lowpass2") g.kind = ObserverKind::lowpass2;
+  else if (preset == "paper_bandpass") g.kind = ObserverKind::paper_bandpass;
+  else g.kind = ObserverKind::paper_improved;
+  const std::size_t needed = g.kind == ObserverKind::first_order ? 1 : (g.kind == ObserverKind::paper_improved ? 3 : 2);
+  if (gains.size() < needed) {
+    throw std::invalid_argument("--gains: the " + preset + " observer needs " + std::to_string(needed) +
+                                " gains (K1[,K2[,K3]]), got " + std::to_string(gains.size()));
+  }
+  for (const double k : gains) {
+    if (!(k > 0.0)) throw std::invalid_argument("--gains: every gain must be > 0 [1/s]");
+  }
+  g.k1 = gains[0];
+  g.k2 = needed > 1 ? gains[1] : 0.0;
+  g.k3 = needed > 2 ? gains[2] : 0.0;
+  return g;
+}
+
+void check_scalar(const std::string& scalar) {
+  if (scalar != "float" && scalar != "q") throw std::invalid_argument("--scalar must be float or q");
+}
+
+}  // namespace jg::cli

@@ -1,0 +1,148 @@
+// `jointguard evaluate`: the paper's experiments or a campaign on the simulated arm with
+// the firmware core in the loop; JSON per ../shared/CONTRACT.md.
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.hpp"
+#include "cli/common.hpp"
+#include "cli/progress.hpp"
+#include "eval/experiments.hpp"
+#include "io/yaml_fields.hpp"
+#include "sim/scenario.hpp"
+
+#include <filesystem>
+
+namespace jg::cli {
+namespace {
+struct EvaluateOptions {
+  std::string scenario = "paper", model = JG_DEFAULT_MODEL, json, scalar = "float", reaction = "stop";
+  double rate = 1000.0, margin = 0.5, free_run_s = 0.0;
+  int count = 50, debounce = 1;
+  unsigned long long seed = 1;
+  ObserverOptions observer;
+};
+
+Reaction reaction_of(const std::string& s) {
+  if (s == "none") return Reaction::none;
+  if (s == "zero_gravity") return Reaction::zero_gravity;
+  return Reaction::stop;
+}
+
+nlohmann::json run_json(const eval::RunResult& r) {
+  nlohmann::json j{{"name", r.name}, {"t_collision", r.t_collision}, {"link_true", r.link_true},
+                   {"link_isolated", r.link_isolated}, {"peak_force", r.peak_force_n},
+                   {"max_true_torque_over_threshold", r.max_true_ratio}};
+  j["t_detected"] = r.t_detected ? nlohmann::json(*r.t_detected) : nlohmann::json(nullptr);
+  j["delay"] = r.t_detected ? nlohmann::json(*r.t_detected - r.t_collision) : nlohmann::json(nullptr);
+  j["t_threshold_crossed"] = r.t_threshold ? nlohmann::json(*r.t_threshold) : nlohmann::json(nullptr);
+  j["delay_after_threshold_crossed"] =
+      r.t_detected && r.t_threshold ? nlohmann::json(*r.t_detected - *r.t_threshold) : nlohmann::json(nullptr);
+  return j;
+}
+}  // namespace
+
+Command add_evaluate(CLI::App& app) {
+  auto o = std::make_shared<EvaluateOptions>();
+  auto* cmd = app.add_subcommand("evaluate",
+                                 "Run the paper's three collisions (paper), a random campaign (campaign) or a scenario file\n"
+                                 "on the simulated arm with the firmware core in the loop. Friction is identified from an\n"
+                                 "excitation run and thresholds calibrated on collision-free motion first.\n"
+                                 "Example: jointguard evaluate --scenario paper --rate 125 --scalar q --json out/paper125.json");
+  cmd->add_option("--scenario", o->scenario, "paper, campaign or a scenario file (YAML)")->capture_default_str();
+  cmd->add_option("--model", o->model, "Robot file (YAML or URDF)")->capture_default_str()->check(CLI::ExistingFile);
+  cmd->add_option("--rate", o->rate, "Control and observer rate [Hz]")->capture_default_str()->check(CLI::Range(50.0, 20000.0));
+  cmd->add_option("--scalar", o->scalar, "Firmware scalar")->check(CLI::IsMember({"float", "q"}))->capture_default_str();
+  cmd->add_option("--seed", o->seed, "Seed of noise, campaign and motion")->capture_default_str();
+  cmd->add_option("--count", o->count, "Collisions in a campaign")->capture_default_str()->check(CLI::Range(1, 100000));
+  cmd->add_option("--free-run", o->free_run_s, "Collision-free run for false alarms [s] (default 120 s paper, 600 s campaign)");
+  cmd->add_option("--margin", o->margin, "Threshold margin above the observed band [N·m]")->capture_default_str();
+  cmd->add_option("--debounce", o->debounce, "Cycles over threshold before a detection")->capture_default_str()->check(CLI::Range(1, 50));
+  cmd->add_option("--reaction", o->reaction, "Reaction on detection")->check(CLI::IsMember({"none", "stop", "zero_gravity"}))->capture_default_str();
+  cmd->add_option("--json", o->json, "Write the runs and summary here (contract format)");
+  o->observer.add_to(cmd);
+  return {cmd, [o]() {
+            eval::ExperimentConfig c;
+            std::string model_path = o->model;
+            std::unique_ptr<sim::Scenario> scenario;
+            if (o->scenario != "paper" && o->scenario != "campaign") {
+              scenario = std::make_unique<sim::Scenario>(sim::load_scenario(o->scenario));
+              model_path = (std::filesystem::path(o->scenario).parent_path() /
+                            io::YamlFields::load_file(o->scenario).text("model")).string();
+            }
+            c.model = robot::load_robot(model_path);
+            c.rate_hz = scenario ? scenario->setup.control_rate_hz : o->rate;
+            c.scalar = o->scalar;
+            c.seed = o->seed;
+            c.gains = o->observer.to_gains();
+            c.debounce_cycles = o->debounce;
+            c.reaction = reaction_of(o->reaction);
+            Progress bar("evaluate");
+            eval::prepare(c, o->margin, [&](double f) { bar.update(0.3 * f); });
+            std::vector<eval::RunResult> runs;
+            if (o->scenario == "paper") {
+              runs = eval::paper_experiments(c, false);
+            } else if (o->scenario == "campaign") {
+              runs = eval::campaign(c, o->count, {2, 3}, [&](double f) { bar.update(0.3 + 0.5 * f); });
+            } else {
+              auto est = eval::estimator_for(c);
+              eval::DetectionConfig d;
+              d.threshold = c.thresholds;
+              d.low_speed_extra = c.low_speed_extra;
+              d.low_speed_width = c.low_speed_width;
+              d.debounce_cycles = c.debounce_cycles;
+              d.reaction = c.reaction;
+              d.friction = c.friction;
+              runs.push_back(eval::run_detection(scenario->setup, *est, d, scenario->setup.meta.scenario, false));
+            }
+            const double free_s = o->free_run_s > 0.0 ? o->free_run_s : (o->scenario == "campaign" ? 600.0 : 120.0);
+            int alarms = 0;
+            const double per_hour = eval::false_alarms_per_hour(c, free_s, alarms);
+            bar.finish();
+            std::vector<double> delays;
+            int detected = 0, isolated = 0, detectable = 0, detectable_found = 0;
+            for (const auto& r : runs) {
+              if (r.t_detected) {
+                ++detected;
+                delays.push_back(*r.t_detected - r.t_collision);
+              }
+              isolated += r.link_isolated == r.link_true ? 1 : 0;
+              if (r.max_true_ratio > 1.5) {
+                ++detectable;
+                detectable_found += r.t_detected ? 1 : 0;
+              }
+            }
+            std::sort(delays.begin(), delays.end());
+            const auto pick = [&](double q) { return delays.empty() ? 0.0 : delays[static_cast<std::size_t>(q * static_cast<double>(delays.size() - 1) + 0.5)]; };
+            std::printf("%-28s %9s %9s %9s %6s %9s\n", "run", "t_coll", "t_det", "delay ms", "link", "peak N");
+            for (const auto& r : runs) {
+              std::printf("%-28s %9.3f %9s %9s %3d->%d %9.1f\n", r.name.c_str(), r.t_collision,
+                          r.t_detected ? std::to_string(*r.t_detected).substr(0, 7).c_str() : "-",
+                          r.t_detected ? std::to_string(1000.0 * (*r.t_detected - r.t_collision)).substr(0, 6).c_str() : "missed",
+                          r.link_true, r.link_isolated, r.peak_force_n);
+            }
+            std::printf("detected %d/%d; of those whose true torque exceeds 1.5x threshold: %d/%d; isolation %d/%d\n", detected,
+                        static_cast<int>(runs.size()), detectable_found, detectable, isolated, static_cast<int>(runs.size()));
+            std::printf("delay min/median/max %.1f/%.1f/%.1f ms; false alarms %d in %.0f s (%.2f per hour)\n", 1e3 * pick(0.0),
+                        1e3 * pick(0.5), 1e3 * pick(1.0), alarms, free_s, per_hour);
+            if (!o->json.empty()) {
+              nlohmann::json j;
+              j["runs"] = nlohmann::json::array();
+              for (const auto& r : runs) j["runs"].push_back(run_json(r));
+              j["summary"] = {{"detection_rate", runs.empty() ? 0.0 : static_cast<double>(detected) / static_cast<double>(runs.size())},
+                              {"isolation_accuracy", runs.empty() ? 0.0 : static_cast<double>(isolated) / static_cast<double>(runs.size())},
+                              {"detection_rate_over_1p5x_threshold", detectable ? static_cast<double>(detectable_found) / detectable : 1.0},
+                              {"delay_min", pick(0.0)}, {"delay_median", pick(0.5)}, {"delay_max", pick(1.0)},
+                              {"false_alarms_per_hour", per_hour}, {"false_alarm_run_s", free_s}, {"threshold", c.thresholds},
+                              {"threshold_low_speed_extra", c.low_speed_extra}, {"rate", c.rate_hz}, {"scalar", c.scalar},
+                              {"observer", to_string(c.gains.kind)}, {"gains", {c.gains.k1, c.gains.k2, c.gains.k3}}};
+              std::ofstream(o->json) << j.dump(2) << '\n';
+              std::printf("wrote %s\n", o->json.c_str());
+            }
+            return 0;
+          }};
+}
+
+}  // namespace jg::cli
