@@ -18,7 +18,7 @@ struct ExperimentConfig {
   robot::RobotModel model;
   double rate_hz = 1000.0;
   std::string scalar = "float";
-  ObserverGains gains{ObserverKind::first_order, 60.0, 0.0, 0.0};
+  ObserverGains gains{ObserverKind::first_order, 150.0, 0.0, 0.0};
   std::vector<LuGreParams<double>> friction;  ///< identified (the plant's truth is the paper's Table 1)
   std::vector<double> thresholds;
   std::vector<double> low_speed_extra;
