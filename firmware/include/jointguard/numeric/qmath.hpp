@@ -153,35 +153,45 @@ inline constexpr std::int64_t kLn2Q30 = 744261118;      // round(ln(2) * 2^30)
 inline constexpr std::int64_t kHalfPiQ30 = 1686629713;  // round(pi/2 * 2^30)
 inline constexpr std::int64_t kTurnsPerRadQ32 = 683565276;  // round(2^32 / (2 pi))
 
+/// Q2.30 product of two values known to fit 32 bits (|x| < 2): a 32x32->64 multiply
+/// (SMULL on Cortex-M4), rounded.
 constexpr std::int64_t mul_q30(std::int64_t a, std::int64_t b) noexcept {
-  return shift_round(a * b, 30);
+  const std::int64_t p = std::int64_t{static_cast<std::int32_t>(a)} * static_cast<std::int32_t>(b);
+  return (p + (std::int64_t{1} << 29)) >> 30;
 }
 
-/// e^t for t in [0, ln 2), Q2.30 in and out; Taylor to t^10 (truncation < 4e-10).
+/// 1/k! in Q2.30 for k = 0..10 (Taylor coefficients; no run-time division).
+inline constexpr std::int32_t kInvFactorialQ30[11] = {1073741824, 1073741824, 536870912, 178956971, 44739243, 8947849,
+                                                      1491308,    213044,     26631,     2959,      296};
+
+/// e^t for t in [0, ln 2), Q2.30 in and out; Taylor to t^10 by Horner (truncation < 4e-10).
 constexpr std::int64_t exp_unit_q30(std::int64_t t) noexcept {
-  std::int64_t acc = kOneQ30;
-  for (std::int64_t k = 10; k >= 1; --k) {
-    acc = kOneQ30 + mul_q30(t, acc) / k;
+  std::int64_t acc = kInvFactorialQ30[10];
+  for (int k = 9; k >= 0; --k) {
+    acc = mul_q30(acc, t) + kInvFactorialQ30[k];
   }
   return acc;
 }
 
-/// sin r and cos r for |r| <= pi/4, Q2.30 (Taylor to r^9 / r^10, truncation < 2e-9).
+/// sin r and cos r for |r| <= pi/4, Q2.30 (Taylor to r^9 / r^10 in r^2, truncation < 2e-9).
 constexpr std::int64_t sin_small_q30(std::int64_t r) noexcept {
   const std::int64_t r2 = mul_q30(r, r);
-  std::int64_t acc = kOneQ30;
-  for (std::int64_t k = 9; k >= 3; k -= 2) {  // 1 - r2/(k(k-1)) * acc
-    acc = kOneQ30 - mul_q30(r2, acc) / (k * (k - 1));
-  }
+  // r (1 - r2/3! + r2^2/5! - r2^3/7! + r2^4/9!)
+  std::int64_t acc = kInvFactorialQ30[9];
+  acc = kInvFactorialQ30[7] - mul_q30(r2, acc);
+  acc = kInvFactorialQ30[5] - mul_q30(r2, acc);
+  acc = kInvFactorialQ30[3] - mul_q30(r2, acc);
+  acc = kInvFactorialQ30[1] - mul_q30(r2, acc);
   return mul_q30(r, acc);
 }
 constexpr std::int64_t cos_small_q30(std::int64_t r) noexcept {
   const std::int64_t r2 = mul_q30(r, r);
-  std::int64_t acc = kOneQ30;
-  for (std::int64_t k = 10; k >= 2; k -= 2) {
-    acc = kOneQ30 - mul_q30(r2, acc) / (k * (k - 1));
-  }
-  return acc;
+  std::int64_t acc = kInvFactorialQ30[10];
+  acc = kInvFactorialQ30[8] - mul_q30(r2, acc);
+  acc = kInvFactorialQ30[6] - mul_q30(r2, acc);
+  acc = kInvFactorialQ30[4] - mul_q30(r2, acc);
+  acc = kInvFactorialQ30[2] - mul_q30(r2, acc);
+  return kInvFactorialQ30[0] - mul_q30(r2, acc);
 }
 
 /// Reduce an angle to the nearest quarter turn: returns the quadrant (0..3) and the
