@@ -88,34 +88,14 @@ Command add_evaluate(CLI::App& app) {
               runs = eval::campaign(c, o->count, {2, 3}, [&](double f) { bar.update(0.3 + 0.5 * f); });
             } else {
               auto est = eval::estimator_for(c);
-              eval::DetectionConfig d;
-              d.threshold = c.thresholds;
-              d.low_speed_extra = c.low_speed_extra;
-              d.low_speed_width = c.low_speed_width;
-              d.debounce_cycles = c.debounce_cycles;
-              d.reaction = c.reaction;
-              d.friction = c.friction;
+              const eval::DetectionConfig d = eval::detection_for(c);
               runs.push_back(eval::run_detection(scenario->setup, *est, d, scenario->setup.meta.scenario, false));
             }
             const double free_s = o->free_run_s > 0.0 ? o->free_run_s : (o->scenario == "campaign" ? 600.0 : 120.0);
             int alarms = 0;
             const double per_hour = eval::false_alarms_per_hour(c, free_s, alarms);
             bar.finish();
-            std::vector<double> delays;
-            int detected = 0, isolated = 0, detectable = 0, detectable_found = 0;
-            for (const auto& r : runs) {
-              if (r.t_detected) {
-                ++detected;
-                delays.push_back(*r.t_detected - r.t_collision);
-              }
-              isolated += r.link_isolated == r.link_true ? 1 : 0;
-              if (r.max_true_ratio > 1.5) {
-                ++detectable;
-                detectable_found += r.t_detected ? 1 : 0;
-              }
-            }
-            std::sort(delays.begin(), delays.end());
-            const auto pick = [&](double q) { return delays.empty() ? 0.0 : delays[static_cast<std::size_t>(q * static_cast<double>(delays.size() - 1) + 0.5)]; };
+            const eval::Summary sum = eval::summarize(runs);
             std::printf("%-28s %9s %9s %9s %6s %9s\n", "run", "t_coll", "t_det", "delay ms", "link", "peak N");
             for (const auto& r : runs) {
               std::printf("%-28s %9.3f %9s %9s %3d->%d %9.1f\n", r.name.c_str(), r.t_collision,
@@ -123,18 +103,19 @@ Command add_evaluate(CLI::App& app) {
                           r.t_detected ? std::to_string(1000.0 * (*r.t_detected - r.t_collision)).substr(0, 6).c_str() : "missed",
                           r.link_true, r.link_isolated, r.peak_force_n);
             }
-            std::printf("detected %d/%d; of those whose true torque exceeds 1.5x threshold: %d/%d; isolation %d/%d\n", detected,
-                        static_cast<int>(runs.size()), detectable_found, detectable, isolated, static_cast<int>(runs.size()));
-            std::printf("delay min/median/max %.1f/%.1f/%.1f ms; false alarms %d in %.0f s (%.2f per hour)\n", 1e3 * pick(0.0),
-                        1e3 * pick(0.5), 1e3 * pick(1.0), alarms, free_s, per_hour);
+            std::printf("detected %d/%d; of those whose true torque exceeds 1.5x threshold: %d/%d; isolation %d/%d\n", sum.detected,
+                        sum.runs, sum.detectable_found, sum.detectable, sum.isolated, sum.runs);
+            std::printf("delay min/median/max %.1f/%.1f/%.1f ms; false alarms %d in %.0f s (%.2f per hour)\n", 1e3 * sum.delay_min,
+                        1e3 * sum.delay_median, 1e3 * sum.delay_max, alarms, free_s, per_hour);
             if (!o->json.empty()) {
               nlohmann::json j;
               j["runs"] = nlohmann::json::array();
               for (const auto& r : runs) j["runs"].push_back(run_json(r));
-              j["summary"] = {{"detection_rate", runs.empty() ? 0.0 : static_cast<double>(detected) / static_cast<double>(runs.size())},
-                              {"isolation_accuracy", runs.empty() ? 0.0 : static_cast<double>(isolated) / static_cast<double>(runs.size())},
-                              {"detection_rate_over_1p5x_threshold", detectable ? static_cast<double>(detectable_found) / detectable : 1.0},
-                              {"delay_min", pick(0.0)}, {"delay_median", pick(0.5)}, {"delay_max", pick(1.0)},
+              const double n = std::max(1, sum.runs);
+              j["summary"] = {{"detection_rate", sum.detected / n},
+                              {"isolation_accuracy", sum.isolated / n},
+                              {"detection_rate_over_1p5x_threshold", sum.detectable ? static_cast<double>(sum.detectable_found) / sum.detectable : 1.0},
+                              {"delay_min", sum.delay_min}, {"delay_median", sum.delay_median}, {"delay_max", sum.delay_max},
                               {"false_alarms_per_hour", per_hour}, {"false_alarm_run_s", free_s}, {"threshold", c.thresholds},
                               {"threshold_low_speed_extra", c.low_speed_extra}, {"rate", c.rate_hz}, {"scalar", c.scalar},
                               {"observer", to_string(c.gains.kind)}, {"gains", {c.gains.k1, c.gains.k2, c.gains.k3}}};

@@ -57,6 +57,41 @@ std::unique_ptr<Estimator> estimator_for(const ExperimentConfig& c) {
   return make_firmware_estimator(f, c.scalar);
 }
 
+DetectionConfig detection_for(const ExperimentConfig& c) {
+  DetectionConfig d;
+  d.threshold = c.thresholds;
+  d.low_speed_extra = c.low_speed_extra;
+  d.low_speed_width = c.low_speed_width;
+  d.debounce_cycles = c.debounce_cycles;
+  d.reaction = c.reaction;
+  d.friction = c.friction;
+  return d;
+}
+
+Summary summarize(const std::vector<RunResult>& runs) {
+  Summary s;
+  s.runs = static_cast<int>(runs.size());
+  std::vector<double> delays;
+  for (const auto& r : runs) {
+    if (r.t_detected) {
+      ++s.detected;
+      delays.push_back(*r.t_detected - r.t_collision);
+    }
+    s.isolated += r.link_isolated == r.link_true ? 1 : 0;
+    if (r.max_true_ratio > 1.5) {
+      ++s.detectable;
+      s.detectable_found += r.t_detected ? 1 : 0;
+    }
+  }
+  std::sort(delays.begin(), delays.end());
+  if (!delays.empty()) {
+    s.delay_min = delays.front();
+    s.delay_median = delays[delays.size() / 2];
+    s.delay_max = delays.back();
+  }
+  return s;
+}
+
 Preparation prepare(ExperimentConfig& c, double margin_nm, const std::function<void(double)>& progress) {
   Preparation p;
   const std::size_t n = c.model.joints.size();
@@ -137,13 +172,7 @@ std::vector<RunResult> paper_experiments(const ExperimentConfig& c, bool traces)
     setup.collisions = {e};
     setup.duration_s = s.t + 1.5;
     auto est = estimator_for(c);
-    DetectionConfig d;
-    d.threshold = c.thresholds;
-    d.low_speed_extra = c.low_speed_extra;
-    d.low_speed_width = c.low_speed_width;
-    d.debounce_cycles = c.debounce_cycles;
-    d.reaction = c.reaction;
-    d.friction = c.friction;
+    const DetectionConfig d = detection_for(c);
     out.push_back(run_detection(setup, *est, d, s.name, traces));
   }
   return out;
@@ -176,13 +205,7 @@ std::vector<RunResult> campaign(const ExperimentConfig& c, int count, const std:
     setup.collisions = {e};
     setup.duration_s = e.t_start + std::max(1.0, e.duration_s + e.rise_s + 0.5);
     auto est = estimator_for(c);
-    DetectionConfig d;
-    d.threshold = c.thresholds;
-    d.low_speed_extra = c.low_speed_extra;
-    d.low_speed_width = c.low_speed_width;
-    d.debounce_cycles = c.debounce_cycles;
-    d.reaction = c.reaction;
-    d.friction = c.friction;
+    const DetectionConfig d = detection_for(c);
     out.push_back(run_detection(setup, *est, d, "campaign " + std::to_string(i + 1) + " (" + sim::to_string(e.profile) + ")", false));
     if (progress) progress(static_cast<double>(i + 1) / static_cast<double>(events.size()));
   }
@@ -201,11 +224,7 @@ double false_alarms_per_hour(const ExperimentConfig& c, double seconds, int& ala
   sim::SimulationSetup setup = base_setup(c, std::shared_ptr<const sim::Trajectory>(std::move(moves)), c.seed * 37 + 11);
   setup.duration_s = seconds;
   auto est = estimator_for(c);
-  DetectionConfig d;
-  d.threshold = c.thresholds;
-  d.low_speed_extra = c.low_speed_extra;
-  d.low_speed_width = c.low_speed_width;
-  d.debounce_cycles = c.debounce_cycles;
+  DetectionConfig d = detection_for(c);
   d.reaction = Reaction::none;
   (void)progress;
   const RunResult r = run_detection(setup, *est, d, "collision-free", false);

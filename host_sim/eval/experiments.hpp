@@ -54,5 +54,14 @@ double false_alarms_per_hour(const ExperimentConfig& c, double seconds, int& ala
                              const std::function<void(double)>& progress = {});
 
 std::unique_ptr<Estimator> estimator_for(const ExperimentConfig& c);
+/// The detector settings of a configuration (thresholds, band, debounce, reaction).
+DetectionConfig detection_for(const ExperimentConfig& c);
+
+/// Campaign figures over runs.
+struct Summary {
+  int runs = 0, detected = 0, isolated = 0, detectable = 0, detectable_found = 0;
+  double delay_min = 0, delay_median = 0, delay_max = 0;  ///< [s], over detected runs
+};
+Summary summarize(const std::vector<RunResult>& runs);
 
 }  // namespace jg::eval
