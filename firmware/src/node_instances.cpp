@@ -2,9 +2,9 @@
 #include "jointguard/node/joint_estimator.hpp"
 
 namespace jg {
-template void joint_outward<float>(const JointEstimatorParams<float>&, JointEstimatorState<float>&, float, float,
+template Error joint_outward<float>(const JointEstimatorParams<float>&, JointEstimatorState<float>&, float, float,
                                    const OutwardMessage<float>&, OutwardMessage<float>&) noexcept;
-template void joint_outward<q16>(const JointEstimatorParams<q16>&, JointEstimatorState<q16>&, q16, q16,
+template Error joint_outward<q16>(const JointEstimatorParams<q16>&, JointEstimatorState<q16>&, q16, q16,
                                  const OutwardMessage<q16>&, OutwardMessage<q16>&) noexcept;
 template bool joint_inward_and_estimate<float>(const JointEstimatorParams<float>&, JointEstimatorState<float>&, float,
                                                float, const InwardMessage<float>&, InwardMessage<float>&,

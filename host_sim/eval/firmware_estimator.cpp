@@ -38,7 +38,7 @@ class FirmwareEstimator final : public Estimator {
     for (std::size_t j = 0; j < n_; ++j) {
       const auto i = static_cast<Eigen::Index>(j);
       OutwardMessage<S> next{};
-      joint_outward(params_[j], state_[j], from_float<S>(static_cast<float>(in.q(i)), st),
+      (void)joint_outward(params_[j], state_[j], from_float<S>(static_cast<float>(in.q(i)), st),
                     from_float<S>(static_cast<float>(in.dq(i)), st), msg, next);
       msg = next;
     }

@@ -53,7 +53,7 @@ void run(int id) {
   const S step = jg::from_double<S>(0.001);
   jg_bench_begin(id);
   for (int k = 0; k < kCycles; ++k) {
-    jg::joint_outward(p, s, q, dq, parent, to_child);
+    (void)jg::joint_outward(p, s, q, dq, parent, to_child);
     (void)jg::joint_inward_and_estimate(p, s, dq, tau, child, to_parent);
     q = q + step;
     dq = dq - step;

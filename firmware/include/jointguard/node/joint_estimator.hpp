@@ -31,22 +31,75 @@ struct JointEstimatorState {
   S friction_torque{};
   S external_torque{};  ///< estimate of the contact's torque on this joint (J^T F) [N·m]
   bool flagged = false;
+  OutwardMessage<S> last_to_child{};
+  InwardMessage<S> last_to_parent{};
+  bool input_fault = false;           ///< this cycle's inputs were rejected
+  std::uint32_t rejected_cycles = 0;  ///< cycles with rejected inputs since start
 };
 
-/// Phase 1: own joint state + the parent's outward message -> message for the child.
+namespace detail {
 template <class S>
-constexpr void joint_outward(const JointEstimatorParams<S>& p, JointEstimatorState<S>& s, S q, S dq,
-                             const OutwardMessage<S>& from_parent, OutwardMessage<S>& to_child) noexcept {
+constexpr bool finite3(const Vec3<S>& v) noexcept {
+  return is_finite(v.x) && is_finite(v.y) && is_finite(v.z);
+}
+/// Non-finite joint states or neighbour messages (float builds) must never reach the
+/// estimator's state. Q16.16 values are finite by construction (conversion saturates).
+template <class S>
+constexpr bool finite_inputs(S a, S b, const OutwardMessage<S>& m) noexcept {
+  if constexpr (is_q_v<S>) {
+    return true;
+  } else {
+    return is_finite(a) && is_finite(b) && finite3(m.angular_velocity) && finite3(m.origin_velocity) && finite3(m.gravity);
+  }
+}
+template <class S>
+constexpr bool finite_inputs(S a, S b, const InwardMessage<S>& m) noexcept {
+  if constexpr (is_q_v<S>) {
+    return true;
+  } else {
+    return is_finite(a) && is_finite(b) && finite3(m.angular_momentum) && finite3(m.linear_momentum) &&
+           finite3(m.first_moment) && is_finite(m.mass);
+  }
+}
+}  // namespace detail
+
+/// Phase 1: own joint state + the parent's outward message -> message for the child.
+/// Non-finite inputs: the last good message is repeated and the cycle is marked faulty
+/// (Error::not_finite); the estimator's state is not touched.
+template <class S>
+constexpr Error joint_outward(const JointEstimatorParams<S>& p, JointEstimatorState<S>& s, S q, S dq,
+                              const OutwardMessage<S>& from_parent, OutwardMessage<S>& to_child) noexcept {
+  s.input_fault = !detail::finite_inputs(q, dq, from_parent);
+  if (s.input_fault) {
+    ++s.rejected_cycles;
+    to_child = s.last_to_child;
+    return Error::not_finite;
+  }
   outward_step(p.link, q, dq, from_parent, s.outward, to_child);
+  s.last_to_child = to_child;
+  return Error::ok;
 }
 
 /// Phase 2: the child's inward message -> message for the parent; then friction, observer
 /// and detector. Returns the joint's (latched) collision flag.
+/// A faulty cycle (here or in phase 1) keeps the last good outputs and flag.
 template <class S>
 constexpr bool joint_inward_and_estimate(const JointEstimatorParams<S>& p, JointEstimatorState<S>& s, S dq, S motor_torque,
                                          const InwardMessage<S>& from_child, InwardMessage<S>& to_parent,
                                          ObserverInputStatus* status = nullptr) noexcept {
+  if (s.input_fault || !detail::finite_inputs(dq, motor_torque, from_child)) {
+    if (!s.input_fault) {
+      ++s.rejected_cycles;
+    }
+    s.input_fault = true;
+    to_parent = s.last_to_parent;
+    if (status != nullptr) {
+      status->error = Error::not_finite;
+    }
+    return s.flagged;
+  }
   inward_step(p.link, dq, s.outward, from_child, to_parent, s.momentum);
+  s.last_to_parent = to_parent;
   s.friction_torque = p.compensate_friction ? lugre_step(p.friction, s.friction, dq) : S{};
   const S r = observer_step(p.observer, s.observer, s.momentum.momentum, motor_torque, s.momentum.beta, s.friction_torque,
                             status);

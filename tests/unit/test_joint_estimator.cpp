@@ -1,0 +1,47 @@
+// One joint's cycle rejects non-finite joint states and neighbour messages: the last good
+// outputs are kept and the fault is counted; nothing reaches the estimator's state.
+#include <gtest/gtest.h>
+
+#include <limits>
+
+#include "jointguard/node/joint_estimator.hpp"
+
+namespace {
+TEST(JointEstimator, RejectsNonFiniteInputsAndKeepsLastGoodOutput) {
+  jg::JointEstimatorParams<float> p{};
+  jg::LinkDescription d;
+  d.mass = 2.0;
+  d.com[0] = 0.2;
+  d.inertia_com[2] = 0.03;
+  ASSERT_EQ(jg::convert_link(d, p.link), jg::Error::ok);
+  ASSERT_EQ(jg::discretize(jg::ObserverGains{}, 0.001, p.observer), jg::Error::ok);
+  p.compensate_friction = false;
+  p.threshold = {5.0F, 0.0F, 0.0F, 0.0F};
+  jg::JointEstimatorState<float> s{};
+  jg::OutwardMessage<float> parent{}, child_out{};
+  parent.gravity.z = -9.81F;
+  jg::InwardMessage<float> child{}, up{};
+  for (int k = 0; k < 50; ++k) {
+    ASSERT_EQ(jg::joint_outward(p, s, 0.3F, 0.2F, parent, child_out), jg::Error::ok);
+    (void)jg::joint_inward_and_estimate(p, s, 0.2F, 3.0F, child, up);
+  }
+  const auto good = s;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(jg::joint_outward(p, s, nan, 0.2F, parent, child_out), jg::Error::not_finite);
+  (void)jg::joint_inward_and_estimate(p, s, 0.2F, 3.0F, child, up);
+  EXPECT_EQ(s.external_torque, good.external_torque);
+  EXPECT_EQ(s.observer.section[0], good.observer.section[0]);
+  EXPECT_EQ(up.mass, good.last_to_parent.mass);
+  jg::InwardMessage<float> bad = child;
+  bad.linear_momentum.y = std::numeric_limits<float>::infinity();
+  ASSERT_EQ(jg::joint_outward(p, s, 0.3F, 0.2F, parent, child_out), jg::Error::ok);
+  jg::ObserverInputStatus status;
+  (void)jg::joint_inward_and_estimate(p, s, 0.2F, 3.0F, bad, up, &status);
+  EXPECT_EQ(status.error, jg::Error::not_finite);
+  EXPECT_EQ(s.observer.section[0], good.observer.section[0]);
+  EXPECT_EQ(s.rejected_cycles, 2U);
+  ASSERT_EQ(jg::joint_outward(p, s, 0.3F, 0.2F, parent, child_out), jg::Error::ok);
+  (void)jg::joint_inward_and_estimate(p, s, 0.2F, 3.0F, child, up);
+  EXPECT_FALSE(s.input_fault);
+}
+}  // namespace
