@@ -57,6 +57,25 @@ class WaypointTrajectory final : public Trajectory {
   double duration_ = 0.0;
 };
 
+/// The same path run backwards in time: position q(T - t), velocity -dq(T - t),
+/// acceleration ddq(T - t). At every position the velocity is reversed and gravity and
+/// inertia are the same, so half the torque difference of the two runs is the friction
+/// (the paper's Table 2 validation).
+class ReversedTrajectory final : public Trajectory {
+ public:
+  explicit ReversedTrajectory(std::shared_ptr<const Trajectory> base) : base_(std::move(base)) {}
+  [[nodiscard]] TrajectorySample at(double t) const override {
+    TrajectorySample s = base_->at(base_->duration() - t);
+    s.dq = -s.dq;
+    return s;
+  }
+  [[nodiscard]] double duration() const override { return base_->duration(); }
+  [[nodiscard]] int joints() const override { return base_->joints(); }
+
+ private:
+  std::shared_ptr<const Trajectory> base_;
+};
+
 /// Pick task: from `home` to above a workpiece lower left, down to it, dwell, up, home.
 std::unique_ptr<Trajectory> make_pick_task(const JointVector& home, const JointVector& workpiece, int repetitions = 1);
 /// Random smooth point-to-point moves within [lower, upper], seeded; each move's duration

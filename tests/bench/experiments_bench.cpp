@@ -1,0 +1,135 @@
+// Issue-6 experiments that are not part of the demo, printed as Markdown for docs/results.md:
+//  1. validation of the identified LuGre by the reversed trajectory (paper Table 2);
+//  2. the observer presets side by side at equal noise (delay, false alarms, sustained push);
+//  3. peak contact force of a clamping collision with each reaction.
+// Usage: jg_experiments_bench [all|reversed|presets|reactions]
+#include <cmath>
+#include <cstdio>
+
+#include "eval/experiments.hpp"
+#include "identification/lugre_batch.hpp"
+#include "models/paper_friction.hpp"
+#include "tuning/observer_tuning.hpp"
+
+using namespace jg;
+
+namespace {
+void reversed_trajectory_validation(eval::ExperimentConfig c) {
+  std::printf("\n### Reversed-trajectory validation (paper Table 2)\n\n");
+  const auto prep = eval::prepare(c, 0.5);
+  const std::size_t n = c.model.joints.size();
+  sim::JointVector home = sim::JointVector::Zero(static_cast<Eigen::Index>(n));
+  home(1) = 0.6;
+  home(2) = -0.8;
+  auto fwd = std::make_shared<sim::ExcitationTrajectory>(home, std::vector<bool>(n, true), sim::PaperExcitation(0.6, 0.2, 4, 2.5));
+  auto rev = std::make_shared<sim::ReversedTrajectory>(fwd);
+  const auto rf = sim::run_simulation(eval::base_setup(c, fwd, 101)).recording;
+  const auto rr = sim::run_simulation(eval::base_setup(c, rev, 102)).recording;
+  std::printf("| joint | RMS of identified LuGre vs extracted friction [N·m] | paper [N·m] |\n|---|---|---|\n");
+  const double paper[3] = {0.795, 1.02, 0.697};
+  const std::size_t m = rf.samples();
+  for (std::size_t j = 0; j < n; ++j) {
+    // Friction extracted sample by sample: (tau_fwd(t) - tau_rev(T - t)) / 2, steady part.
+    const auto pred = ident::lugre_predict(prep.identification[j].params, rf.dq[j], 1.0 / c.rate_hz);
+    double acc = 0.0;
+    std::size_t count = 0;
+    for (std::size_t k = 0; k < m; ++k) {
+      const double t = rf.t[k];
+      if (t < 3.0 || t > rf.t.back() - 3.0) continue;
+      const std::size_t kr = m - 1 - k;
+      const double extracted = 0.5 * (rf.tau_m[j][k] - rr.tau_m[j][kr]);
+      acc += (extracted - pred[k]) * (extracted - pred[k]);
+      ++count;
+    }
+    std::printf("| %zu | %.3f | %.3f |\n", j + 1, std::sqrt(acc / static_cast<double>(count)), j < 3 ? paper[j] : 0.0);
+  }
+  std::printf("\nCommand: `./build/host/tests/bench/jg_experiments_bench`. Both runs at 1 kHz with the sensors' noise and\n"
+              "quantisation; the extracted friction also holds the two runs' independent noise and tracking differences.\n");
+}
+
+void presets_side_by_side(const eval::ExperimentConfig& base) {
+  std::printf("\n### Observer presets at equal noise (1 kHz, float)\n\n");
+  // Reference noise: first order, K = 150 for white motor-torque noise (0.12 N·m = 0.01 A x 12 N·m/A).
+  const double torque_noise = 0.12;
+  const double target = tuning::analyse({ObserverKind::first_order, 150.0, 0, 0}, 0.001).noise_gain * torque_noise;
+  const ObserverGains shapes[] = {{ObserverKind::first_order, 150.0, 0, 0},
+                                  {ObserverKind::lowpass2, 150.0, 300.0, 0},
+                                  {ObserverKind::paper_bandpass, 150.0, 2.0, 0},
+                                  {ObserverKind::paper_improved, 150.0, 300.0, 150.0}};
+  std::printf("| preset | gains [1/s] | delay to 50 %% (open loop) | paper collisions: delays [ms] | false alarms (300 s) | sustained 0.6 s push: estimate at its end / true |\n|---|---|---|---|---|---|\n");
+  for (const auto& shape : shapes) {
+    const ObserverGains g = tuning::gains_for_noise(shape, 0.001, torque_noise, target);
+    eval::ExperimentConfig c = base;
+    c.gains = g;
+    eval::prepare(c, 0.5);
+    const auto runs = eval::paper_experiments(c, true);
+    std::string delays;
+    for (const auto& r : runs) delays += r.t_detected ? std::to_string(static_cast<int>(std::lround(1e3 * (*r.t_detected - r.t_collision)))) + " " : "missed ";
+    // Sustained push: ratio of the estimate to the true torque just before the push ends.
+    eval::ExperimentConfig hold = c;
+    hold.reaction = Reaction::none;
+    const auto traced = eval::paper_experiments(hold, true);
+    const auto& r = traced[1];
+    const std::size_t j = 1;
+    double est = 0.0, truth = 0.0;
+    for (std::size_t k = 0; k < r.trace.t.size(); ++k) {
+      if (std::fabs(r.trace.t[k] - (r.t_collision + 0.55)) < 0.0005) {
+        est = r.trace.mu[j][k];
+        truth = r.trace.tau_ext[j][k];
+      }
+    }
+    int alarms = 0;
+    eval::false_alarms_per_hour(c, 300.0, alarms);
+    std::printf("| %s | %.0f, %.0f, %.0f | %.1f ms | %s| %d | %.2f |\n", to_string(g.kind), g.k1, g.k2, g.k3,
+                1e3 * tuning::analyse(g, 0.001).delay50_s, delays.c_str(), alarms, truth != 0.0 ? est / truth : 0.0);
+  }
+}
+
+void reactions(eval::ExperimentConfig c) {
+  std::printf("\n### Peak contact force of a clamping collision (shoulder, 1 kHz) by reaction\n\n");
+  eval::prepare(c, 0.5);
+  std::printf("| reaction | detected after [ms] | peak contact force [N] |\n|---|---|---|\n");
+  for (const Reaction r : {Reaction::none, Reaction::stop, Reaction::zero_gravity}) {
+    c.reaction = r;
+    const auto home = [&] {
+      sim::JointVector h = sim::JointVector::Zero(3);
+      h << 0.0, 0.6, -0.8;
+      return h;
+    }();
+    sim::JointVector work = home;
+    work << 0.9, 1.05, -1.3;
+    auto setup = eval::base_setup(c, std::shared_ptr<const sim::Trajectory>(sim::make_pick_task(home, work, 1)), 5);
+    sim::CollisionEvent e;
+    e.t_start = 1.0;  // the arm moves down towards the workpiece: an obstacle appears under link 3
+    e.link = 3;
+    e.point_in_link = {0.25, 0.0, 0.0};
+    // The obstacle faces the point's motion: it pushes back against the velocity.
+    const sim::ArmDynamics arm(setup.plant.links);
+    const auto ref = setup.trajectory->at(e.t_start);
+    const Eigen::Vector3d v = arm.point_jacobian(ref.q, 2, e.point_in_link) * ref.dq;
+    e.direction_base = -v.normalized();
+    e.profile = sim::CollisionProfile::clamp;
+    e.peak_force_n = 400.0;
+    e.duration_s = 2.0;
+    setup.collisions = {e};
+    setup.duration_s = 3.5;
+    auto est = eval::estimator_for(c);
+    const auto run = eval::run_detection(setup, *est, eval::detection_for(c), "clamp", false);
+    const char* names[] = {"none", "stop", "zero_gravity", "retreat"};
+    std::printf("| %s | %s | %.0f |\n", names[static_cast<int>(r)],
+                run.t_detected ? std::to_string(static_cast<int>(std::lround(1e3 * (*run.t_detected - run.t_collision)))).c_str() : "-",
+                run.peak_force_n);
+  }
+  std::printf("\nClamp: a stiff obstacle (25 kN/m, capped at 400 N) appears under the forearm while the arm moves down.\n");
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  eval::ExperimentConfig c;
+  c.model = robot::load_robot(JG_SOURCE_DIR "/models/ref3.yaml");
+  const std::string only = argc > 1 ? argv[1] : "all";
+  if (only == "all" || only == "reversed") reversed_trajectory_validation(c);
+  if (only == "all" || only == "presets") presets_side_by_side(c);
+  if (only == "all" || only == "reactions") reactions(c);
+  return 0;
+}
