@@ -83,8 +83,10 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
     return demand;
   };
   // Track contact times through a recording (ground truth).
+  // The ground truth (external torque, contact) comes from the recording; a collision-free
+  // run needs none, and recording six hours would take gigabytes.
   sim::SimulationSetup s = setup;
-  s.record = true;
+  s.record = !setup.collisions.empty() || record_trace;
   const sim::SimulationResult r = sim::run_simulation(s, hook);
   const auto& rec = r.recording;
   for (std::size_t k = 0; k < rec.samples(); ++k) {
