@@ -189,17 +189,33 @@ class Q {
   }
 
   // Same-format arithmetic: 64-bit intermediate, rounding, saturation.
+  // The overflow builtins compile to one add and a branch on the V flag on Cortex-M:
+  // the hot path stays 32-bit.
   friend constexpr Q operator+(Q a, Q b) noexcept {
-    return from_raw(detail::saturate32(std::int64_t{a.raw_} + b.raw_));
+    std::int32_t r = 0;
+    if (__builtin_add_overflow(a.raw_, b.raw_, &r)) {
+      return from_raw(a.raw_ > 0 ? detail::kRawMax : detail::kRawMin);
+    }
+    return from_raw(r);
   }
   friend constexpr Q operator-(Q a, Q b) noexcept {
-    return from_raw(detail::saturate32(std::int64_t{a.raw_} - b.raw_));
+    std::int32_t r = 0;
+    if (__builtin_sub_overflow(a.raw_, b.raw_, &r)) {
+      return from_raw(a.raw_ > 0 ? detail::kRawMax : detail::kRawMin);
+    }
+    return from_raw(r);
   }
   friend constexpr Q operator-(Q a) noexcept { return from_raw(-a.raw_); }
   /// Q<F> * Q<F> -> Q<F>: 32x32->64 product (SMULL on Cortex-M4), round, saturate.
   friend constexpr Q operator*(Q a, Q b) noexcept {
-    const std::int64_t prod = std::int64_t{a.raw_} * b.raw_;
-    return from_raw(detail::saturate32(detail::shift_round(prod, FracBits)));
+    // 32x32->64 multiply-accumulate with the rounding constant (SMLAL); the result fits
+    // when every bit above bit 31+F copies the sign: (hi >> (F-1)) == (hi >> 31).
+    const std::int64_t prod = std::int64_t{a.raw_} * b.raw_ + (std::int64_t{1} << (FracBits - 1));
+    const auto hi = static_cast<std::int32_t>(prod >> 32);
+    if ((hi >> (FracBits - 1)) != (hi >> 31)) {
+      return from_raw(hi < 0 ? detail::kRawMin : detail::kRawMax);
+    }
+    return from_raw(static_cast<std::int32_t>(prod >> FracBits));
   }
   constexpr Q& operator+=(Q b) noexcept { return *this = *this + b; }
   constexpr Q& operator-=(Q b) noexcept { return *this = *this - b; }

@@ -131,6 +131,16 @@ template <class T, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
   return coefficient * x;
 }
 
+/// a*b + c*d and a*b + c*d + e*f for float/double (Q<F> overloads below round once).
+template <class T, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
+[[nodiscard]] constexpr T sum_of_products(T a, T b, T c, T d) noexcept {
+  return a * b + c * d;
+}
+template <class T, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
+[[nodiscard]] constexpr T sum_of_products(T a, T b, T c, T d, T e, T f) noexcept {
+  return a * b + c * d + e * f;
+}
+
 /// (a*b - c*d) * scale for float/double.
 template <class T, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
 [[nodiscard]] constexpr T diff_of_products_scaled(T a, T b, T c, T d, T scale) noexcept {
@@ -323,6 +333,35 @@ struct precise_coefficient<Q<F>> {
 template <int F>
 [[nodiscard]] constexpr Q<F> scale(Q<30> coefficient, Q<F> x) noexcept {
   return mul<F>(coefficient, x);
+}
+
+namespace detail {
+/// Saturating int64 sum (the products of two Q values are below 2^62 in magnitude, so
+/// only sums of several extreme values can overflow).
+constexpr std::int64_t add_sat64(std::int64_t a, std::int64_t b) noexcept {
+  std::int64_t r = 0;
+  if (__builtin_add_overflow(a, b, &r)) {
+    return a > 0 ? std::numeric_limits<std::int64_t>::max() : std::numeric_limits<std::int64_t>::min();
+  }
+  return r;
+}
+template <int F>
+constexpr Q<F> round_product_sum(std::int64_t sum) noexcept {
+  return Q<F>::from_raw(saturate32(shift_round(sum, F)));
+}
+}  // namespace detail
+
+/// a*b + c*d, Q<F>: both products exact in 64 bits, one rounding, one saturation.
+template <int F>
+[[nodiscard]] constexpr Q<F> sum_of_products(Q<F> a, Q<F> b, Q<F> c, Q<F> d) noexcept {
+  return detail::round_product_sum<F>(
+      detail::add_sat64(std::int64_t{a.raw()} * b.raw(), std::int64_t{c.raw()} * d.raw()));
+}
+/// a*b + c*d + e*f, Q<F>: one rounding, one saturation (dot products, matrix rows).
+template <int F>
+[[nodiscard]] constexpr Q<F> sum_of_products(Q<F> a, Q<F> b, Q<F> c, Q<F> d, Q<F> e, Q<F> f) noexcept {
+  return detail::round_product_sum<F>(detail::add_sat64(
+      detail::add_sat64(std::int64_t{a.raw()} * b.raw(), std::int64_t{c.raw()} * d.raw()), std::int64_t{e.raw()} * f.raw()));
 }
 
 /// (a*b - c*d) * scale, Q<F> -> Q<F>, with one rounding instead of three: the
