@@ -212,7 +212,7 @@ class Q {
     // when every bit above bit 31+F copies the sign: (hi >> (F-1)) == (hi >> 31).
     const std::int64_t prod = std::int64_t{a.raw_} * b.raw_ + (std::int64_t{1} << (FracBits - 1));
     const auto hi = static_cast<std::int32_t>(prod >> 32);
-    if ((hi >> (FracBits - 1)) != (hi >> 31)) {
+    if ((hi >> (FracBits - 1)) != (hi < 0 ? -1 : 0)) {
       return from_raw(hi < 0 ? detail::kRawMin : detail::kRawMax);
     }
     return from_raw(static_cast<std::int32_t>(prod >> FracBits));
