@@ -109,6 +109,9 @@ report::Plot trace_plot(const eval::RunResult& comp, const eval::RunResult& unco
 }
 }  // namespace
 
+// Threshold margin above the calibrated collision-free band (the paper adds one too).
+constexpr double kMarginNm = 1.0;
+
 int run_demo(const DemoOptions& options) {
   const auto t_start = std::chrono::steady_clock::now();
   std::filesystem::create_directories(options.out_dir);
@@ -128,7 +131,7 @@ int run_demo(const DemoOptions& options) {
   eval::ExperimentConfig c;
   c.model = robot::load_robot(JG_DEFAULT_MODEL);
   c.rate_hz = 1000.0;
-  const auto prep = eval::prepare(c, 0.5);
+  const auto prep = eval::prepare(c, kMarginNm);
   html << "<h2>Friction identified from the observer's output</h2>\n<table><tr><th>joint</th><th>parameter</th><th>identified</th><th>truth</th><th>error</th><th>identifiable</th></tr>\n";
   for (std::size_t j = 0; j < prep.identification.size(); ++j) {
     const auto& r = prep.identification[j];
@@ -158,7 +161,7 @@ int run_demo(const DemoOptions& options) {
   std::vector<PaperRow> rows;
   eval::ExperimentConfig c125 = c;
   c125.rate_hz = 125.0;
-  eval::prepare(c125, 0.5);
+  eval::prepare(c125, kMarginNm);
   for (const auto* cfg : {&c, &c125}) {
     for (const char* scalar : {"float", "q"}) {
       eval::ExperimentConfig x = *cfg;

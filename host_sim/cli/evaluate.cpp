@@ -19,7 +19,7 @@ namespace jg::cli {
 namespace {
 struct EvaluateOptions {
   std::string scenario = "paper", model = JG_DEFAULT_MODEL, json, scalar = "float", reaction = "stop";
-  double rate = 1000.0, margin = 0.5, free_run_s = 0.0;
+  double rate = 1000.0, margin = 1.0, free_run_s = 0.0;
   int count = 50, debounce = 1;
   unsigned long long seed = 1;
   ObserverOptions observer;
@@ -93,7 +93,8 @@ Command add_evaluate(CLI::App& app) {
             }
             const double free_s = o->free_run_s > 0.0 ? o->free_run_s : (o->scenario == "campaign" ? 600.0 : 120.0);
             int alarms = 0;
-            const double per_hour = eval::false_alarms_per_hour(c, free_s, alarms);
+            std::vector<double> alarm_times;
+            const double per_hour = eval::false_alarms_per_hour(c, free_s, alarms, {}, &alarm_times);
             bar.finish();
             const eval::Summary sum = eval::summarize(runs);
             std::printf("%-28s %9s %9s %9s %6s %9s\n", "run", "t_coll", "t_det", "delay ms", "link", "peak N");
@@ -105,8 +106,10 @@ Command add_evaluate(CLI::App& app) {
             }
             std::printf("detected %d/%d; of those whose true torque exceeds 1.5x threshold: %d/%d; isolation %d/%d\n", sum.detected,
                         sum.runs, sum.detectable_found, sum.detectable, sum.isolated, sum.runs);
-            std::printf("delay min/median/max %.1f/%.1f/%.1f ms; false alarms %d in %.0f s (%.2f per hour)\n", 1e3 * sum.delay_min,
+            std::printf("delay min/median/max %.1f/%.1f/%.1f ms; false alarms %d in %.0f s (%.2f per hour)", 1e3 * sum.delay_min,
                         1e3 * sum.delay_median, 1e3 * sum.delay_max, alarms, free_s, per_hour);
+            for (const double t : alarm_times) std::printf(" %.3f", t);
+            std::printf("\n");
             if (!o->json.empty()) {
               nlohmann::json j;
               j["runs"] = nlohmann::json::array();
@@ -116,7 +119,7 @@ Command add_evaluate(CLI::App& app) {
                               {"isolation_accuracy", sum.isolated / n},
                               {"detection_rate_over_1p5x_threshold", sum.detectable ? static_cast<double>(sum.detectable_found) / sum.detectable : 1.0},
                               {"delay_min", sum.delay_min}, {"delay_median", sum.delay_median}, {"delay_max", sum.delay_max},
-                              {"false_alarms_per_hour", per_hour}, {"false_alarm_run_s", free_s}, {"threshold", c.thresholds},
+                              {"false_alarms_per_hour", per_hour}, {"false_alarm_run_s", free_s}, {"false_alarm_times", alarm_times}, {"threshold", c.thresholds},
                               {"threshold_low_speed_extra", c.low_speed_extra}, {"rate", c.rate_hz}, {"scalar", c.scalar},
                               {"observer", to_string(c.gains.kind)}, {"gains", {c.gains.k1, c.gains.k2, c.gains.k3}}};
               std::ofstream(o->json) << j.dump(2) << '\n';

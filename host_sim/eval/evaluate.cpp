@@ -32,6 +32,7 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
   sim::JointVector hold;
   sim::JointVector mu;
   JointMask mask = 0;
+  double last_alarm_t = -1e9;
   const sim::ControlOverride hook = [&](const sim::CycleContext& ctx) -> std::optional<sim::JointVector> {
     const sim::Measurement& m = *ctx.measurement;
     const EstimatorInput in{m.q, m.dq, m.tau_m};
@@ -47,9 +48,13 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
         now |= static_cast<JointMask>(1U << j);
       }
     }
-    if (now != 0 && mask == 0 && (setup.collisions.empty() || ctx.t < out.t_collision)) {
-      // An alarm with no contact: count it, re-arm, do not react.
-      out.false_alarm_times.push_back(ctx.t);
+    if (now != 0 && (setup.collisions.empty() || ctx.t < out.t_collision)) {
+      // An alarm with no contact: count one per episode (a new one only after 0.5 s below
+      // every threshold), re-arm, do not react.
+      if (ctx.t - last_alarm_t > 0.5) {
+        out.false_alarm_times.push_back(ctx.t);
+      }
+      last_alarm_t = ctx.t;
       for (auto& st : states) reset_detector(st);
       now = 0;
     } else if (now != 0 && !out.t_detected) {

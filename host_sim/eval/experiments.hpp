@@ -51,7 +51,7 @@ std::vector<RunResult> campaign(const ExperimentConfig& c, int count, const std:
 
 /// Collision-free random motion for `seconds`: detections per hour.
 double false_alarms_per_hour(const ExperimentConfig& c, double seconds, int& alarms,
-                             const std::function<void(double)>& progress = {});
+                             const std::function<void(double)>& progress = {}, std::vector<double>* times = nullptr);
 
 std::unique_ptr<Estimator> estimator_for(const ExperimentConfig& c);
 /// The detector settings of a configuration (thresholds, band, debounce, reaction).

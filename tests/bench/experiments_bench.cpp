@@ -16,7 +16,7 @@ using namespace jg;
 namespace {
 void reversed_trajectory_validation(eval::ExperimentConfig c) {
   std::printf("\n### Reversed-trajectory validation (paper Table 2)\n\n");
-  const auto prep = eval::prepare(c, 0.5);
+  const auto prep = eval::prepare(c, 1.0);
   const std::size_t n = c.model.joints.size();
   sim::JointVector home = sim::JointVector::Zero(static_cast<Eigen::Index>(n));
   home(1) = 0.6;
@@ -61,7 +61,7 @@ void presets_side_by_side(const eval::ExperimentConfig& base) {
     const ObserverGains g = tuning::gains_for_noise(shape, 0.001, torque_noise, target);
     eval::ExperimentConfig c = base;
     c.gains = g;
-    eval::prepare(c, 0.5);
+    eval::prepare(c, 1.0);
     const auto runs = eval::paper_experiments(c, true);
     std::string delays;
     for (const auto& r : runs) delays += r.t_detected ? std::to_string(static_cast<int>(std::lround(1e3 * (*r.t_detected - r.t_collision)))) + " " : "missed ";
@@ -87,7 +87,7 @@ void presets_side_by_side(const eval::ExperimentConfig& base) {
 
 void reactions(eval::ExperimentConfig c) {
   std::printf("\n### Peak contact force of a clamping collision (shoulder, 1 kHz) by reaction\n\n");
-  eval::prepare(c, 0.5);
+  eval::prepare(c, 1.0);
   std::printf("| reaction | detected after [ms] | peak contact force [N] |\n|---|---|---|\n");
   for (const Reaction r : {Reaction::none, Reaction::stop, Reaction::zero_gravity}) {
     c.reaction = r;
