@@ -36,7 +36,7 @@ struct Reference {
 Reference reference(const jg::sim::ArmDynamics& arm, const JointVector& q, const JointVector& dq) {
   const JointVector h = arm.inverse_dynamics(q, dq, JointVector::Zero(q.size()));
   const double eps = 1e-6;
-  const auto mdot = (arm.mass_matrix(q + eps * dq) - arm.mass_matrix(q - eps * dq)) / (2.0 * eps);
+  const jg::sim::JointMatrix mdot = (arm.mass_matrix(q + eps * dq) - arm.mass_matrix(q - eps * dq)) / (2.0 * eps);
   return {arm.mass_matrix(q) * dq, h - mdot * dq};
 }
 
@@ -121,7 +121,7 @@ TEST(MomentumRecursion, ChristoffelFactorisationMakesMdotMinus2CSkew) {
     JointVector ct_dq(3);
     for (int i = 0; i < 3; ++i) ct_dq(i) = g(i) - od[static_cast<std::size_t>(i)].beta;
     const double eps = 1e-6;
-    const auto mdot = (arm.mass_matrix(q + eps * dq) - arm.mass_matrix(q - eps * dq)) / (2.0 * eps);
+    const jg::sim::JointMatrix mdot = (arm.mass_matrix(q + eps * dq) - arm.mass_matrix(q - eps * dq)) / (2.0 * eps);
     EXPECT_NEAR(dq.dot(mdot * dq), 2.0 * dq.dot(ct_dq), 1e-6 * (1.0 + std::fabs(dq.dot(mdot * dq))));
   }
 }
