@@ -33,6 +33,7 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
   sim::JointVector mu;
   JointMask mask = 0;
   double last_alarm_t = -1e9;
+  const double isolation_fraction = d.isolation_fraction;
   const sim::ControlOverride hook = [&](const sim::CycleContext& ctx) -> std::optional<sim::JointVector> {
     const sim::Measurement& m = *ctx.measurement;
     const EstimatorInput in{m.q, m.dq, m.tau_m};
@@ -61,7 +62,16 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       // Isolation from the signature at the detection cycle itself: joints crossing later
       // mostly see the reaction's own transients, not the contact.
       out.t_detected = ctx.t;
-      out.link_isolated = isolate_link(now);
+      // Signature with a lower bar than detection: a joint takes part when its estimate is
+      // above 30 % of its threshold (about its collision-free band), so a contact whose own
+      // joint sees less torque than a joint below it is still named by its own joint.
+      JointMask signature = now;
+      for (std::size_t j = 0; j < n; ++j) {
+        if (std::fabs(mu(static_cast<Eigen::Index>(j))) > isolation_fraction * d.threshold[j]) {
+          signature |= static_cast<JointMask>(1U << j);
+        }
+      }
+      out.link_isolated = isolate_link(signature);
       reacting = d.reaction != Reaction::none;
       hold = m.q;
     }

@@ -17,6 +17,7 @@ struct DetectionConfig {
   std::vector<double> per_speed;  ///< band growth per joint [N·m·s/rad] (empty = 0)
   std::vector<double> low_speed_extra;  ///< stiction allowance near standstill [N·m] (empty = 0)
   double low_speed_width = 0.03;        ///< [rad/s]
+  double isolation_fraction = 0.3;      ///< joints above this share of their threshold join the signature
   int debounce_cycles = 1;
   Reaction reaction = Reaction::stop;
   std::vector<LuGreParams<double>> friction;  ///< for the zero-gravity mode's friction compensation

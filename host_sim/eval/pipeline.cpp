@@ -288,7 +288,11 @@ ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel&
     if (mask != 0 && previous == 0) {
       ReplayEvent e;
       e.t = rec.t[k];
-      e.link = rec.joint_ids[static_cast<std::size_t>(isolate_link(mask) - 1)];
+      JointMask signature = mask;  // as in run_detection: joints above 30 % of their threshold
+      for (std::size_t j = 0; j < n; ++j) {
+        if (std::fabs(r.mu[j][k]) > 0.3 * thresholds[j]) signature |= static_cast<JointMask>(1U << j);
+      }
+      e.link = rec.joint_ids[static_cast<std::size_t>(isolate_link(signature) - 1)];
       for (std::size_t j = 0; j < n; ++j) {
         if ((mask & (1U << j)) != 0U) e.joints_over.push_back(rec.joint_ids[j]);
       }
