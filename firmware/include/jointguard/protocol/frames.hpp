@@ -1,0 +1,182 @@
+// The joint-to-joint CAN protocol: identifiers, payload layout, CRC and sequence checks.
+// Pure functions over caller-owned byte buffers (the node wraps them in CAN frames).
+//
+// Identifiers (11 bit, lower wins arbitration): (kind << 4) | joint, joint 1..7:
+//   0x00j collision event   0x010 cycle sync (master)   0x02j outward momentum message
+//   0x03j inward momentum message   0x04j joint state   0x05j observer/detector status
+// Momentum messages are CAN FD, 48 bytes:
+//   byte 0: sequence counter (wraps at 256)
+//   bytes 1..4k: fields as Q16.16 little-endian int32 (factor 2^-16, SI units)
+//   last used byte + 1: CRC-8/AUTOSAR over the bytes before it; the rest zero.
+// Values are saturated into the int32 range on encoding (never wrapped); a frame with a
+// wrong identifier, length, CRC or a stale sequence never reaches the estimator.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "jointguard/dynamics/momentum_recursion.hpp"
+#include "jointguard/numeric/qmath.hpp"
+
+namespace jg::protocol {
+
+enum class MessageKind : std::uint8_t {
+  collision_event = 0x0,
+  cycle_sync = 0x1,
+  outward = 0x2,
+  inward = 0x3,
+  joint_state = 0x4,
+  status = 0x5,
+};
+
+/// Frame errors (stable numbers: they are counted and reported in status frames).
+enum class FrameError : std::uint8_t {
+  ok = 0,
+  wrong_id = 1,
+  wrong_length = 2,
+  bad_crc = 3,
+  stale_sequence = 4,
+};
+
+inline constexpr std::uint8_t kMomentumFrameLength = 48;
+inline constexpr std::uint8_t kOutwardFields = 9;
+inline constexpr std::uint8_t kInwardFields = 10;
+
+[[nodiscard]] constexpr std::uint16_t frame_id(MessageKind kind, std::uint8_t joint) noexcept {
+  return static_cast<std::uint16_t>((static_cast<std::uint16_t>(kind) << 4U) | (joint & 0x0FU));
+}
+[[nodiscard]] constexpr MessageKind kind_of(std::uint32_t id) noexcept { return static_cast<MessageKind>((id >> 4U) & 0x7FU); }
+[[nodiscard]] constexpr std::uint8_t joint_of(std::uint32_t id) noexcept { return static_cast<std::uint8_t>(id & 0x0FU); }
+
+/// CRC-8/AUTOSAR: polynomial 0x2F, initial 0xFF, final XOR 0xFF (check("123456789") = 0xDF).
+[[nodiscard]] constexpr std::uint8_t crc8_autosar(const std::uint8_t* data, std::uint8_t length) noexcept {
+  std::uint8_t crc = 0xFFU;
+  for (std::uint8_t i = 0; i < length; ++i) {
+    crc = static_cast<std::uint8_t>(crc ^ data[i]);
+    for (int bit = 0; bit < 8; ++bit) {
+      crc = (crc & 0x80U) != 0U ? static_cast<std::uint8_t>((crc << 1U) ^ 0x2FU) : static_cast<std::uint8_t>(crc << 1U);
+    }
+  }
+  return static_cast<std::uint8_t>(crc ^ 0xFFU);
+}
+
+namespace detail {
+template <class S>
+constexpr std::int32_t to_wire(S v) noexcept {
+  if constexpr (is_q_v<S>) {
+    return q_cast<q16>(v).raw();
+  } else {
+    NumericStatus ignored{};  // saturates; non-finite values never reach here (node checks)
+    return q16::from_float(static_cast<float>(v), ignored).raw();
+  }
+}
+template <class S>
+constexpr void from_wire(std::int32_t raw, S& out) noexcept {
+  if constexpr (is_q_v<S>) {
+    out = q_cast<S>(q16::from_raw(raw));
+  } else {
+    out = static_cast<S>(q16::from_raw(raw).to_float());
+  }
+}
+constexpr void put_i32(std::uint8_t* p, std::int32_t v) noexcept {
+  const auto u = static_cast<std::uint32_t>(v);
+  for (unsigned i = 0; i < 4U; ++i) {
+    p[i] = static_cast<std::uint8_t>(u >> (8U * i));
+  }
+}
+constexpr std::int32_t get_i32(const std::uint8_t* p) noexcept {
+  std::uint32_t u = 0;
+  for (unsigned i = 0; i < 4U; ++i) {
+    u |= static_cast<std::uint32_t>(p[i]) << (8U * i);
+  }
+  return static_cast<std::int32_t>(u);
+}
+template <class S>
+constexpr std::uint8_t finish(std::uint8_t* buf, std::uint8_t fields) noexcept {
+  const auto used = static_cast<std::uint8_t>(1U + 4U * fields);
+  buf[used] = crc8_autosar(buf, used);
+  for (auto i = static_cast<std::uint8_t>(used + 1U); i < kMomentumFrameLength; ++i) {
+    buf[i] = 0U;
+  }
+  return kMomentumFrameLength;
+}
+constexpr FrameError check(const std::uint8_t* buf, std::uint8_t length, std::uint8_t fields) noexcept {
+  if (length != kMomentumFrameLength) {
+    return FrameError::wrong_length;
+  }
+  const auto used = static_cast<std::uint8_t>(1U + 4U * fields);
+  return crc8_autosar(buf, used) == buf[used] ? FrameError::ok : FrameError::bad_crc;
+}
+}  // namespace detail
+
+template <class S>
+constexpr std::uint8_t encode_outward(const OutwardMessage<S>& m, std::uint8_t sequence, std::uint8_t* buf) noexcept {
+  buf[0] = sequence;
+  const S v[kOutwardFields] = {m.angular_velocity.x, m.angular_velocity.y, m.angular_velocity.z,
+                               m.origin_velocity.x,  m.origin_velocity.y,  m.origin_velocity.z,
+                               m.gravity.x,          m.gravity.y,          m.gravity.z};
+  for (std::uint8_t i = 0; i < kOutwardFields; ++i) {
+    detail::put_i32(buf + 1 + (std::size_t{4} * i), detail::to_wire(v[i]));
+  }
+  return detail::finish<S>(buf, kOutwardFields);
+}
+
+template <class S>
+constexpr FrameError decode_outward(const std::uint8_t* buf, std::uint8_t length, OutwardMessage<S>& m,
+                                    std::uint8_t& sequence) noexcept {
+  if (const FrameError e = detail::check(buf, length, kOutwardFields); e != FrameError::ok) {
+    return e;
+  }
+  S v[kOutwardFields]{};
+  for (std::uint8_t i = 0; i < kOutwardFields; ++i) {
+    detail::from_wire(detail::get_i32(buf + 1 + (std::size_t{4} * i)), v[i]);
+  }
+  m = {{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}};
+  sequence = buf[0];
+  return FrameError::ok;
+}
+
+template <class S>
+constexpr std::uint8_t encode_inward(const InwardMessage<S>& m, std::uint8_t sequence, std::uint8_t* buf) noexcept {
+  buf[0] = sequence;
+  const S v[kInwardFields] = {m.angular_momentum.x, m.angular_momentum.y, m.angular_momentum.z,
+                              m.linear_momentum.x,  m.linear_momentum.y,  m.linear_momentum.z,
+                              m.first_moment.x,     m.first_moment.y,     m.first_moment.z, m.mass};
+  for (std::uint8_t i = 0; i < kInwardFields; ++i) {
+    detail::put_i32(buf + 1 + (std::size_t{4} * i), detail::to_wire(v[i]));
+  }
+  return detail::finish<S>(buf, kInwardFields);
+}
+
+template <class S>
+constexpr FrameError decode_inward(const std::uint8_t* buf, std::uint8_t length, InwardMessage<S>& m,
+                                   std::uint8_t& sequence) noexcept {
+  if (const FrameError e = detail::check(buf, length, kInwardFields); e != FrameError::ok) {
+    return e;
+  }
+  S v[kInwardFields]{};
+  for (std::uint8_t i = 0; i < kInwardFields; ++i) {
+    detail::from_wire(detail::get_i32(buf + 1 + (std::size_t{4} * i)), v[i]);
+  }
+  m = {{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, v[9]};
+  sequence = buf[0];
+  return FrameError::ok;
+}
+
+/// Sequence tracking per neighbour: a frame is fresh when its counter is ahead of the last
+/// accepted one by 1..127 (modulo 256); equal or behind is stale (duplicate, reordered).
+struct SequenceTracker {
+  std::uint8_t last = 0;
+  bool started = false;
+  constexpr FrameError accept(std::uint8_t sequence) noexcept {
+    const auto ahead = static_cast<std::uint8_t>(sequence - last);
+    if (started && (ahead == 0U || ahead >= 128U)) {
+    return FrameError::stale_sequence;
+  }
+    last = sequence;
+    started = true;
+    return FrameError::ok;
+  }
+};
+
+}  // namespace jg::protocol

@@ -1,0 +1,56 @@
+// Loopback CAN port for unit tests and single-MCU bring-up: what is sent is received, in
+// order, through the acceptance filters. Fixed capacity, no allocation (firmware-safe).
+#pragma once
+
+#include <cstddef>
+
+#include "jointguard/hal/can.hpp"
+
+namespace jg::hal {
+
+template <std::size_t Capacity>
+class LoopbackCan {
+ public:
+  CanStatus send(const CanFrame& f) noexcept {
+    if (!valid_length(f.length, f.fd) || f.id > (f.extended ? 0x1FFFFFFFU : 0x7FFU)) return CanStatus::invalid;
+    if (count_ == Capacity) return CanStatus::queue_full;
+    queue_[(head_ + count_) % Capacity] = f;
+    ++count_;
+    return CanStatus::ok;
+  }
+  bool receive(CanFrame& out) noexcept {
+    while (count_ > 0U) {
+      const CanFrame& f = queue_[head_];
+      head_ = (head_ + 1U) % Capacity;
+      --count_;
+      if (accepts(f.id)) {
+        out = f;
+        return true;
+      }
+    }
+    return false;
+  }
+  [[nodiscard]] CanErrorState error_state() const noexcept { return CanErrorState::error_active; }
+  void set_filters(const CanFilter* filters, std::size_t n) noexcept {
+    n_filters_ = n < kMaxFilters ? n : kMaxFilters;
+    for (std::size_t i = 0; i < n_filters_; ++i) filters_[i] = filters[i];
+  }
+
+ private:
+  static constexpr std::size_t kMaxFilters = 8;
+  [[nodiscard]] bool accepts(std::uint32_t id) const noexcept {
+    if (n_filters_ == 0U) return true;
+    for (std::size_t i = 0; i < n_filters_; ++i) {
+      if ((id & filters_[i].mask) == (filters_[i].match & filters_[i].mask)) return true;
+    }
+    return false;
+  }
+  CanFrame queue_[Capacity]{};
+  std::size_t head_ = 0, count_ = 0;
+  CanFilter filters_[kMaxFilters]{};
+  std::size_t n_filters_ = 0;
+};
+
+static_assert(is_can_port_v<LoopbackCan<4>>, "LoopbackCan satisfies the CAN port contract");
+
+}  // namespace jg::hal

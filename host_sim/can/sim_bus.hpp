@@ -1,0 +1,95 @@
+// A simulated CAN bus, in-process and deterministic: ports that satisfy the HAL contract,
+// arbitration by identifier (lowest wins) whenever the bus is idle, frame durations from the
+// bit timing with worst-case bit stuffing, per-frame latency, and fault injection.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "jointguard/hal/can.hpp"
+
+namespace jg::can {
+
+struct BusTiming {
+  double nominal_bps = 1e6;  ///< arbitration (and classic CAN) bit rate
+  double data_bps = 5e6;     ///< CAN FD data-phase bit rate
+};
+
+/// Worst-case bits on the wire of a frame with an 11-bit identifier.
+///  Classic: 47 + 8n + floor((34 + 8n - 1) / 4) (header, data and CRC stuffed worst case).
+///  FD (BRS): nominal phase 17 stuffable header bits + 4 stuff + 13 trailer (CRC delimiter,
+///  ACK, EOF, IFS); data phase ESI + DLC + 8n + stuff count (4) + CRC (17 for n <= 16, else
+///  21) + fixed stuff bits (ceil(CRC/4)) + worst dynamic stuffing floor((5 + 8n - 1) / 4).
+struct FrameBits {
+  double nominal = 0, data = 0;
+};
+FrameBits frame_bits(const hal::CanFrame& f);
+double frame_duration_s(const hal::CanFrame& f, const BusTiming& t);
+
+struct FaultPlan {
+  double drop_probability = 0.0;       ///< frame lost (not delivered to anyone)
+  double corrupt_probability = 0.0;    ///< one payload byte flipped on delivery
+  double duplicate_probability = 0.0;  ///< delivered twice
+  double extra_delay_s = 0.0;          ///< added latency on delivery
+  std::uint32_t affected_id_mask = 0, affected_id_match = 0;  ///< which identifiers (mask 0 = all)
+  unsigned long long seed = 1;
+};
+
+class SimBus;
+
+/// One node's attachment to the bus (HAL port contract).
+class SimPort {
+ public:
+  hal::CanStatus send(const hal::CanFrame& f);
+  bool receive(hal::CanFrame& out);
+  [[nodiscard]] hal::CanErrorState error_state() const { return state_; }
+  void set_filters(const hal::CanFilter* filters, std::size_t n);
+  /// Fault injection: the controller goes bus-off (sends nothing) until recover().
+  void go_bus_off() { state_ = hal::CanErrorState::bus_off; }
+  void recover() { state_ = hal::CanErrorState::error_active; }
+
+ private:
+  friend class SimBus;
+  SimBus* bus_ = nullptr;
+  std::size_t index_ = 0;
+  std::deque<std::pair<double, hal::CanFrame>> tx_;  ///< (enqueue time, frame)
+  std::deque<hal::CanFrame> rx_;
+  std::vector<hal::CanFilter> filters_;
+  hal::CanErrorState state_ = hal::CanErrorState::error_active;
+  std::size_t tx_capacity_ = 256;
+};
+static_assert(hal::is_can_port_v<SimPort>, "SimPort satisfies the CAN port contract");
+
+class SimBus {
+ public:
+  explicit SimBus(BusTiming timing, FaultPlan faults = {});
+  SimPort& attach();
+  /// Runs arbitration and transmission up to time t [s]; frames finishing by then are
+  /// delivered to every other port (timestamp = end of frame + latency).
+  void run_until(double t);
+  [[nodiscard]] double now() const { return now_; }
+  [[nodiscard]] double busy_time() const { return busy_s_; }
+  [[nodiscard]] std::size_t frames_sent() const { return frames_; }
+  /// A babbling node: the given port re-sends `frame` whenever the bus is idle.
+  void set_babbler(std::size_t port_index, const hal::CanFrame& frame);
+  [[nodiscard]] const std::vector<std::uint32_t>& transmit_order() const { return order_; }
+
+ private:
+  friend class SimPort;
+  BusTiming timing_;
+  FaultPlan faults_;
+  std::mt19937_64 rng_;
+  std::vector<std::unique_ptr<SimPort>> ports_;
+  double now_ = 0.0, busy_s_ = 0.0;
+  std::size_t frames_ = 0;
+  bool babbling_ = false;
+  std::size_t babbler_ = 0;
+  hal::CanFrame babble_{};
+  std::vector<std::uint32_t> order_;
+};
+
+}  // namespace jg::can

@@ -1,0 +1,98 @@
+// CAN protocol: identifiers, CRC, round trips (float and Q16.16) including boundary values,
+// every rejection path; the loopback port and the backend contract.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <limits>
+
+#include "jointguard/hal/loopback_can.hpp"
+#include "jointguard/protocol/frames.hpp"
+
+namespace {
+using namespace jg::protocol;
+
+static_assert(frame_id(MessageKind::outward, 3) == 0x023);
+static_assert(frame_id(MessageKind::collision_event, 1) < frame_id(MessageKind::cycle_sync, 0), "events win arbitration");
+static_assert(kind_of(0x035) == MessageKind::inward && joint_of(0x035) == 5);
+
+TEST(Protocol, Crc8AutosarCheckValue) {
+  const char* s = "123456789";
+  EXPECT_EQ(crc8_autosar(reinterpret_cast<const std::uint8_t*>(s), 9), 0xDF);
+}
+
+TEST(Protocol, OutwardRoundTripQ16IsExactAndFloatWithinOneLsb) {
+  jg::OutwardMessage<jg::q16> q{};
+  q.angular_velocity = {jg::q16::from_double(1.5), jg::q16::from_double(-2.25), jg::q16::from_double(0.001)};
+  q.origin_velocity = {jg::q16::from_raw(1), jg::q16::from_raw(-1), jg::q16{}};
+  q.gravity = {std::numeric_limits<jg::q16>::max(), std::numeric_limits<jg::q16>::lowest(), jg::q16::from_double(-9.81)};
+  std::uint8_t buf[64];
+  ASSERT_EQ(encode_outward(q, 200, buf), kMomentumFrameLength);
+  jg::OutwardMessage<jg::q16> back{};
+  std::uint8_t seq = 0;
+  ASSERT_EQ(decode_outward(buf, kMomentumFrameLength, back, seq), FrameError::ok);
+  EXPECT_EQ(seq, 200);
+  EXPECT_EQ(std::memcmp(&back, &q, sizeof q), 0) << "Q16.16 travels bit for bit";
+  jg::OutwardMessage<float> f{};
+  f.angular_velocity = {1.2345F, -3.5F, 1e6F};  // 1e6 saturates to the wire's range, never wraps
+  f.gravity.z = -9.81F;
+  ASSERT_EQ(encode_outward(f, 7, buf), kMomentumFrameLength);
+  jg::OutwardMessage<float> fb{};
+  ASSERT_EQ(decode_outward(buf, kMomentumFrameLength, fb, seq), FrameError::ok);
+  EXPECT_NEAR(fb.angular_velocity.x, 1.2345F, 1.0F / 65536.0F);
+  EXPECT_NEAR(fb.gravity.z, -9.81F, 1.0F / 65536.0F);
+  EXPECT_GT(fb.angular_velocity.z, 32767.0F);
+}
+
+TEST(Protocol, InwardRoundTripAndEveryRejection) {
+  jg::InwardMessage<jg::q16> m{};
+  m.angular_momentum = {jg::q16::from_double(0.5), jg::q16::from_double(-0.1), jg::q16::from_double(3.0)};
+  m.mass = jg::q16::from_double(5.5);
+  std::uint8_t buf[64];
+  ASSERT_EQ(encode_inward(m, 1, buf), kMomentumFrameLength);
+  jg::InwardMessage<jg::q16> back{};
+  std::uint8_t seq = 0;
+  EXPECT_EQ(decode_inward(buf, 8, back, seq), FrameError::wrong_length);
+  EXPECT_EQ(decode_inward(buf, kMomentumFrameLength, back, seq), FrameError::ok);
+  EXPECT_EQ(back.mass.raw(), m.mass.raw());
+  for (int byte = 0; byte < 42; ++byte) {  // any single corrupted byte is caught
+    std::uint8_t bad[64];
+    std::memcpy(bad, buf, 64);
+    bad[byte] ^= 0x10U;
+    EXPECT_EQ(decode_inward(bad, kMomentumFrameLength, back, seq), FrameError::bad_crc) << "byte " << byte;
+  }
+}
+
+TEST(Protocol, SequenceTrackerRejectsDuplicatesAndReorderingAcrossTheWrap) {
+  SequenceTracker t;
+  EXPECT_EQ(t.accept(254), FrameError::ok);
+  EXPECT_EQ(t.accept(255), FrameError::ok);
+  EXPECT_EQ(t.accept(0), FrameError::ok) << "wraps";
+  EXPECT_EQ(t.accept(0), FrameError::stale_sequence) << "duplicate";
+  EXPECT_EQ(t.accept(255), FrameError::stale_sequence) << "reordered";
+  EXPECT_EQ(t.accept(5), FrameError::ok) << "lost frames in between are allowed (counted by the node)";
+}
+
+TEST(Hal, LoopbackHonoursFiltersCapacityAndLengths) {
+  jg::hal::LoopbackCan<2> port;
+  jg::hal::CanFrame f;
+  f.id = 0x023;
+  f.length = 48;
+  f.fd = true;
+  EXPECT_EQ(port.send(f), jg::hal::CanStatus::ok);
+  f.length = 9;
+  EXPECT_EQ(port.send(f), jg::hal::CanStatus::invalid) << "9 bytes is not a CAN FD length";
+  f.length = 8;
+  f.fd = false;
+  f.id = 0x800;
+  EXPECT_EQ(port.send(f), jg::hal::CanStatus::invalid) << "11-bit identifiers only up to 0x7FF";
+  f.id = 0x035;
+  EXPECT_EQ(port.send(f), jg::hal::CanStatus::ok);
+  EXPECT_EQ(port.send(f), jg::hal::CanStatus::queue_full);
+  const jg::hal::CanFilter only_inward{0x030, 0x7F0};
+  port.set_filters(&only_inward, 1);
+  jg::hal::CanFrame r;
+  ASSERT_TRUE(port.receive(r));
+  EXPECT_EQ(r.id, 0x035U) << "the outward frame was filtered out";
+  EXPECT_FALSE(port.receive(r));
+}
+}  // namespace
