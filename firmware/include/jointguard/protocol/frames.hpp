@@ -109,58 +109,65 @@ constexpr FrameError check(const std::uint8_t* buf, std::uint8_t length, std::ui
 }
 }  // namespace detail
 
+namespace detail {
+template <class S>
+constexpr std::uint8_t encode_fields(const S* values, std::uint8_t fields, std::uint8_t sequence, std::uint8_t* buf) noexcept {
+  buf[0] = sequence;
+  for (std::uint8_t i = 0; i < fields; ++i) {
+    put_i32(buf + 1 + (std::size_t{4} * i), to_wire(values[i]));
+  }
+  return finish<S>(buf, fields);
+}
+template <class S>
+constexpr FrameError decode_fields(const std::uint8_t* buf, std::uint8_t length, std::uint8_t fields, S* values,
+                                   std::uint8_t& sequence) noexcept {
+  if (const FrameError e = check(buf, length, fields); e != FrameError::ok) {
+    return e;
+  }
+  for (std::uint8_t i = 0; i < fields; ++i) {
+    from_wire(get_i32(buf + 1 + (std::size_t{4} * i)), values[i]);
+  }
+  sequence = buf[0];
+  return FrameError::ok;
+}
+}  // namespace detail
+
 template <class S>
 constexpr std::uint8_t encode_outward(const OutwardMessage<S>& m, std::uint8_t sequence, std::uint8_t* buf) noexcept {
-  buf[0] = sequence;
   const S v[kOutwardFields] = {m.angular_velocity.x, m.angular_velocity.y, m.angular_velocity.z,
                                m.origin_velocity.x,  m.origin_velocity.y,  m.origin_velocity.z,
                                m.gravity.x,          m.gravity.y,          m.gravity.z};
-  for (std::uint8_t i = 0; i < kOutwardFields; ++i) {
-    detail::put_i32(buf + 1 + (std::size_t{4} * i), detail::to_wire(v[i]));
-  }
-  return detail::finish<S>(buf, kOutwardFields);
+  return detail::encode_fields(v, kOutwardFields, sequence, buf);
 }
 
 template <class S>
 constexpr FrameError decode_outward(const std::uint8_t* buf, std::uint8_t length, OutwardMessage<S>& m,
                                     std::uint8_t& sequence) noexcept {
-  if (const FrameError e = detail::check(buf, length, kOutwardFields); e != FrameError::ok) {
-    return e;
-  }
   S v[kOutwardFields]{};
-  for (std::uint8_t i = 0; i < kOutwardFields; ++i) {
-    detail::from_wire(detail::get_i32(buf + 1 + (std::size_t{4} * i)), v[i]);
+  const FrameError e = detail::decode_fields(buf, length, kOutwardFields, v, sequence);
+  if (e == FrameError::ok) {
+    m = {{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}};
   }
-  m = {{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}};
-  sequence = buf[0];
-  return FrameError::ok;
+  return e;
 }
 
 template <class S>
 constexpr std::uint8_t encode_inward(const InwardMessage<S>& m, std::uint8_t sequence, std::uint8_t* buf) noexcept {
-  buf[0] = sequence;
   const S v[kInwardFields] = {m.angular_momentum.x, m.angular_momentum.y, m.angular_momentum.z,
                               m.linear_momentum.x,  m.linear_momentum.y,  m.linear_momentum.z,
                               m.first_moment.x,     m.first_moment.y,     m.first_moment.z, m.mass};
-  for (std::uint8_t i = 0; i < kInwardFields; ++i) {
-    detail::put_i32(buf + 1 + (std::size_t{4} * i), detail::to_wire(v[i]));
-  }
-  return detail::finish<S>(buf, kInwardFields);
+  return detail::encode_fields(v, kInwardFields, sequence, buf);
 }
 
 template <class S>
 constexpr FrameError decode_inward(const std::uint8_t* buf, std::uint8_t length, InwardMessage<S>& m,
                                    std::uint8_t& sequence) noexcept {
-  if (const FrameError e = detail::check(buf, length, kInwardFields); e != FrameError::ok) {
-    return e;
-  }
   S v[kInwardFields]{};
-  for (std::uint8_t i = 0; i < kInwardFields; ++i) {
-    detail::from_wire(detail::get_i32(buf + 1 + (std::size_t{4} * i)), v[i]);
+  const FrameError e = detail::decode_fields(buf, length, kInwardFields, v, sequence);
+  if (e == FrameError::ok) {
+    m = {{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, v[9]};
   }
-  m = {{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, v[9]};
-  sequence = buf[0];
-  return FrameError::ok;
+  return e;
 }
 
 /// Sequence tracking per neighbour: a frame is fresh when its counter is ahead of the last
