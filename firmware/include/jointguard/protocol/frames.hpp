@@ -12,6 +12,7 @@
 // wrong identifier, length, CRC or a stale sequence never reaches the estimator.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 
@@ -134,17 +135,17 @@ constexpr FrameError decode_fields(const std::uint8_t* buf, std::uint8_t length,
 
 template <class S>
 constexpr std::uint8_t encode_outward(const OutwardMessage<S>& m, std::uint8_t sequence, std::uint8_t* buf) noexcept {
-  const S v[kOutwardFields] = {m.angular_velocity.x, m.angular_velocity.y, m.angular_velocity.z,
+  const std::array<S, kOutwardFields> v = {m.angular_velocity.x, m.angular_velocity.y, m.angular_velocity.z,
                                m.origin_velocity.x,  m.origin_velocity.y,  m.origin_velocity.z,
                                m.gravity.x,          m.gravity.y,          m.gravity.z};
-  return detail::encode_fields(v, kOutwardFields, sequence, buf);
+  return detail::encode_fields(v.data(), kOutwardFields, sequence, buf);
 }
 
 template <class S>
 constexpr FrameError decode_outward(const std::uint8_t* buf, std::uint8_t length, OutwardMessage<S>& m,
                                     std::uint8_t& sequence) noexcept {
-  S v[kOutwardFields]{};
-  const FrameError e = detail::decode_fields(buf, length, kOutwardFields, v, sequence);
+  std::array<S, kOutwardFields> v{};
+  const FrameError e = detail::decode_fields(buf, length, kOutwardFields, v.data(), sequence);
   if (e == FrameError::ok) {
     m = {{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}};
   }
@@ -153,17 +154,17 @@ constexpr FrameError decode_outward(const std::uint8_t* buf, std::uint8_t length
 
 template <class S>
 constexpr std::uint8_t encode_inward(const InwardMessage<S>& m, std::uint8_t sequence, std::uint8_t* buf) noexcept {
-  const S v[kInwardFields] = {m.angular_momentum.x, m.angular_momentum.y, m.angular_momentum.z,
+  const std::array<S, kInwardFields> v = {m.angular_momentum.x, m.angular_momentum.y, m.angular_momentum.z,
                               m.linear_momentum.x,  m.linear_momentum.y,  m.linear_momentum.z,
                               m.first_moment.x,     m.first_moment.y,     m.first_moment.z, m.mass};
-  return detail::encode_fields(v, kInwardFields, sequence, buf);
+  return detail::encode_fields(v.data(), kInwardFields, sequence, buf);
 }
 
 template <class S>
 constexpr FrameError decode_inward(const std::uint8_t* buf, std::uint8_t length, InwardMessage<S>& m,
                                    std::uint8_t& sequence) noexcept {
-  S v[kInwardFields]{};
-  const FrameError e = detail::decode_fields(buf, length, kInwardFields, v, sequence);
+  std::array<S, kInwardFields> v{};
+  const FrameError e = detail::decode_fields(buf, length, kInwardFields, v.data(), sequence);
   if (e == FrameError::ok) {
     m = {{v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, v[9]};
   }
