@@ -12,3 +12,12 @@ template bool joint_inward_and_estimate<float>(const JointEstimatorParams<float>
 template bool joint_inward_and_estimate<q16>(const JointEstimatorParams<q16>&, JointEstimatorState<q16>&, q16, q16,
                                              const InwardMessage<q16>&, InwardMessage<q16>&, ObserverInputStatus*) noexcept;
 }  // namespace jg
+
+// The node over the loopback port (the MCU backend is bound the same way).
+#include "jointguard/hal/loopback_can.hpp"
+#include "jointguard/node/joint_node.hpp"
+
+namespace jg {
+template class JointNode<float, hal::LoopbackCan<8>>;
+template class JointNode<q16, hal::LoopbackCan<8>>;
+}  // namespace jg

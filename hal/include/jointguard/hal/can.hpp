@@ -22,7 +22,9 @@ struct CanFrame {
 
 /// Valid CAN FD payload lengths (a DLC code maps to one of these).
 [[nodiscard]] constexpr bool valid_length(std::uint8_t length, bool fd) noexcept {
-  if (!fd) return length <= 8U;
+  if (!fd) {
+    return length <= 8U;
+  }
   return length <= 8U || length == 12U || length == 16U || length == 20U || length == 24U || length == 32U ||
          length == 48U || length == 64U;
 }

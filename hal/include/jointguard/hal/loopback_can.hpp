@@ -11,9 +11,15 @@ namespace jg::hal {
 template <std::size_t Capacity>
 class LoopbackCan {
  public:
+  static constexpr std::size_t kMaxFilters = 8;
+
   CanStatus send(const CanFrame& f) noexcept {
-    if (!valid_length(f.length, f.fd) || f.id > (f.extended ? 0x1FFFFFFFU : 0x7FFU)) return CanStatus::invalid;
-    if (count_ == Capacity) return CanStatus::queue_full;
+    if (!valid_length(f.length, f.fd) || f.id > (f.extended ? 0x1FFFFFFFU : 0x7FFU)) {
+      return CanStatus::invalid;
+    }
+    if (count_ == Capacity) {
+      return CanStatus::queue_full;
+    }
     queue_[(head_ + count_) % Capacity] = f;
     ++count_;
     return CanStatus::ok;
@@ -32,16 +38,23 @@ class LoopbackCan {
   }
   [[nodiscard]] CanErrorState error_state() const noexcept { return CanErrorState::error_active; }
   void set_filters(const CanFilter* filters, std::size_t n) noexcept {
-    n_filters_ = n < kMaxFilters ? n : kMaxFilters;
-    for (std::size_t i = 0; i < n_filters_; ++i) filters_[i] = filters[i];
+    const std::size_t count = n < kMaxFilters ? n : kMaxFilters;
+    // cppcheck-suppress knownConditionTrueFalse ; false positive: count follows the caller's n
+    for (std::size_t i = 0; i < count; ++i) {
+      filters_[i] = filters[i];
+    }
+    n_filters_ = count;
   }
 
  private:
-  static constexpr std::size_t kMaxFilters = 8;
   [[nodiscard]] bool accepts(std::uint32_t id) const noexcept {
-    if (n_filters_ == 0U) return true;
+    if (n_filters_ == 0U) {
+      return true;
+    }
     for (std::size_t i = 0; i < n_filters_; ++i) {
-      if ((id & filters_[i].mask) == (filters_[i].match & filters_[i].mask)) return true;
+      if ((id & filters_[i].mask) == (filters_[i].match & filters_[i].mask)) {
+        return true;
+      }
     }
     return false;
   }
