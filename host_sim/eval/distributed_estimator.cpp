@@ -3,60 +3,78 @@
 #include <stdexcept>
 #include <vector>
 
-#include "jointguard/node/joint_node.hpp"
+#include "eval/joint_params.hpp"
+#include "jointguard/node/joint_drive.hpp"
 
 namespace jg::eval {
 namespace {
 
+/// Drives poll their ports this many times per period (an interrupt-driven MCU reacts
+/// within a fraction of the period; the exact instant only shifts frames within the cycle).
+constexpr int kPollsPerCycle = 20;
+
 template <class S>
-class DistributedEstimator final : public Estimator {
+class BusEstimator final : public DistributedEstimator {
  public:
-  DistributedEstimator(const DistributedConfig& c) : config_(c), bus_(c.timing, c.faults) {
+  explicit BusEstimator(const DistributedConfig& c)
+      : config_(c), bus_(c.timing, c.faults), master_port_(bus_.attach()),
+        master_(master_port_, c.estimator.model.joints.size()) {
     const auto& fc = c.estimator;
     const std::size_t n = fc.model.joints.size();
-    NumericStatus st;
-    const Vec3<S> gravity{convert<S>(fc.model.gravity[0], st), convert<S>(fc.model.gravity[1], st), convert<S>(fc.model.gravity[2], st)};
+    if (!c.node_thresholds.empty() && c.node_thresholds.size() != n) {
+      throw std::invalid_argument("distributed nodes: one threshold band per joint required");
+    }
+    const Vec3<S> gravity = gravity_of<S>(fc.model);
     for (std::size_t j = 0; j < n; ++j) {
-      JointEstimatorParams<S> p{};
-      if (convert_link(fc.model.joints[j].link, p.link) != Error::ok) throw std::invalid_argument("link constants do not fit the scalar");
-      p.compensate_friction = fc.compensate_friction && j < fc.friction.size();
-      if (p.compensate_friction && discretize(fc.friction[j], fc.dt, p.friction) != Error::ok) throw std::invalid_argument("LuGre does not fit");
-      if (discretize(fc.observer, fc.dt, p.observer) != Error::ok) throw std::invalid_argument("observer does not fit");
-      p.threshold = {from_double<S>(1e4), S{}};
-      ports_.push_back(&bus_.attach());
-      nodes_.emplace_back(NodeConfig{static_cast<std::uint8_t>(j + 1), static_cast<std::uint8_t>(n), 5}, p, *ports_.back(), gravity);
+      const JointThreshold<double>* band = c.node_thresholds.empty() ? nullptr : &c.node_thresholds[j];
+      const JointEstimatorParams<S> p = joint_params<S>(fc, j, band, c.debounce_cycles);
+      DriveConfig dc{NodeConfig{static_cast<std::uint8_t>(j + 1), static_cast<std::uint8_t>(n), c.fault_cycles}, true};
+      // A drive's node refers to the drive's relay port: drives never move.
+      drives_.push_back(std::make_unique<JointDrive<S, can::SimPort>>(dc, p, bus_.attach(), gravity));
     }
   }
   void reset(const EstimatorInput&) override {}
   void step(const EstimatorInput& in, sim::JointVector& mu) override {
-    NumericStatus st;
-    bus_.run_until(time_);  // deliver what was sent during the previous cycle
-    mu.resize(static_cast<Eigen::Index>(nodes_.size()));
-    for (std::size_t j = 0; j < nodes_.size(); ++j) {
-      const auto i = static_cast<Eigen::Index>(j);
-      (void)nodes_[j].cycle(from_float<S>(static_cast<float>(in.q(i)), st), from_float<S>(static_cast<float>(in.dq(i)), st),
-                            from_float<S>(static_cast<float>(in.tau_m(i)), st));
-      mu(i) = to_double(nodes_[j].state().external_torque);
+    const double dt = config_.estimator.dt;
+    bus_.run_until(time_);
+    master_.send_cycle(cycle_, in.q.data(), in.dq.data(), in.tau_m.data());
+    for (int k = 1; k <= kPollsPerCycle; ++k) {
+      bus_.run_until(time_ + dt * k / kPollsPerCycle);
+      for (auto& d : drives_) (void)d->poll();
+      if (master_.collect()) break;
     }
-    time_ += config_.estimator.dt;
+    if (!master_.complete()) ++incomplete_;
+    const auto& torque = master_.external_torque();
+    mu.resize(static_cast<Eigen::Index>(torque.size()));
+    for (std::size_t j = 0; j < torque.size(); ++j) mu(static_cast<Eigen::Index>(j)) = torque[j];
+    ++cycle_;
+    time_ += dt;
   }
-  [[nodiscard]] std::string name() const override { return "distributed nodes on a simulated CAN FD bus"; }
-  [[nodiscard]] const std::vector<JointNode<S, can::SimPort>>& nodes() const { return nodes_; }
+  [[nodiscard]] std::string name() const override {
+    return std::string("drives on a simulated CAN FD bus (") + (is_q_v<S> ? "Q16.16" : "float") + ")";
+  }
+  [[nodiscard]] JointMask reported_flags() const override { return master_.flagged(); }
+  [[nodiscard]] BusStatistics statistics() const override {
+    return {bus_.frames_sent(), bus_.busy_time(), time_, master_.counters(), incomplete_, master_.events()};
+  }
 
  private:
   DistributedConfig config_;
   can::SimBus bus_;
-  std::vector<can::SimPort*> ports_;
-  std::vector<JointNode<S, can::SimPort>> nodes_;
+  can::SimPort& master_port_;
+  hil::BusMaster<can::SimPort> master_;
+  std::vector<std::unique_ptr<JointDrive<S, can::SimPort>>> drives_;
+  std::uint32_t cycle_ = 0;
+  std::size_t incomplete_ = 0;
   double time_ = 0.0;
 };
 
 }  // namespace
 
-std::unique_ptr<Estimator> make_distributed_estimator(const DistributedConfig& c, const std::string& scalar) {
-  if (scalar == "float") return std::make_unique<DistributedEstimator<float>>(c);
-  if (scalar == "q") return std::make_unique<DistributedEstimator<q16>>(c);
-  throw std::invalid_argument("scalar must be 'float' or 'q'");
+std::unique_ptr<DistributedEstimator> make_distributed_estimator(const DistributedConfig& c, const std::string& scalar) {
+  if (scalar == "float") return std::make_unique<BusEstimator<float>>(c);
+  if (scalar == "q") return std::make_unique<BusEstimator<q16>>(c);
+  throw std::invalid_argument("scalar must be 'float' or 'q', got '" + scalar + "'");
 }
 
 }  // namespace jg::eval

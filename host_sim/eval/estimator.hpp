@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "jointguard/detection/detector.hpp"
 #include "jointguard/friction/lugre.hpp"
 #include "plant/rigid_body.hpp"
 
@@ -24,6 +25,9 @@ class Estimator {
   /// (friction prediction removed inside the momentum balance when enabled).
   virtual void step(const EstimatorInput& in, sim::JointVector& mu) = 0;
   [[nodiscard]] virtual std::string name() const = 0;
+  /// Joints whose own detector has flagged, as the estimator's nodes report it (distributed
+  /// runs: the drives' status frames); 0 for estimators without detectors of their own.
+  [[nodiscard]] virtual JointMask reported_flags() const { return 0; }
 };
 
 struct ReferenceEstimatorConfig {

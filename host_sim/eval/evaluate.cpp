@@ -42,6 +42,10 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       started = true;
     }
     estimator.step(in, mu);
+    if (const JointMask reported = estimator.reported_flags(); reported != 0 && !out.t_node_flagged) {
+      out.t_node_flagged = ctx.t;
+      out.link_node_isolated = isolate_link(reported);
+    }
     JointMask now = 0;
     for (std::size_t j = 0; j < n; ++j) {
       if (detector_step(thresholds[j], DebounceSettings{static_cast<std::uint8_t>(d.debounce_cycles)}, states[j],

@@ -37,6 +37,8 @@ struct RunResult {
   double peak_force_n = 0.0;
   double max_true_ratio = 0.0;             ///< max over joints of max|tau_ext| / threshold
   std::vector<double> false_alarm_times;   ///< detections with no contact in the preceding 0.5 s
+  std::optional<double> t_node_flagged;    ///< first cycle a drive's own detector flagged (distributed runs)
+  int link_node_isolated = 0;              ///< highest joint flagged by the drives at that cycle
   Trace trace;
 };
 

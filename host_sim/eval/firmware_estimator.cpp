@@ -1,5 +1,7 @@
 #include "eval/firmware_estimator.hpp"
 
+#include "eval/joint_params.hpp"
+
 #include <stdexcept>
 #include <vector>
 
@@ -13,21 +15,9 @@ class FirmwareEstimator final : public Estimator {
     params_.resize(n_);
     state_.resize(n_);
     for (std::size_t j = 0; j < n_; ++j) {
-      JointEstimatorParams<S>& p = params_[j];
-      if (const Error e = convert_link(c.model.joints[j].link, p.link); e != Error::ok) {
-        throw std::invalid_argument("joint " + std::to_string(j + 1) + ": link constants do not fit the scalar: " + to_string(e));
-      }
-      p.compensate_friction = c.compensate_friction && j < c.friction.size();
-      if (p.compensate_friction && discretize(c.friction[j], c.dt, p.friction) != Error::ok) {
-        throw std::invalid_argument("joint " + std::to_string(j + 1) + ": LuGre parameters do not fit the scalar");
-      }
-      if (discretize(c.observer, c.dt, p.observer) != Error::ok) {
-        throw std::invalid_argument("observer gains do not fit the scalar at this sample time");
-      }
-      p.threshold = {from_double<S>(1e4), S{}};  // detection is done by the evaluation
+      params_[j] = joint_params<S>(c, j);  // detection is done by the evaluation
     }
-    NumericStatus st;
-    gravity_ = {convert<S>(c.model.gravity[0], st), convert<S>(c.model.gravity[1], st), convert<S>(c.model.gravity[2], st)};
+    gravity_ = gravity_of<S>(c.model);
   }
   void reset(const EstimatorInput&) override {
     for (auto& s : state_) s = JointEstimatorState<S>{};

@@ -4,10 +4,14 @@
 // Identifiers (11 bit, lower wins arbitration): (kind << 4) | joint, joint 1..7:
 //   0x00j collision event   0x010 cycle sync (master)   0x02j outward momentum message
 //   0x03j inward momentum message   0x04j joint state   0x05j observer/detector status
-// Momentum messages are CAN FD, 48 bytes:
-//   byte 0: sequence counter (wraps at 256)
-//   bytes 1..4k: fields as Q16.16 little-endian int32 (factor 2^-16, SI units)
-//   last used byte + 1: CRC-8/AUTOSAR over the bytes before it; the rest zero.
+//   0x06j sensor sample (host-in-the-loop only: the simulated plant stands in for the
+//         drive's own encoder and current ADC)
+// Every payload: byte 0 a sequence counter (wraps at 256), then fields as Q16.16
+// little-endian int32 (factor 2^-16, SI units) or bytes, then CRC-8/AUTOSAR over the bytes
+// before it; the rest of the frame zero. Lengths:
+//   momentum messages CAN FD 48 B (9 or 10 fields)   sensor sample CAN FD 16 B (3 fields)
+//   status and collision event classic 8 B: seq, external torque, flags, rejected, CRC
+//   cycle sync classic 8 B: seq, cycle counter (uint32 LE), reserved (2 B), CRC
 // Values are saturated into the int32 range on encoding (never wrapped); a frame with a
 // wrong identifier, length, CRC or a stale sequence never reaches the estimator.
 #pragma once
@@ -28,6 +32,7 @@ enum class MessageKind : std::uint8_t {
   inward = 0x3,
   joint_state = 0x4,
   status = 0x5,
+  sensor = 0x6,
 };
 
 /// Frame errors (stable numbers: they are counted and reported in status frames).
@@ -42,6 +47,12 @@ enum class FrameError : std::uint8_t {
 inline constexpr std::uint8_t kMomentumFrameLength = 48;
 inline constexpr std::uint8_t kOutwardFields = 9;
 inline constexpr std::uint8_t kInwardFields = 10;
+inline constexpr std::uint8_t kSensorFrameLength = 16;
+inline constexpr std::uint8_t kSensorFields = 3;
+inline constexpr std::uint8_t kStatusFrameLength = 8;
+inline constexpr std::uint8_t kSyncFrameLength = 8;
+/// The master's cycle sync (one per bus, joint field 0).
+inline constexpr std::uint16_t kSyncId = 0x010;
 
 [[nodiscard]] constexpr std::uint16_t frame_id(MessageKind kind, std::uint8_t joint) noexcept {
   return static_cast<std::uint16_t>((static_cast<std::uint16_t>(kind) << 4U) | (joint & 0x0FU));
@@ -92,37 +103,37 @@ constexpr std::int32_t get_i32(const std::uint8_t* p) noexcept {
   }
   return static_cast<std::int32_t>(u);
 }
-template <class S>
-constexpr std::uint8_t finish(std::uint8_t* buf, std::uint8_t fields) noexcept {
-  const auto used = static_cast<std::uint8_t>(1U + 4U * fields);
+/// CRC after the `used` payload bytes, zeros up to the frame length; returns the length.
+constexpr std::uint8_t finish(std::uint8_t* buf, std::uint8_t used, std::uint8_t frame_length) noexcept {
   buf[used] = crc8_autosar(buf, used);
-  for (auto i = static_cast<std::uint8_t>(used + 1U); i < kMomentumFrameLength; ++i) {
+  for (auto i = static_cast<std::uint8_t>(used + 1U); i < frame_length; ++i) {
     buf[i] = 0U;
   }
-  return kMomentumFrameLength;
+  return frame_length;
 }
-constexpr FrameError check(const std::uint8_t* buf, std::uint8_t length, std::uint8_t fields) noexcept {
-  if (length != kMomentumFrameLength) {
+constexpr FrameError check(const std::uint8_t* buf, std::uint8_t length, std::uint8_t used, std::uint8_t frame_length) noexcept {
+  if (length != frame_length) {
     return FrameError::wrong_length;
   }
-  const auto used = static_cast<std::uint8_t>(1U + 4U * fields);
   return crc8_autosar(buf, used) == buf[used] ? FrameError::ok : FrameError::bad_crc;
 }
+constexpr std::uint8_t field_bytes(std::uint8_t fields) noexcept { return static_cast<std::uint8_t>(1U + 4U * fields); }
 }  // namespace detail
 
 namespace detail {
 template <class S>
-constexpr std::uint8_t encode_fields(const S* values, std::uint8_t fields, std::uint8_t sequence, std::uint8_t* buf) noexcept {
+constexpr std::uint8_t encode_fields(const S* values, std::uint8_t fields, std::uint8_t sequence, std::uint8_t* buf,
+                                     std::uint8_t frame_length = kMomentumFrameLength) noexcept {
   buf[0] = sequence;
   for (std::uint8_t i = 0; i < fields; ++i) {
     put_i32(buf + 1 + (std::size_t{4} * i), to_wire(values[i]));
   }
-  return finish<S>(buf, fields);
+  return finish(buf, field_bytes(fields), frame_length);
 }
 template <class S>
 constexpr FrameError decode_fields(const std::uint8_t* buf, std::uint8_t length, std::uint8_t fields, S* values,
-                                   std::uint8_t& sequence) noexcept {
-  if (const FrameError e = check(buf, length, fields); e != FrameError::ok) {
+                                   std::uint8_t& sequence, std::uint8_t frame_length = kMomentumFrameLength) noexcept {
+  if (const FrameError e = check(buf, length, field_bytes(fields), frame_length); e != FrameError::ok) {
     return e;
   }
   for (std::uint8_t i = 0; i < fields; ++i) {
@@ -171,6 +182,86 @@ constexpr FrameError decode_inward(const std::uint8_t* buf, std::uint8_t length,
   return e;
 }
 
+/// Host-in-the-loop sensor sample for joint j (plant -> node): what the drive's own encoder
+/// and current ADC would give, link side, SI units. Its sequence equals the cycle sync's.
+template <class S>
+struct SensorMessage {
+  S position{};      ///< [rad]
+  S velocity{};      ///< [rad/s]
+  S motor_torque{};  ///< [N·m] (K_I i)
+};
+
+template <class S>
+constexpr std::uint8_t encode_sensor(const SensorMessage<S>& m, std::uint8_t sequence, std::uint8_t* buf) noexcept {
+  const std::array<S, kSensorFields> v = {m.position, m.velocity, m.motor_torque};
+  return detail::encode_fields(v.data(), kSensorFields, sequence, buf, kSensorFrameLength);
+}
+
+template <class S>
+constexpr FrameError decode_sensor(const std::uint8_t* buf, std::uint8_t length, SensorMessage<S>& m,
+                                   std::uint8_t& sequence) noexcept {
+  std::array<S, kSensorFields> v{};
+  const FrameError e = detail::decode_fields(buf, length, kSensorFields, v.data(), sequence, kSensorFrameLength);
+  if (e == FrameError::ok) {
+    m = {v[0], v[1], v[2]};
+  }
+  return e;
+}
+
+/// Status flags (bits of byte 5 of status and collision-event frames; stable).
+inline constexpr std::uint8_t kStatusCollision = 0x01U;   ///< the joint's detector flag (latched)
+inline constexpr std::uint8_t kStatusCommFault = 0x02U;   ///< a neighbour has been silent for too long
+inline constexpr std::uint8_t kStatusReady = 0x04U;       ///< the chain is filled: the estimate is valid
+inline constexpr std::uint8_t kStatusInputFault = 0x08U;  ///< this cycle's inputs were rejected
+
+/// Observer/detector status of joint j, every cycle (0x05j); the same layout, sent once on
+/// the detector's rising edge, is the collision event (0x00j, highest priority).
+template <class S>
+struct StatusMessage {
+  S external_torque{};         ///< [N·m]
+  std::uint8_t flags = 0;      ///< kStatus* bits
+  std::uint8_t rejected = 0;   ///< frames rejected so far (length, CRC, sequence), saturating
+};
+
+template <class S>
+constexpr std::uint8_t encode_status(const StatusMessage<S>& m, std::uint8_t sequence, std::uint8_t* buf) noexcept {
+  buf[0] = sequence;
+  detail::put_i32(buf + 1, detail::to_wire(m.external_torque));
+  buf[5] = m.flags;
+  buf[6] = m.rejected;
+  return detail::finish(buf, 7U, kStatusFrameLength);
+}
+
+template <class S>
+constexpr FrameError decode_status(const std::uint8_t* buf, std::uint8_t length, StatusMessage<S>& m,
+                                   std::uint8_t& sequence) noexcept {
+  if (const FrameError e = detail::check(buf, length, 7U, kStatusFrameLength); e != FrameError::ok) {
+    return e;
+  }
+  detail::from_wire(detail::get_i32(buf + 1), m.external_torque);
+  m.flags = buf[5];
+  m.rejected = buf[6];
+  sequence = buf[0];
+  return FrameError::ok;
+}
+
+/// Cycle sync from the master (0x010): starts cycle `cycle` on every node.
+constexpr std::uint8_t encode_sync(std::uint32_t cycle, std::uint8_t* buf) noexcept {
+  buf[0] = static_cast<std::uint8_t>(cycle & 0xFFU);
+  detail::put_i32(buf + 1, static_cast<std::int32_t>(cycle));
+  buf[5] = 0U;
+  buf[6] = 0U;
+  return detail::finish(buf, 7U, kSyncFrameLength);
+}
+
+constexpr FrameError decode_sync(const std::uint8_t* buf, std::uint8_t length, std::uint32_t& cycle) noexcept {
+  if (const FrameError e = detail::check(buf, length, 7U, kSyncFrameLength); e != FrameError::ok) {
+    return e;
+  }
+  cycle = static_cast<std::uint32_t>(detail::get_i32(buf + 1));
+  return FrameError::ok;
+}
+
 /// Sequence tracking per neighbour: a frame is fresh when its counter is ahead of the last
 /// accepted one by 1..127 (modulo 256); equal or behind is stale (duplicate, reordered).
 struct SequenceTracker {
@@ -179,8 +270,8 @@ struct SequenceTracker {
   constexpr FrameError accept(std::uint8_t sequence) noexcept {
     const auto ahead = static_cast<std::uint8_t>(sequence - last);
     if (started && (ahead == 0U || ahead >= 128U)) {
-    return FrameError::stale_sequence;
-  }
+      return FrameError::stale_sequence;
+    }
     last = sequence;
     started = true;
     return FrameError::ok;

@@ -1,0 +1,211 @@
+// One joint drive as it runs on the bus: the cycle is paced by the master's sync frame;
+// the drive samples its joint, runs its JointNode (neighbour exchange, estimation,
+// detection) and publishes a status frame every cycle and a collision event on the
+// detector's rising edge. The same code runs on the MCU (samples from its own encoder and
+// current ADC via set_sample), in the in-process simulation and as a SocketCAN process
+// (samples from the plant's sensor frames, `sensors_over_can`).
+//
+// Frame routing: the drive owns the port; neighbour momentum frames are relayed to the
+// node's inbox (the node validates them), sensor and sync frames are validated here, every
+// other identifier is counted as foreign and never decoded.
+//
+// Pairing sync and sample: on a real bus the sync (0x010) wins arbitration over sensor
+// frames (0x06j) queued at the same time, so with sensors over CAN the cycle runs when both
+// the sync and the sample carrying the same sequence number have arrived, in either order.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "jointguard/hal/can.hpp"
+#include "jointguard/node/joint_node.hpp"
+#include "jointguard/protocol/frames.hpp"
+
+namespace jg {
+
+/// The node's side of the drive's port: receives from a fixed-capacity inbox the drive
+/// fills, sends straight to the drive's port.
+template <class Port, std::size_t Capacity = 8>
+class RelayPort {
+ public:
+  explicit RelayPort(Port& out) noexcept : out_(out) {}
+  hal::CanStatus send(const hal::CanFrame& f) noexcept { return out_.send(f); }
+  bool receive(hal::CanFrame& f) noexcept {
+    if (count_ == 0U) {
+      return false;
+    }
+    f = inbox_[head_];
+    head_ = (head_ + 1U) % Capacity;
+    --count_;
+    return true;
+  }
+  [[nodiscard]] hal::CanErrorState error_state() const noexcept { return out_.error_state(); }
+  void set_filters(const hal::CanFilter* /*filters*/, std::size_t /*n*/) noexcept {}  // the drive routes
+  /// False when the inbox is full (the frame is lost: counted by the drive as an overrun).
+  bool push(const hal::CanFrame& f) noexcept {
+    if (count_ == Capacity) {
+      return false;
+    }
+    inbox_[(head_ + count_) % Capacity] = f;
+    ++count_;
+    return true;
+  }
+
+ private:
+  Port& out_;
+  hal::CanFrame inbox_[Capacity]{};
+  std::size_t head_ = 0, count_ = 0;
+};
+
+struct DriveConfig {
+  NodeConfig node{};
+  bool sensors_over_can = false;  ///< host-in-the-loop: samples come as sensor frames
+};
+
+struct DriveCounters {
+  std::uint32_t cycles = 0;             ///< cycles run
+  std::uint32_t sensor_rejected = 0;    ///< sensor frames with wrong length or CRC
+  std::uint32_t sync_rejected = 0;      ///< sync frames with wrong length or CRC
+  std::uint32_t stale_syncs = 0;        ///< sync for a cycle not newer than the last one
+  std::uint32_t inbox_overruns = 0;     ///< neighbour frames lost (inbox full)
+  std::uint32_t foreign = 0;            ///< identifiers not for this drive (never decoded)
+  std::uint32_t send_failures = 0;      ///< status or event frames the port refused
+};
+
+template <class S, class Port>
+class JointDrive {
+  static_assert(hal::is_can_port_v<Port>, "the drive needs a CAN port satisfying the HAL contract");
+
+ public:
+  JointDrive(const DriveConfig& config, const JointEstimatorParams<S>& params, Port& port, const Vec3<S>& gravity) noexcept
+      : config_(config), port_(port), relay_(port), node_(config.node, params, relay_, gravity) {
+    // Kernel/controller filters keep the rest of the bus out of this drive's queue; the
+    // routing below still rejects anything else that gets through.
+    const std::uint8_t j = config.node.joint;
+    const hal::CanFilter filters[] = {
+        {protocol::kSyncId, 0x7FFU},
+        {protocol::frame_id(protocol::MessageKind::sensor, j), 0x7FFU},
+        {protocol::frame_id(protocol::MessageKind::outward, static_cast<std::uint8_t>(j - 1U)), 0x7FFU},
+        {protocol::frame_id(protocol::MessageKind::inward, static_cast<std::uint8_t>(j + 1U)), 0x7FFU},
+    };
+    port_.set_filters(static_cast<const hal::CanFilter*>(filters), sizeof filters / sizeof filters[0]);
+  }
+  // The node refers to this drive's relay port: a copy or move would leave it dangling.
+  JointDrive(const JointDrive&) = delete;
+  JointDrive& operator=(const JointDrive&) = delete;
+  JointDrive(JointDrive&&) = delete;
+  JointDrive& operator=(JointDrive&&) = delete;
+  ~JointDrive() = default;
+
+  /// The drive's own sample (MCU: from the encoder and current ADC before the sync).
+  void set_sample(S position, S velocity, S motor_torque) noexcept {
+    sample_ = {position, velocity, motor_torque};
+    has_sample_ = true;
+  }
+
+  /// Reads every received frame and runs the cycle once its sync (and, with sensors over
+  /// CAN, its sample) are in. Returns true when a cycle ran.
+  bool poll() noexcept {
+    bool ran = false;
+    hal::CanFrame f{};
+    while (port_.receive(f)) {
+      route(f);
+      if (ready_to_run()) {
+        run_cycle();
+        ran = true;
+      }
+    }
+    return ran;
+  }
+
+  [[nodiscard]] const JointNode<S, RelayPort<Port>>& node() const noexcept { return node_; }
+  [[nodiscard]] const DriveCounters& counters() const noexcept { return counters_; }
+  [[nodiscard]] std::uint32_t last_cycle() const noexcept { return last_cycle_; }
+  [[nodiscard]] const protocol::StatusMessage<S>& last_status() const noexcept { return status_; }
+
+ private:
+  void route(const hal::CanFrame& f) noexcept {
+    const std::uint8_t j = config_.node.joint;
+    std::uint8_t seq = 0;
+    if (f.id == protocol::kSyncId && !f.extended) {
+      std::uint32_t cycle = 0;
+      if (protocol::decode_sync(static_cast<const std::uint8_t*>(f.data), f.length, cycle) != protocol::FrameError::ok) {
+        ++counters_.sync_rejected;
+      } else if (synced_ && static_cast<std::int32_t>(cycle - last_cycle_) <= 0) {
+        ++counters_.stale_syncs;
+      } else {
+        pending_cycle_ = cycle;
+        sync_pending_ = true;
+      }
+    } else if (config_.sensors_over_can && f.id == protocol::frame_id(protocol::MessageKind::sensor, j) && !f.extended) {
+      protocol::SensorMessage<S> m{};
+      if (protocol::decode_sensor(static_cast<const std::uint8_t*>(f.data), f.length, m, seq) != protocol::FrameError::ok) {
+        ++counters_.sensor_rejected;
+      } else {
+        sample_ = m;
+        sample_seq_ = seq;
+        has_sample_ = true;
+      }
+    } else if (!f.extended && (f.id == protocol::frame_id(protocol::MessageKind::outward, static_cast<std::uint8_t>(j - 1U)) ||
+                               f.id == protocol::frame_id(protocol::MessageKind::inward, static_cast<std::uint8_t>(j + 1U)))) {
+      if (!relay_.push(f)) {
+        ++counters_.inbox_overruns;
+      }
+    } else {
+      ++counters_.foreign;
+    }
+  }
+
+  [[nodiscard]] bool ready_to_run() const noexcept {
+    if (!sync_pending_ || !has_sample_) {
+      return false;
+    }
+    return !config_.sensors_over_can || sample_seq_ == static_cast<std::uint8_t>(pending_cycle_ & 0xFFU);
+  }
+
+  void run_cycle() noexcept {
+    sync_pending_ = false;
+    synced_ = true;
+    last_cycle_ = pending_cycle_;
+    const bool flag = node_.cycle(sample_.position, sample_.velocity, sample_.motor_torque);
+    ++counters_.cycles;
+    const NodeCounters& nc = node_.counters();
+    const std::uint32_t rejected = nc.wrong_length + nc.bad_crc + nc.stale + counters_.sensor_rejected + counters_.sync_rejected;
+    status_.external_torque = node_.state().external_torque;
+    const std::uint8_t none = 0U;
+    status_.flags = static_cast<std::uint8_t>((flag ? protocol::kStatusCollision : none) |
+                                              (node_.communication_fault() ? protocol::kStatusCommFault : none) |
+                                              (node_.ready() ? protocol::kStatusReady : none) |
+                                              (node_.state().input_fault ? protocol::kStatusInputFault : none));
+    status_.rejected = static_cast<std::uint8_t>(rejected > 255U ? 255U : rejected);
+    const auto seq = static_cast<std::uint8_t>(last_cycle_ & 0xFFU);
+    if (flag && !event_sent_) {
+      publish(protocol::MessageKind::collision_event, seq);
+      event_sent_ = true;
+    }
+    publish(protocol::MessageKind::status, seq);
+  }
+
+  void publish(protocol::MessageKind kind, std::uint8_t seq) noexcept {
+    hal::CanFrame f{};
+    f.fd = true;  // 8 bytes in the data phase: a third of the classic frame's wire time
+    f.id = protocol::frame_id(kind, config_.node.joint);
+    f.length = protocol::encode_status(status_, seq, static_cast<std::uint8_t*>(f.data));
+    if (port_.send(f) != hal::CanStatus::ok) {
+      ++counters_.send_failures;
+    }
+  }
+
+  DriveConfig config_;
+  Port& port_;
+  RelayPort<Port> relay_;
+  JointNode<S, RelayPort<Port>> node_;
+  protocol::SensorMessage<S> sample_{};
+  protocol::StatusMessage<S> status_{};
+  std::uint8_t sample_seq_ = 0;
+  std::uint32_t pending_cycle_ = 0, last_cycle_ = 0;
+  bool has_sample_ = false, sync_pending_ = false, synced_ = false, event_sent_ = false;
+  DriveCounters counters_{};
+};
+
+}  // namespace jg

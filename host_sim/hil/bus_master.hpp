@@ -1,0 +1,140 @@
+// The master's side of the joint bus (the arm controller; on the host: the plant process or
+// the in-process simulation). Each cycle it publishes the joints' sensor samples (host-in-
+// the-loop only: on the arm, each drive samples its own joint) and the cycle sync, then
+// collects every drive's status frame of that cycle and the collision events. Every frame
+// is validated before use; anything else on the bus is counted and ignored.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "jointguard/detection/detector.hpp"
+#include "jointguard/hal/can.hpp"
+#include "jointguard/protocol/frames.hpp"
+
+namespace jg::hil {
+
+struct NodeEvent {
+  std::uint32_t cycle = 0;  ///< the master's cycle in which the event frame arrived
+  int joint = 0;
+  double external_torque = 0.0;
+};
+
+struct MasterCounters {
+  std::uint64_t rejected = 0;      ///< status/event frames with wrong length or CRC
+  std::uint64_t out_of_cycle = 0;  ///< status frames of another cycle (late or duplicated)
+  std::uint64_t foreign = 0;       ///< identifiers the master does not read
+  std::uint64_t send_failures = 0;
+  std::uint64_t frames_received = 0;
+};
+
+template <class Port>
+class BusMaster {
+  static_assert(hal::is_can_port_v<Port>, "the master needs a CAN port satisfying the HAL contract");
+
+ public:
+  BusMaster(Port& port, std::size_t joints) : port_(port), torque_(joints, 0.0), flags_(joints, 0), have_(joints, false) {}
+
+  /// Sensor samples (link side, SI) of every joint, then the sync of `cycle`.
+  void send_cycle(std::uint32_t cycle, const double* position, const double* velocity, const double* motor_torque) {
+    const auto seq = static_cast<std::uint8_t>(cycle & 0xFFU);
+    for (std::size_t j = 0; j < torque_.size(); ++j) {
+      hal::CanFrame f{};
+      f.fd = true;
+      f.id = protocol::frame_id(protocol::MessageKind::sensor, static_cast<std::uint8_t>(j + 1));
+      const protocol::SensorMessage<q16> m{q16::from_double(position[j]), q16::from_double(velocity[j]),
+                                           q16::from_double(motor_torque[j])};
+      f.length = protocol::encode_sensor(m, seq, static_cast<std::uint8_t*>(f.data));
+      send(f);
+    }
+    hal::CanFrame sync{};
+    sync.fd = true;  // short frames ride the data phase (bit-rate switch)
+    sync.id = protocol::kSyncId;
+    sync.length = protocol::encode_sync(cycle, static_cast<std::uint8_t*>(sync.data));
+    send(sync);
+    cycle_ = cycle;
+    have_.assign(have_.size(), false);
+  }
+
+  /// Reads what has arrived; true when every drive's status of the current cycle is in.
+  bool collect() {
+    hal::CanFrame f{};
+    while (port_.receive(f)) {
+      ++counters_.frames_received;
+      const protocol::MessageKind kind = protocol::kind_of(f.id);
+      const std::size_t joint = protocol::joint_of(f.id);
+      const bool ours = !f.extended && joint >= 1 && joint <= torque_.size() &&
+                        (kind == protocol::MessageKind::status || kind == protocol::MessageKind::collision_event);
+      if (!ours) {
+        ++counters_.foreign;
+        continue;
+      }
+      protocol::StatusMessage<q16> m{};
+      std::uint8_t seq = 0;
+      if (protocol::decode_status(static_cast<const std::uint8_t*>(f.data), f.length, m, seq) != protocol::FrameError::ok) {
+        ++counters_.rejected;
+        continue;
+      }
+      if (kind == protocol::MessageKind::collision_event) {
+        events_.push_back({cycle_, static_cast<int>(joint), m.external_torque.to_double()});
+        continue;
+      }
+      if (seq != static_cast<std::uint8_t>(cycle_ & 0xFFU)) {
+        ++counters_.out_of_cycle;
+        continue;
+      }
+      torque_[joint - 1] = m.external_torque.to_double();
+      flags_[joint - 1] = m.flags;
+      have_[joint - 1] = true;
+    }
+    return complete();
+  }
+
+  [[nodiscard]] bool complete() const {
+    for (const bool h : have_) {
+      if (!h) return false;
+    }
+    return true;
+  }
+  /// Joints whose status of this cycle is missing (1-based).
+  [[nodiscard]] std::vector<int> missing() const {
+    std::vector<int> out;
+    for (std::size_t j = 0; j < have_.size(); ++j) {
+      if (!have_[j]) out.push_back(static_cast<int>(j + 1));
+    }
+    return out;
+  }
+  /// Last reported external torque per joint [N·m] (kept from earlier cycles when missing).
+  [[nodiscard]] const std::vector<double>& external_torque() const { return torque_; }
+  [[nodiscard]] const std::vector<std::uint8_t>& flags() const { return flags_; }
+  /// Joints whose detector flag is up, as the detector's mask.
+  [[nodiscard]] JointMask flagged() const {
+    JointMask m = 0;
+    for (std::size_t j = 0; j < flags_.size(); ++j) {
+      if ((flags_[j] & protocol::kStatusCollision) != 0U) m = static_cast<JointMask>(m | (1U << j));
+    }
+    return m;
+  }
+  [[nodiscard]] bool any_comm_fault() const {
+    for (const auto f : flags_) {
+      if ((f & protocol::kStatusCommFault) != 0U) return true;
+    }
+    return false;
+  }
+  [[nodiscard]] const std::vector<NodeEvent>& events() const { return events_; }
+  [[nodiscard]] const MasterCounters& counters() const { return counters_; }
+
+ private:
+  void send(const hal::CanFrame& f) {
+    if (port_.send(f) != hal::CanStatus::ok) ++counters_.send_failures;
+  }
+  Port& port_;
+  std::uint32_t cycle_ = 0;
+  std::vector<double> torque_;
+  std::vector<std::uint8_t> flags_;
+  std::vector<bool> have_;
+  std::vector<NodeEvent> events_;
+  MasterCounters counters_{};
+};
+
+}  // namespace jg::hil
