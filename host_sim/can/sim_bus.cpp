@@ -32,10 +32,17 @@ hal::CanStatus SimPort::send(const hal::CanFrame& f) {
 }
 
 bool SimPort::receive(hal::CanFrame& out) {
-  if (rx_.empty()) return false;
-  out = rx_.front();
-  rx_.pop_front();
-  return true;
+  // A frame given extra latency reaches the port only once the bus clock passes its
+  // delivery time; frames behind it that are due already are not held up.
+  const auto now_us = static_cast<std::uint64_t>(std::llround(bus_->now() * 1e6));
+  for (auto it = rx_.begin(); it != rx_.end(); ++it) {
+    if (it->timestamp_us <= now_us) {
+      out = *it;
+      rx_.erase(it);
+      return true;
+    }
+  }
+  return false;
 }
 
 void SimPort::set_filters(const hal::CanFilter* filters, std::size_t n) { filters_.assign(filters, filters + n); }

@@ -68,6 +68,8 @@ class SimBus {
  public:
   explicit SimBus(BusTiming timing, FaultPlan faults = {});
   SimPort& attach();
+  /// The i-th attached port (fault injection: bus-off, babbling).
+  SimPort& port(std::size_t i) { return *ports_.at(i); }
   /// Runs arbitration and transmission up to time t [s]; frames finishing by then are
   /// delivered to every other port (timestamp = end of frame + latency).
   void run_until(double t);

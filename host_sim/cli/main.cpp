@@ -14,7 +14,8 @@ int main(int argc, char** argv) {
   const std::vector<jg::cli::Command> commands = {
       jg::cli::add_simulate(app),  jg::cli::add_identify(app), jg::cli::add_calibrate(app),
       jg::cli::add_evaluate(app),  jg::cli::add_replay(app),   jg::cli::add_diagnose(app),
-      jg::cli::add_bench(app),     jg::cli::add_demo(app),
+      jg::cli::add_bench(app),     jg::cli::add_demo(app),     jg::cli::add_node(app),
+      jg::cli::add_plant(app),
   };
   try {
     app.parse(argc, argv);

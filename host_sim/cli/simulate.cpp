@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "cli/commands.hpp"
+#include "cli/hil_common.hpp"
 #include "cli/progress.hpp"
 #include "io/recording.hpp"
 #include "sim/scenario.hpp"
@@ -16,6 +17,7 @@ struct SimulateOptions {
   std::string out;
   unsigned long long seed = 0;
   double duration_s = 0.0;
+  HilOptions hil;
 };
 }  // namespace
 
@@ -23,12 +25,27 @@ Command add_simulate(CLI::App& app) {
   auto opt = std::make_shared<SimulateOptions>();
   auto* cmd = app.add_subcommand("simulate",
                                  "Run a scenario (YAML) on the simulated arm and write a recording.\n"
-                                 "Example: jointguard simulate scenarios/paper_collision_shoulder.yaml --out out/shoulder.csv");
+                                 "Example: jointguard simulate scenarios/paper_collision_shoulder.yaml --out out/shoulder.csv\n"
+                                 "         jointguard simulate scenarios/paper_collision_shoulder.yaml --out out/shoulder_bus.csv --bus sim "
+                                 "--friction out/friction.json --threshold out/threshold.json");
   cmd->add_option("scenario", opt->scenario, "Scenario file (YAML, see docs/scenarios.md)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--out", opt->out, "Recording to write (CSV; a .json side file is written beside it)")->required();
   auto* seed = cmd->add_option("--seed", opt->seed, "Override the scenario's seed");
   cmd->add_option("--duration", opt->duration_s, "Override the duration [s]")->check(CLI::PositiveNumber);
+  cmd->add_option("--bus", opt->hil.bus,
+                  "sim: run the joint drives' firmware in the loop on the simulated CAN FD bus (needs --threshold)")
+      ->check(CLI::IsMember({"none", "sim"}))->capture_default_str();
+  opt->hil.add_to(cmd, false);
   return {cmd, [opt, seed]() {
+    if (opt->hil.bus == "sim") {
+      HilOptions h = opt->hil;
+      h.scenario = opt->scenario;
+      h.out = opt->out;
+      h.seed = opt->seed;
+      h.has_seed = seed->count() > 0;
+      h.duration_s = opt->duration_s;
+      return run_hil_command(h);
+    }
     sim::Scenario s = sim::load_scenario(opt->scenario, opt->seed, seed->count() > 0);
     if (opt->duration_s > 0.0) {
       s.setup.duration_s = opt->duration_s;

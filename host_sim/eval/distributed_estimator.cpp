@@ -44,6 +44,7 @@ class BusEstimator final : public DistributedEstimator {
       if (master_.collect()) break;
     }
     if (!master_.complete()) ++incomplete_;
+    master_.end_cycle();
     const auto& torque = master_.external_torque();
     mu.resize(static_cast<Eigen::Index>(torque.size()));
     for (std::size_t j = 0; j < torque.size(); ++j) mu(static_cast<Eigen::Index>(j)) = torque[j];
@@ -54,8 +55,14 @@ class BusEstimator final : public DistributedEstimator {
     return std::string("drives on a simulated CAN FD bus (") + (is_q_v<S> ? "Q16.16" : "float") + ")";
   }
   [[nodiscard]] JointMask reported_flags() const override { return master_.flagged(); }
+  can::SimBus& bus() override { return bus_; }
+  [[nodiscard]] bool communication_fault() const override { return master_.any_comm_fault(); }
   [[nodiscard]] BusStatistics statistics() const override {
-    return {bus_.frames_sent(), bus_.busy_time(), time_, master_.counters(), incomplete_, master_.events()};
+    BusStatistics s{bus_.frames_sent(), bus_.busy_time(), time_, master_.counters(), incomplete_, master_.events(), {}};
+    for (const auto& d : drives_) {
+      s.drives.push_back({d->counters(), d->node().counters(), d->node().communication_fault(), d->node().ready()});
+    }
+    return s;
   }
 
  private:

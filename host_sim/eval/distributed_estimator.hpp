@@ -12,6 +12,7 @@
 #include "eval/estimator.hpp"
 #include "eval/firmware_estimator.hpp"
 #include "hil/bus_master.hpp"
+#include "jointguard/node/joint_drive.hpp"
 
 namespace jg::eval {
 
@@ -27,17 +28,26 @@ struct DistributedConfig {
   std::uint8_t fault_cycles = 5;
 };
 
+struct DriveReport {
+  DriveCounters drive{};
+  NodeCounters node{};
+  bool communication_fault = false, ready = false;
+};
+
 struct BusStatistics {
   std::size_t frames = 0;
   double busy_s = 0.0, elapsed_s = 0.0;
   hil::MasterCounters master{};
   std::size_t incomplete_cycles = 0;  ///< cycles whose status frames were not all in by the next cycle
   std::vector<hil::NodeEvent> events;
+  std::vector<DriveReport> drives;
 };
 
 class DistributedEstimator : public Estimator {
  public:
   [[nodiscard]] virtual BusStatistics statistics() const = 0;
+  /// The simulated bus, for fault injection: port 0 is the master, port j drive j.
+  virtual can::SimBus& bus() = 0;
 };
 
 /// scalar "float" or "q"; the bus runs one control period per step.

@@ -28,6 +28,8 @@ class Estimator {
   /// Joints whose own detector has flagged, as the estimator's nodes report it (distributed
   /// runs: the drives' status frames); 0 for estimators without detectors of their own.
   [[nodiscard]] virtual JointMask reported_flags() const { return 0; }
+  /// A drive reports a communication fault (distributed runs): the arm's safe reaction.
+  [[nodiscard]] virtual bool communication_fault() const { return false; }
 };
 
 struct ReferenceEstimatorConfig {

@@ -28,7 +28,7 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
   for (std::size_t j = 0; j < d.friction.size(); ++j) {
     if (discretize(d.friction[j], dt, friction[j]) != Error::ok) throw std::invalid_argument("detection: invalid LuGre");
   }
-  bool started = false, reacting = false;
+  bool started = false, reacting = false, comm_stop = false;
   sim::JointVector hold;
   sim::JointVector mu;
   JointMask mask = 0;
@@ -42,6 +42,14 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       started = true;
     }
     estimator.step(in, mu);
+    if (!out.t_comm_fault && estimator.communication_fault()) {
+      // A drive lost its neighbours: its estimate is no longer trustworthy, so the arm
+      // takes the safe reaction (hold) whatever the configured collision reaction is.
+      out.t_comm_fault = ctx.t;
+      if (!reacting) hold = m.q;
+      reacting = true;
+      comm_stop = true;
+    }
     if (const JointMask reported = estimator.reported_flags(); reported != 0 && !out.t_node_flagged) {
       out.t_node_flagged = ctx.t;
       out.link_node_isolated = isolate_link(reported);
@@ -76,8 +84,8 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
         }
       }
       out.link_isolated = isolate_link(signature);
-      reacting = d.reaction != Reaction::none;
-      hold = m.q;
+      if (!reacting) hold = m.q;
+      reacting = reacting || d.reaction != Reaction::none;
     }
     mask = now;
     if (record_trace) {
@@ -89,7 +97,7 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
     }
     if (!reacting) return std::nullopt;
     sim::JointVector demand = nominal.gravity_torque(m.q);
-    if (d.reaction == Reaction::stop || d.reaction == Reaction::retreat) {
+    if (comm_stop || d.reaction == Reaction::stop || d.reaction == Reaction::retreat) {
       for (std::size_t j = 0; j < n; ++j) {
         const auto i = static_cast<Eigen::Index>(j);
         demand(i) += 2.0 * (hold(i) - m.q(i)) * 1000.0 - 60.0 * m.dq(i);
@@ -119,6 +127,7 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
   if (record_trace) {
     out.trace.tau_ext = rec.tau_ext;
     out.trace.t.resize(std::min(out.trace.t.size(), rec.t.size()));
+    out.recording = rec;
   }
   return out;
 }

@@ -33,10 +33,19 @@ class BusMaster {
   static_assert(hal::is_can_port_v<Port>, "the master needs a CAN port satisfying the HAL contract");
 
  public:
-  BusMaster(Port& port, std::size_t joints) : port_(port), torque_(joints, 0.0), flags_(joints, 0), have_(joints, false) {}
+  BusMaster(Port& port, std::size_t joints) : port_(port), torque_(joints, 0.0), flags_(joints, 0), have_(joints, false) {
+    const hal::CanFilter filters[] = {
+        {protocol::frame_id(protocol::MessageKind::status, 0), 0x7F0U},
+        {protocol::frame_id(protocol::MessageKind::collision_event, 0), 0x7F0U},
+    };
+    port_.set_filters(static_cast<const hal::CanFilter*>(filters), 2);
+  }
 
-  /// Sensor samples (link side, SI) of every joint, then the sync of `cycle`.
-  void send_cycle(std::uint32_t cycle, const double* position, const double* velocity, const double* motor_torque) {
+  /// Sensor samples (link side, SI) of every joint, then the sync of `cycle`. `repeat`:
+  /// the same cycle again (start-up, for drives that were not listening yet); status frames
+  /// already received for it are kept.
+  void send_cycle(std::uint32_t cycle, const double* position, const double* velocity, const double* motor_torque,
+                  bool repeat = false) {
     const auto seq = static_cast<std::uint8_t>(cycle & 0xFFU);
     for (std::size_t j = 0; j < torque_.size(); ++j) {
       hal::CanFrame f{};
@@ -53,7 +62,7 @@ class BusMaster {
     sync.length = protocol::encode_sync(cycle, static_cast<std::uint8_t*>(sync.data));
     send(sync);
     cycle_ = cycle;
-    have_.assign(have_.size(), false);
+    if (!repeat) have_.assign(have_.size(), false);
   }
 
   /// Reads what has arrived; true when every drive's status of the current cycle is in.
@@ -115,7 +124,11 @@ class BusMaster {
     }
     return m;
   }
+  /// Closes the cycle's bookkeeping: a run of cycles without every drive's status is a
+  /// communication fault on the master's side (the drives may be unable to report it).
+  void end_cycle() { missing_run_ = complete() ? 0U : missing_run_ + 1U; }
   [[nodiscard]] bool any_comm_fault() const {
+    if (missing_run_ >= kMissingCyclesForFault) return true;
     for (const auto f : flags_) {
       if ((f & protocol::kStatusCommFault) != 0U) return true;
     }
@@ -135,6 +148,8 @@ class BusMaster {
   std::vector<bool> have_;
   std::vector<NodeEvent> events_;
   MasterCounters counters_{};
+  unsigned missing_run_ = 0;
+  static constexpr unsigned kMissingCyclesForFault = 5;
 };
 
 }  // namespace jg::hil

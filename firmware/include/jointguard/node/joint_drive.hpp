@@ -131,9 +131,11 @@ class JointDrive {
       std::uint32_t cycle = 0;
       if (protocol::decode_sync(static_cast<const std::uint8_t*>(f.data), f.length, cycle) != protocol::FrameError::ok) {
         ++counters_.sync_rejected;
-      } else if (synced_ && static_cast<std::int32_t>(cycle - last_cycle_) <= 0) {
-        ++counters_.stale_syncs;
+      } else if (synced_ && static_cast<std::int32_t>(cycle - last_cycle_) <= 0 && stale_run_ < config_.node.fault_cycles) {
+        ++counters_.stale_syncs;  // a repeated or reordered sync; a run of them means the master restarted
+        ++stale_run_;
       } else {
+        stale_run_ = 0;
         pending_cycle_ = cycle;
         sync_pending_ = true;
       }
@@ -167,6 +169,7 @@ class JointDrive {
     sync_pending_ = false;
     synced_ = true;
     last_cycle_ = pending_cycle_;
+    node_.set_cycle(static_cast<std::uint8_t>(last_cycle_ & 0xFFU));
     const bool flag = node_.cycle(sample_.position, sample_.velocity, sample_.motor_torque);
     ++counters_.cycles;
     const NodeCounters& nc = node_.counters();
@@ -202,7 +205,7 @@ class JointDrive {
   JointNode<S, RelayPort<Port>> node_;
   protocol::SensorMessage<S> sample_{};
   protocol::StatusMessage<S> status_{};
-  std::uint8_t sample_seq_ = 0;
+  std::uint8_t sample_seq_ = 0, stale_run_ = 0;
   std::uint32_t pending_cycle_ = 0, last_cycle_ = 0;
   bool has_sample_ = false, sync_pending_ = false, synced_ = false, event_sent_ = false;
   DriveCounters counters_{};

@@ -25,10 +25,11 @@ struct NodeConfig {
   std::uint8_t joint = 1;         ///< 1-based position in the chain
   std::uint8_t joints = 1;        ///< chain length
   std::uint8_t fault_cycles = 5;  ///< cycles without a fresh neighbour frame before the fault
+  std::uint8_t max_age_cycles = 2;  ///< paced by a sync: older neighbour frames are late (never used)
 };
 
 struct NodeCounters {
-  std::uint32_t wrong_length = 0, bad_crc = 0, stale = 0, foreign = 0, missed_cycles = 0, send_failures = 0;
+  std::uint32_t wrong_length = 0, bad_crc = 0, stale = 0, foreign = 0, missed_cycles = 0, send_failures = 0, late = 0;
 };
 
 template <class S, class Port>
@@ -71,6 +72,13 @@ class JointNode {
     }
     ++sequence_;
     return warmup_left_ == 0U && flag;
+  }
+
+  /// Paced by the master's sync (JointDrive): this cycle's sequence number, which the
+  /// node's own frames carry; a neighbour frame older than `max_age_cycles` is late.
+  void set_cycle(std::uint8_t sequence) noexcept {
+    sequence_ = sequence;
+    paced_ = true;
   }
 
   [[nodiscard]] const JointEstimatorState<S>& state() const noexcept { return state_; }
@@ -120,10 +128,14 @@ class JointNode {
     if (e == protocol::FrameError::wrong_length) {
       ++counters_.wrong_length;
     }
-    if (e == protocol::FrameError::bad_crc) {
+    if (e == protocol::FrameError::bad_crc || e == protocol::FrameError::bad_padding) {
       ++counters_.bad_crc;
     }
     if (e != protocol::FrameError::ok) {
+      return false;
+    }
+    if (paced_ && static_cast<std::uint8_t>(sequence_ - seq) > config_.max_age_cycles) {
+      ++counters_.late;  // delayed on the bus: using it would mix cycles
       return false;
     }
     // A neighbour silent for a while has restarted: accept its new counter from scratch.
@@ -147,7 +159,7 @@ class JointNode {
   std::uint32_t since_parent_ = 0, since_child_ = 0;
   std::uint8_t sequence_ = 0;
   std::uint8_t warmup_left_ = static_cast<std::uint8_t>(config_.joints + 1U);
-  bool comm_fault_ = false;
+  bool comm_fault_ = false, paced_ = false;
   NodeCounters counters_{};
 };
 

@@ -42,6 +42,7 @@ enum class FrameError : std::uint8_t {
   wrong_length = 2,
   bad_crc = 3,
   stale_sequence = 4,
+  bad_padding = 5,  ///< bytes after the CRC not zero: corrupted where the CRC does not look
 };
 
 inline constexpr std::uint8_t kMomentumFrameLength = 48;
@@ -115,7 +116,15 @@ constexpr FrameError check(const std::uint8_t* buf, std::uint8_t length, std::ui
   if (length != frame_length) {
     return FrameError::wrong_length;
   }
-  return crc8_autosar(buf, used) == buf[used] ? FrameError::ok : FrameError::bad_crc;
+  if (crc8_autosar(buf, used) != buf[used]) {
+    return FrameError::bad_crc;
+  }
+  for (auto i = static_cast<std::uint8_t>(used + 1U); i < frame_length; ++i) {
+    if (buf[i] != 0U) {
+      return FrameError::bad_padding;
+    }
+  }
+  return FrameError::ok;
 }
 constexpr std::uint8_t field_bytes(std::uint8_t fields) noexcept { return static_cast<std::uint8_t>(1U + 4U * fields); }
 }  // namespace detail

@@ -1,0 +1,137 @@
+// `jointguard node` and `jointguard plant`: the drives and the simulated arm as separate
+// processes on a SocketCAN interface (host-in-the-loop), and the shared scenario runner
+// behind `plant --bus sim` and `simulate --bus sim`.
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.hpp"
+#include "cli/common.hpp"
+#include "cli/hil_common.hpp"
+#include "eval/joint_params.hpp"
+#include "eval/pipeline.hpp"
+#include "io/yaml_fields.hpp"
+#include "jointguard/hal/socketcan.hpp"
+#include "jointguard/node/joint_drive.hpp"
+
+namespace jg::cli {
+namespace {
+
+std::atomic<bool> g_stop{false};
+extern "C" void on_signal(int /*signal*/) { g_stop = true; }
+
+struct NodeOptions {
+  int joint = 1;
+  std::string iface = "vcan0", model = JG_DEFAULT_MODEL, friction, threshold, scalar = "float", json;
+  double rate = 1000.0, idle_exit_s = 0.0, startup_s = 30.0;
+  int debounce = 1, fault_cycles = 5;
+  ObserverOptions observer;
+};
+
+template <class S>
+int run_node(const NodeOptions& o) {
+  const robot::RobotModel model = robot::load_robot(o.model);
+  const std::size_t n = model.joints.size();
+  if (o.joint < 1 || static_cast<std::size_t>(o.joint) > n) {
+    throw std::invalid_argument("--joint " + std::to_string(o.joint) + ": the robot " + o.model + " has joints 1.." + std::to_string(n));
+  }
+  const auto j = static_cast<std::size_t>(o.joint - 1);
+  eval::FirmwareEstimatorConfig fc;
+  fc.model = model;
+  fc.dt = 1.0 / o.rate;
+  fc.observer = o.observer.to_gains();
+  if (!o.friction.empty()) fc.friction = eval::read_friction_json(o.friction);
+  fc.compensate_friction = !fc.friction.empty();
+  std::vector<JointThreshold<double>> bands;
+  if (!o.threshold.empty()) bands = eval::threshold_bands(eval::read_threshold_json(o.threshold));
+  if (!bands.empty() && bands.size() != n) throw std::invalid_argument(o.threshold + ": one threshold per joint needed");
+  const JointEstimatorParams<S> p = eval::joint_params<S>(fc, j, bands.empty() ? nullptr : &bands[j], o.debounce);
+  hal::SocketCanPort port(o.iface);
+  const DriveConfig dc{NodeConfig{static_cast<std::uint8_t>(o.joint), static_cast<std::uint8_t>(n), static_cast<std::uint8_t>(o.fault_cycles)},
+                       true};
+  JointDrive<S, hal::SocketCanPort> drive(dc, p, port, eval::gravity_of<S>(model));
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  std::fprintf(stderr, "jointguard node: joint %d of %zu (%s) on %s, waiting for the master's sync\n", o.joint, n,
+               is_q_v<S> ? "Q16.16" : "float", o.iface.c_str());
+  const hal::MonotonicClock clock;
+  const std::uint64_t t0 = clock.now_us();
+  std::uint64_t last = t0;
+  bool started = false, flagged_reported = false;
+  while (!g_stop) {
+    if (port.wait_readable(100000) && drive.poll()) {
+      started = true;
+      last = clock.now_us();
+      if (!flagged_reported && (drive.last_status().flags & protocol::kStatusCollision) != 0U) {
+        std::printf("collision flagged at cycle %u: external torque %.3f N·m\n", drive.last_cycle(),
+                    to_double(drive.last_status().external_torque));
+        flagged_reported = true;
+      }
+    }
+    const std::uint64_t now = clock.now_us();
+    if (!started && now - t0 > static_cast<std::uint64_t>(o.startup_s * 1e6)) {
+      throw std::runtime_error("no sync from the master on " + o.iface + " within " + std::to_string(static_cast<int>(o.startup_s)) +
+                               " s (start `jointguard plant --iface " + o.iface + "`)");
+    }
+    if (started && o.idle_exit_s > 0.0 && now - last > static_cast<std::uint64_t>(o.idle_exit_s * 1e6)) break;
+  }
+  const DriveCounters& c = drive.counters();
+  const NodeCounters& nc = drive.node().counters();
+  std::printf("joint %d: %u cycles, last cycle %u; rejected: sensor %u, sync %u, stale sync %u, length %u, crc %u, sequence %u; "
+              "foreign %u; communication fault %s\n",
+              o.joint, c.cycles, drive.last_cycle(), c.sensor_rejected, c.sync_rejected, c.stale_syncs, nc.wrong_length, nc.bad_crc,
+              nc.stale, c.foreign, drive.node().communication_fault() ? "yes" : "no");
+  if (!o.json.empty()) {
+    nlohmann::json js{{"joint", o.joint}, {"cycles", c.cycles}, {"last_cycle", drive.last_cycle()},
+                      {"flagged", (drive.last_status().flags & protocol::kStatusCollision) != 0U},
+                      {"rejected", {{"sensor", c.sensor_rejected}, {"sync", c.sync_rejected}, {"stale_sync", c.stale_syncs},
+                                    {"wrong_length", nc.wrong_length}, {"bad_crc", nc.bad_crc}, {"stale", nc.stale}}},
+                      {"foreign", c.foreign}, {"communication_fault", drive.node().communication_fault()}};
+    std::ofstream(o.json) << js.dump(2) << '\n';
+  }
+  return 0;
+}
+
+}  // namespace
+
+Command add_node(CLI::App& app) {
+  auto o = std::make_shared<NodeOptions>();
+  auto* cmd = app.add_subcommand("node",
+                                 "Run one joint drive's firmware node on a SocketCAN interface: it waits for the master's\n"
+                                 "sync, exchanges momentum terms with its neighbours, estimates, detects and reports.\n"
+                                 "Example: jointguard node --joint 2 --iface vcan0 --friction out/friction.json --threshold out/threshold.json");
+  cmd->add_option("--joint", o->joint, "This drive's joint (1-based)")->required();
+  cmd->add_option("--iface", o->iface, "SocketCAN interface (CAN FD capable: mtu 72)")->capture_default_str();
+  cmd->add_option("--model", o->model, "Robot file (YAML or URDF)")->capture_default_str()->check(CLI::ExistingFile);
+  cmd->add_option("--friction", o->friction, "Identified LuGre (identify's JSON); none: no compensation")->check(CLI::ExistingFile);
+  cmd->add_option("--threshold", o->threshold, "Calibrated thresholds (calibrate's JSON); none: never flags")->check(CLI::ExistingFile);
+  cmd->add_option("--rate", o->rate, "Control and observer rate [Hz]")->capture_default_str()->check(CLI::Range(50.0, 20000.0));
+  cmd->add_option("--scalar", o->scalar, "Firmware scalar")->check(CLI::IsMember({"float", "q"}))->capture_default_str();
+  cmd->add_option("--debounce", o->debounce, "Cycles over threshold before the flag")->capture_default_str()->check(CLI::Range(1, 50));
+  cmd->add_option("--fault-cycles", o->fault_cycles, "Cycles without a neighbour frame before the communication fault")
+      ->capture_default_str()->check(CLI::Range(1, 255));
+  cmd->add_option("--idle-exit", o->idle_exit_s, "Exit after this long without a sync once started [s] (0: run until SIGINT/SIGTERM)")
+      ->capture_default_str();
+  cmd->add_option("--startup-timeout", o->startup_s, "Fail when no sync arrives within this time [s]")->capture_default_str();
+  cmd->add_option("--json", o->json, "Write the node's counters here on exit");
+  o->observer.add_to(cmd);
+  return {cmd, [o]() { return o->scalar == "q" ? run_node<q16>(*o) : run_node<float>(*o); }};
+}
+
+Command add_plant(CLI::App& app) {
+  auto o = std::make_shared<HilOptions>();
+  auto* cmd = app.add_subcommand("plant",
+                                 "Run a scenario's simulated arm as the bus master: it sends the joints' sensor frames and\n"
+                                 "the cycle sync on a SocketCAN interface, waits for every `jointguard node`'s status and\n"
+                                 "reacts to detections; --bus sim runs the drives in-process on the simulated bus instead.\n"
+                                 "Example: jointguard plant scenarios/paper_collision_shoulder.yaml --iface vcan0 --friction out/friction.json "
+                                 "--threshold out/threshold.json --json out/hil.json");
+  o->add_to(cmd, true);
+  return {cmd, [o]() { return run_hil_command(*o); }};
+}
+
+}  // namespace jg::cli

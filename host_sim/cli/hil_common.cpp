@@ -1,0 +1,106 @@
+#include "cli/hil_common.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "hil/hil_run.hpp"
+#include "io/recording.hpp"
+#include "io/yaml_fields.hpp"
+
+namespace jg::cli {
+
+void HilOptions::add_to(CLI::App* cmd, bool plant) {
+  if (plant) {
+    cmd->add_option("scenario", scenario, "Scenario file (YAML, see docs/scenarios.md)")->required()->check(CLI::ExistingFile);
+    auto* i = cmd->add_option("--iface", iface, "SocketCAN interface the `jointguard node` processes listen on");
+    auto* b = cmd->add_option("--bus", bus, "sim: the drives in-process on the simulated CAN FD bus")->check(CLI::IsMember({"sim"}));
+    i->excludes(b);
+    cmd->add_option("--out", out, "Also write the recording (CSV + JSON side file)");
+  }
+  cmd->add_option("--model", model, "Robot file for the drives (default: the scenario's model)")->check(CLI::ExistingFile);
+  cmd->add_option("--friction", friction, "Identified LuGre (identify's JSON); none: no compensation")->check(CLI::ExistingFile);
+  cmd->add_option("--threshold", threshold, "Calibrated thresholds (calibrate's JSON; required with a bus)")->check(CLI::ExistingFile);
+  cmd->add_option("--scalar", scalar, "Drives' scalar on the in-process bus")->check(CLI::IsMember({"float", "q"}))->capture_default_str();
+  cmd->add_option("--debounce", debounce, "Cycles over threshold before a detection")->capture_default_str()->check(CLI::Range(1, 50));
+  cmd->add_option("--reaction", reaction, "Reaction on detection")->check(CLI::IsMember({"none", "stop", "zero_gravity"}))->capture_default_str();
+  cmd->add_option("--timeout-ms", timeout_ms, "A drive silent this long in a cycle fails the run")->capture_default_str()->check(CLI::Range(10, 600000));
+  cmd->add_option("--trace", trace, "Write the drives' estimates per cycle here (CSV: t, mu1..n)");
+  cmd->add_option("--json", json, "Write the run, the drives' events and the bus counters here");
+  observer.add_to(cmd);
+}
+
+int run_hil_command(const HilOptions& o) {
+  if (o.iface.empty() && o.bus != "sim") throw std::invalid_argument("say where the drives are: --iface IFACE (SocketCAN) or --bus sim");
+  if (o.threshold.empty()) throw std::invalid_argument("--threshold is required: the drives need their detection bands (jointguard calibrate)");
+  sim::Scenario scenario = sim::load_scenario(o.scenario, o.seed, o.has_seed);
+  if (o.duration_s > 0.0) scenario.setup.duration_s = o.duration_s;
+  hil::HilConfig c;
+  const std::string model_path =
+      !o.model.empty() ? o.model
+                       : (std::filesystem::path(o.scenario).parent_path() / io::YamlFields::load_file(o.scenario).text("model")).string();
+  c.model = robot::load_robot(model_path);
+  if (!o.friction.empty()) c.friction = eval::read_friction_json(o.friction);
+  c.thresholds = eval::read_threshold_json(o.threshold);
+  c.gains = o.observer.to_gains();
+  c.scalar = o.scalar;
+  c.debounce_cycles = o.debounce;
+  c.reaction = o.reaction == "none" ? Reaction::none : (o.reaction == "zero_gravity" ? Reaction::zero_gravity : Reaction::stop);
+  c.interface = o.iface;
+  c.cycle_timeout_ms = o.timeout_ms;
+  const hil::HilResult r = hil::run_hil(scenario, c);
+  const eval::RunResult& run = r.run;
+  std::printf("%s: %zu cycles on %s\n", run.name.c_str(), run.trace.t.size(), r.bus.c_str());
+  if (!scenario.setup.collisions.empty()) {
+    std::printf("collision at %.3f s on link %d; ", run.t_collision, run.link_true);
+  }
+  if (run.t_detected) {
+    std::printf("detected at %.3f s (delay %.1f ms), isolated link %d; drives flagged at %s s, link %d; peak force %.1f N\n",
+                *run.t_detected, 1e3 * (*run.t_detected - run.t_collision), run.link_isolated,
+                run.t_node_flagged ? std::to_string(*run.t_node_flagged).c_str() : "-", run.link_node_isolated, run.peak_force_n);
+  } else {
+    std::printf("no detection\n");
+  }
+  for (const auto& e : r.events) std::printf("collision event from joint %d at cycle %u (%.3f N·m)\n", e.joint, e.cycle, e.external_torque);
+  std::printf("master: %llu frames received, %llu rejected, %llu out of cycle, %llu foreign\n",
+              static_cast<unsigned long long>(r.master.frames_received), static_cast<unsigned long long>(r.master.rejected),
+              static_cast<unsigned long long>(r.master.out_of_cycle), static_cast<unsigned long long>(r.master.foreign));
+  if (r.bus_frames > 0) {
+    std::printf("simulated bus: %zu frames, load %.1f %%, %zu incomplete cycles\n", r.bus_frames,
+                100.0 * r.bus_busy_s / std::max(1e-9, run.trace.t.empty() ? 1.0 : run.trace.t.back() + 1.0 / scenario.setup.control_rate_hz),
+                r.incomplete_cycles);
+  }
+  if (!o.trace.empty()) hil::write_trace_csv(o.trace, run.trace);
+  if (!o.out.empty()) {
+    io::write_recording(o.out, run.recording);
+    std::printf("wrote %s\n", o.out.c_str());
+  }
+  if (!o.json.empty()) {
+    nlohmann::json j;
+    nlohmann::json jr{{"name", run.name}, {"t_collision", run.t_collision}, {"link_true", run.link_true},
+                      {"link_isolated", run.link_isolated}, {"peak_force", run.peak_force_n}};
+    jr["t_detected"] = run.t_detected ? nlohmann::json(*run.t_detected) : nlohmann::json(nullptr);
+    jr["delay"] = run.t_detected ? nlohmann::json(*run.t_detected - run.t_collision) : nlohmann::json(nullptr);
+    jr["t_drives_flagged"] = run.t_node_flagged ? nlohmann::json(*run.t_node_flagged) : nlohmann::json(nullptr);
+    jr["link_drives_isolated"] = run.link_node_isolated;
+    j["runs"] = nlohmann::json::array({jr});
+    j["events"] = nlohmann::json::array();
+    for (const auto& e : r.events) j["events"].push_back({{"joint", e.joint}, {"cycle", e.cycle}, {"external_torque", e.external_torque}});
+    j["bus"] = {{"kind", r.bus}, {"cycles", run.trace.t.size()}, {"frames_received_by_master", r.master.frames_received},
+                {"rejected", r.master.rejected}, {"out_of_cycle", r.master.out_of_cycle}, {"foreign", r.master.foreign},
+                {"simulated_frames", r.bus_frames}, {"simulated_busy_s", r.bus_busy_s}, {"incomplete_cycles", r.incomplete_cycles}};
+    std::vector<double> mu_max;
+    for (const auto& m : run.trace.mu) {
+      double v = 0.0;
+      for (const double x : m) v = std::max(v, std::fabs(x));
+      mu_max.push_back(v);
+    }
+    j["external_torque_max"] = mu_max;
+    std::ofstream(o.json) << j.dump(2) << '\n';
+    std::printf("wrote %s\n", o.json.c_str());
+  }
+  return 0;
+}
+
+}  // namespace jg::cli
