@@ -171,6 +171,20 @@ static_assert(bit_rate(kKernelClock80MHz, kData5M80MHz) * tq_per_bit(kData5M80MH
 static_assert(bit_rate(kKernelClock80MHz, kData5M80MHz) == 5'000'000U && sample_point_permille(kData5M80MHz) == 750U);
 static_assert(nominal_fits(kNominal1M80MHz) && data_fits(kData5M80MHz));
 
+/// The same rates from a 160 or 170 MHz kernel clock (PLL "Q" = SYSCLK), prescaler 2 in both
+/// phases: 160 MHz gives the same segments as 80 MHz; 170 MHz gives 1 + 67 + 17 = 85 tq
+/// (80 %) and 1 + 12 + 4 = 17 tq (76.5 %).
+inline constexpr BitTiming kNominal1M160MHz{2, 63, 16, 16};
+inline constexpr BitTiming kData5M160MHz{2, 11, 4, 4};
+inline constexpr BitTiming kNominal1M170MHz{2, 67, 17, 17};
+inline constexpr BitTiming kData5M170MHz{2, 12, 4, 4};
+static_assert(bit_rate(160'000'000U, kNominal1M160MHz) == 1'000'000U && bit_rate(160'000'000U, kData5M160MHz) == 5'000'000U);
+static_assert(bit_rate(170'000'000U, kNominal1M170MHz) == 1'000'000U && bit_rate(170'000'000U, kData5M170MHz) == 5'000'000U);
+static_assert(170'000'000U % (2U * tq_per_bit(kNominal1M170MHz)) == 0U && 170'000'000U % (2U * tq_per_bit(kData5M170MHz)) == 0U);
+static_assert(sample_point_permille(kNominal1M170MHz) == 800U && sample_point_permille(kData5M170MHz) == 764U);
+static_assert(nominal_fits(kNominal1M170MHz) && data_fits(kData5M170MHz) && nominal_fits(kNominal1M160MHz) &&
+              data_fits(kData5M160MHz));
+
 /// Transmitter delay compensation offset in minimum time quanta: the data sample point
 /// minus the sync segment (ST's recommended default for the G4, DataPrescaler x
 /// DataTimeSeg1); the secondary sample point is then the measured loop delay plus this.
@@ -388,7 +402,7 @@ class FdcanPort {
     if (!started_) {
       return CanErrorState::bus_off;
     }
-    const std::uint32_t psr = read_reg(fdcan::kPsr);  // side effect: clears PSR.LEC/DLEC (unused here)
+    const std::uint32_t psr = read_reg(fdcan::kPsr);  // side effect: LEC/DLEC read back as "no change" afterwards
     if ((psr & fdcan::kPsrBo) != 0U) {
       return CanErrorState::bus_off;
     }
