@@ -25,5 +25,6 @@ Command add_diagnose(CLI::App& app);
 Command add_bench(CLI::App& app);
 Command add_node(CLI::App& app);
 Command add_plant(CLI::App& app);
+Command add_decode(CLI::App& app);
 
 }  // namespace jg::cli

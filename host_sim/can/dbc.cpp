@@ -1,0 +1,149 @@
+#include "can/dbc.hpp"
+
+#include <cstdlib>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <stdexcept>
+
+namespace jg::can {
+namespace {
+
+[[noreturn]] void fail(const std::string& path, int line, const std::string& what) {
+  throw std::runtime_error(path + ":" + std::to_string(line) + ": " + what);
+}
+
+int hex_digit(char c) {
+  if (c >= '0' && c <= '9') return c - '0';
+  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+  return -1;
+}
+
+}  // namespace
+
+Dbc read_dbc(const std::string& path) {
+  std::ifstream f(path);
+  if (!f) throw std::runtime_error(path + ": cannot open the DBC file");
+  // BO_ <id> <name>: <length> <sender>
+  const std::regex bo(R"(^BO_\s+(\d+)\s+(\w+)\s*:\s*(\d+)\s+(\w+)\s*$)");
+  // SG_ <name> : <start>|<size>@<1|0><+|-> (<factor>,<offset>) [<min>|<max>] "<unit>" <receivers>
+  const std::regex sg(R"(^\s*SG_\s+(\w+)\s*:\s*(\d+)\|(\d+)@([01])([+-])\s*\(([^,]+),([^)]+)\)\s*\[[^\]]*\]\s*\"([^\"]*)\".*$)");
+  const std::regex ba(R"(^BA_\s+\"VFrameFormat\"\s+BO_\s+(\d+)\s+(\d+)\s*;\s*$)");
+  Dbc dbc;
+  DbcMessage* current = nullptr;
+  std::string text;
+  int line = 0;
+  while (std::getline(f, text)) {
+    ++line;
+    if (!text.empty() && text.back() == '\r') text.pop_back();
+    std::smatch m;
+    if (std::regex_match(text, m, bo)) {
+      DbcMessage msg;
+      msg.id = static_cast<std::uint32_t>(std::stoul(m[1]));
+      msg.name = m[2];
+      msg.length = static_cast<unsigned>(std::stoul(m[3]));
+      msg.sender = m[4];
+      if (msg.length > 64) fail(path, line, "message " + msg.name + ": length " + std::to_string(msg.length) + " > 64");
+      if (dbc.messages.count(msg.id) != 0) fail(path, line, "identifier " + std::to_string(msg.id) + " defined twice");
+      current = &(dbc.messages[msg.id] = msg);
+    } else if (text.rfind(" SG_", 0) == 0 || text.rfind("SG_", 0) == 0) {
+      if (current == nullptr) fail(path, line, "signal outside a message");
+      if (!std::regex_match(text, m, sg)) fail(path, line, "cannot read the signal definition");
+      DbcSignal s;
+      s.name = m[1];
+      s.start = static_cast<unsigned>(std::stoul(m[2]));
+      s.size = static_cast<unsigned>(std::stoul(m[3]));
+      s.little_endian = m[4] == "1";
+      s.is_signed = m[5] == "-";
+      s.factor = std::strtod(m[6].str().c_str(), nullptr);
+      s.offset = std::strtod(m[7].str().c_str(), nullptr);
+      s.unit = m[8];
+      if (s.size == 0 || s.size > 64) fail(path, line, "signal " + s.name + ": size " + std::to_string(s.size) + " not in 1..64");
+      if (s.little_endian && s.start + s.size > 8 * current->length) {
+        fail(path, line, "signal " + s.name + " ends beyond the message's " + std::to_string(current->length) + " bytes");
+      }
+      current->signals.push_back(s);
+    } else if (std::regex_match(text, m, ba)) {
+      const auto id = static_cast<std::uint32_t>(std::stoul(m[1]));
+      auto it = dbc.messages.find(id);
+      if (it == dbc.messages.end()) fail(path, line, "VFrameFormat for unknown message " + std::to_string(id));
+      it->second.fd = std::stoul(m[2]) >= 14;
+    } else if (text.rfind("BO_ ", 0) == 0) {
+      fail(path, line, "cannot read the message definition");
+    } else if (!text.empty() && text[0] != ' ') {
+      current = nullptr;
+    }
+  }
+  if (dbc.messages.empty()) throw std::runtime_error(path + ": no messages (BO_) found");
+  return dbc;
+}
+
+double decode_signal(const DbcSignal& s, const std::uint8_t* data, unsigned length) {
+  std::uint64_t raw = 0;
+  if (s.little_endian) {
+    for (unsigned b = 0; b < s.size; ++b) {
+      const unsigned bit = s.start + b;
+      if (bit / 8 < length && ((data[bit / 8] >> (bit % 8)) & 1U) != 0U) raw |= std::uint64_t{1} << b;
+    }
+  } else {
+    // Motorola: start is the most significant bit, counting down within a byte, then on
+    // to the next byte's bit 7.
+    unsigned bit = s.start;
+    for (unsigned b = 0; b < s.size; ++b) {
+      if (bit / 8 < length && ((data[bit / 8] >> (bit % 8)) & 1U) != 0U) raw |= std::uint64_t{1} << (s.size - 1 - b);
+      bit = (bit % 8 == 0) ? bit + 15 : bit - 1;
+    }
+  }
+  double v = static_cast<double>(raw);
+  if (s.is_signed && s.size < 64 && (raw >> (s.size - 1)) != 0U) v -= static_cast<double>(std::uint64_t{1} << s.size);
+  return v * s.factor + s.offset;
+}
+
+std::vector<CapturedFrame> read_candump_log(const std::string& path) {
+  std::ifstream f(path);
+  if (!f) throw std::runtime_error(path + ": cannot open the capture");
+  std::vector<CapturedFrame> out;
+  std::string text;
+  int line = 0;
+  while (std::getline(f, text)) {
+    ++line;
+    if (text.empty()) continue;
+    std::istringstream in(text);
+    std::string stamp, iface, body;
+    if (!(in >> stamp >> iface >> body) || stamp.size() < 3 || stamp.front() != '(' || stamp.back() != ')') {
+      fail(path, line, "not a candump -L line: '" + text + "'");
+    }
+    CapturedFrame c;
+    c.t = std::strtod(stamp.c_str() + 1, nullptr);
+    c.interface = iface;
+    const auto hash = body.find('#');
+    if (hash == std::string::npos || hash == 0) fail(path, line, "frame without '#': '" + body + "'");
+    const std::string id = body.substr(0, hash);
+    for (const char ch : id) {
+      if (hex_digit(ch) < 0) fail(path, line, "identifier '" + id + "' is not hexadecimal");
+    }
+    c.frame.id = static_cast<std::uint32_t>(std::stoul(id, nullptr, 16));
+    c.frame.extended = id.size() > 3;
+    std::size_t pos = hash + 1;
+    if (pos < body.size() && body[pos] == '#') {
+      c.frame.fd = true;
+      pos += 2;  // '#' and the flags nibble
+    } else if (pos < body.size() && body[pos] == 'R') {
+      fail(path, line, "remote frames are not part of the joint protocol");
+    }
+    const std::string hex = pos <= body.size() ? body.substr(pos) : std::string();
+    if (hex.size() % 2 != 0 || hex.size() / 2 > 64) fail(path, line, "payload '" + hex + "' is not whole bytes (at most 64)");
+    for (std::size_t i = 0; i < hex.size(); i += 2) {
+      const int hi = hex_digit(hex[i]), lo = hex_digit(hex[i + 1]);
+      if (hi < 0 || lo < 0) fail(path, line, "payload byte '" + hex.substr(i, 2) + "' is not hexadecimal");
+      c.frame.data[i / 2] = static_cast<std::uint8_t>(hi * 16 + lo);
+    }
+    c.frame.length = static_cast<std::uint8_t>(hex.size() / 2);
+    if (!hal::valid_length(c.frame.length, c.frame.fd)) fail(path, line, "length " + std::to_string(c.frame.length) + " is not a CAN length");
+    out.push_back(c);
+  }
+  return out;
+}
+
+}  // namespace jg::can
