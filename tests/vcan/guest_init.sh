@@ -7,11 +7,24 @@
 #   script_timeout  seconds after which the script is killed (0 = no limit)
 #   verbose         1: progress messages on the console
 #   ip              path of iproute2's ip (this busybox runs its own applets first)
+#   tools           paths of the real tools (ip, can-utils), linked into /usr/local/bin
 # Serial ports: ttyS0 is the console (the script's stdout and stderr), ttyS1 carries the
 # results back to the host: the files of /payload/out as a base64 gzip tar between
 # ===JG-OUT-BEGIN=== and ===JG-OUT-END===, then ===JG-EXIT <status>===.
 export PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin
 export HOME=/root TERM=dumb
+
+# All busybox applets as symlinks (existing files such as /bin/sh are kept), then the real
+# tools (ip, can-utils) in /usr/local/bin, first on PATH, and in place of applets of the
+# same name (/sbin/ip).
+/bin/busybox --install -s
+while read -r t; do
+  n=${t##*/}
+  ln -sf "$t" "/usr/local/bin/$n"
+  for d in /bin /sbin /usr/bin /usr/sbin; do
+    if [ -L "$d/$n" ] && [ "$(readlink "$d/$n")" = /bin/busybox ]; then ln -sf "$t" "$d/$n"; fi
+  done
+done </etc/jg/tools
 
 mount -t proc proc /proc
 mount -t sysfs sysfs /sys

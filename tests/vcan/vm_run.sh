@@ -10,14 +10,16 @@
 # If this machine can create a vcan link (root and a kernel with vcan), the script runs
 # directly here ("direct mode"). Otherwise (or with JG_VM_FORCE=1) it runs inside a small
 # qemu x86_64 VM (TCG, no KVM needed) booted from Debian's own kernel package, with
-# busybox, iproute2's ip and can-utils in the initramfs; dynamically linked executables in
-# PAYLOAD_DIR get their shared library closure copied in.
+# busybox, iproute2's ip and can-utils in the initramfs; /bin/sh there is the host's
+# /bin/sh (dash), as in direct mode. Dynamically linked executables in PAYLOAD_DIR get
+# their shared library closure copied in at the same absolute paths.
 #
 #   vm_run.sh --prepare   only download and cache the kernel (see JG_VM_CACHE)
 #   vm_run.sh --help
 #
 # Environment (see tests/vcan/README.md):
-#   JG_VM_TIMEOUT=300          kill the VM (or the direct-mode script) after this many s
+#   JG_VM_TIMEOUT=300          kill qemu (boot + script) or the direct-mode script
+#                              after this many seconds
 #   JG_VM_SCRIPT_TIMEOUT       in-VM limit for the script (default JG_VM_TIMEOUT-60 when
 #                              that is >= 30, else none), so out/ still comes back
 #   JG_VM_FORCE=1              use the VM even if this machine has vcan
@@ -115,7 +117,7 @@ need() {
 find_tool() {
   local t=$1 d
   if command -v "$t" >/dev/null 2>&1; then command -v "$t"; return 0; fi
-  for d in /usr/sbin /sbin /usr/bin /bin; do
+  for d in /usr/sbin /sbin; do
     if [[ -x $d/$t ]]; then echo "$d/$t"; return 0; fi
   done
   return 1
@@ -125,13 +127,23 @@ find_tool() {
 # Kernel: vmlinuz + the CAN modules from Debian's linux-image package, cached.
 kernel_dir=""
 ensure_kernel() {
+  fetch_kernel
+  ensure_vmlinux
+}
+fetch_kernel() {
   local pkg=${JG_VM_KERNEL_PKG:-}
   mkdir -p -- "$cache" || skip "cannot create the kernel cache directory $cache"
+  # The answer of apt-cache (about 1 s) is kept until apt-get update changes the lists.
+  local resolved=$cache/.linux-image-amd64 lists=/var/lib/apt/lists
+  if [[ -z $pkg && -s $resolved && (! -d $lists || $resolved -nt $lists) ]]; then
+    pkg=$(<"$resolved")
+  fi
   if [[ -z $pkg ]]; then
     if command -v apt-cache >/dev/null 2>&1; then
       pkg=$(apt-cache depends linux-image-amd64 2>/dev/null |
         sed -n 's/^[ |]*Depends: \(linux-image-[0-9][^ ]*-amd64\)$/\1/p' | sed -n 1p || true)
     fi
+    [[ -z $pkg ]] || echo "$pkg" >"$resolved" 2>/dev/null || true
     if [[ -z $pkg ]]; then
       # Offline and no apt lists: fall back to the newest kernel already cached.
       local cached
@@ -196,6 +208,38 @@ ensure_kernel() {
   rm -rf -- "$dl"
   exec 9>&-
   note "kernel $kver cached in $kernel_dir ($(($(date +%s) - t0)) s)"
+}
+
+# The uncompressed vmlinux boots in about half the time of vmlinuz under TCG (qemu enters it
+# through its PVH note: no real-mode setup and no in-guest decompression of ~60 MB). It is
+# unpacked from vmlinuz once and cached next to it; run_vm falls back to vmlinuz.
+ensure_vmlinux() {
+  [[ ! -f $kernel_dir/vmlinux && ! -f $kernel_dir/.no-vmlinux ]] || return 0
+  local tmp off magic tool
+  tmp=$(mktemp "$kernel_dir/.vmlinux.XXXXXX" 2>/dev/null) || return 0
+  for magic in xz zstd gzip; do
+    case $magic in
+      xz) tool=(xz -dc --single-stream) ;;
+      zstd) tool=(zstd -dcq) ;;
+      gzip) tool=(gzip -dc) ;;
+    esac
+    command -v "${tool[0]}" >/dev/null 2>&1 || continue
+    while IFS= read -r off; do
+      tail -c "+$((off + 1))" -- "$kernel_dir/vmlinuz" | "${tool[@]}" >"$tmp" 2>/dev/null || true
+      if is_elf "$tmp" && [[ $(stat -c %s -- "$tmp") -gt 1000000 ]]; then
+        chmod 0644 "$tmp"
+        mv -f -- "$tmp" "$kernel_dir/vmlinux"
+        return 0
+      fi
+    done < <(case $magic in
+      xz) LC_ALL=C grep -abo $'\xfd7zXZ' -- "$kernel_dir/vmlinuz" ;;
+      zstd) LC_ALL=C grep -abo $'\x28\xb5\x2f\xfd' -- "$kernel_dir/vmlinuz" ;;
+      gzip) LC_ALL=C grep -abo $'\x1f\x8b\x08' -- "$kernel_dir/vmlinuz" ;;
+    esac | cut -d: -f1 | head -n 5)
+  done
+  rm -f -- "$tmp"
+  touch "$kernel_dir/.no-vmlinux"
+  note "cannot unpack vmlinux from vmlinuz; booting the compressed kernel (slower)"
 }
 
 # Modules to load, in dependency order (read from each module's modinfo "depends=").
@@ -264,17 +308,13 @@ put_closures() {
   elf_queue=()
 }
 put_tool() {
-  local path=$1 name=${1##*/} d
-  # Drop busybox applets of the same name so the real tool is the one on PATH.
-  for d in bin sbin usr/bin usr/sbin; do
-    if [[ -L $root/$d/$name && $(readlink "$root/$d/$name") == /bin/busybox ]]; then rm -f -- "$root/$d/$name"; fi
-  done
-  put_host_file "$path"
-  put_closure "$path"
+  put_host_file "$1"
+  put_closure "$1"
+  echo "$1" >>"$root/etc/jg/tools"
 }
 
 build_initramfs() {
-  local payload=$1 script=$2 d bb applet tool f
+  local payload=$1 script=$2 d bb tool f
 
   root=$work/root
   mkdir -p "$root"
@@ -287,27 +327,26 @@ build_initramfs() {
       mkdir -p "$root/$d"
     fi
   done
-  mkdir -p "$root"/{usr/bin,usr/sbin,proc,sys,dev,tmp,run,root,etc/jg,lib/modules/jg,payload}
+  mkdir -p "$root"/{usr/bin,usr/sbin,usr/local/bin,proc,sys,dev,tmp,run,root,etc/jg,lib/modules/jg,payload}
 
+  # busybox; the init links its applets (busybox --install -s) in the guest.
   bb=$(find_tool busybox) || skip "busybox not found (apt-get install busybox-static)"
   cp -L -- "$bb" "$root/bin/busybox"
   put_closure "$bb"
-  while IFS= read -r applet; do
-    [[ -n $applet && ! -e $root/$applet && ! -L $root/$applet ]] || continue
-    mkdir -p -- "$root/$(dirname -- "$applet")"
-    ln -s /bin/busybox "$root/$applet"
-  done < <("$bb" --list-full)
   # The script's /bin/sh is the host's (dash on Debian), as in direct mode: Debian's static
   # busybox sh runs its own applets before PATH, so scripts would get busybox's ip.
   f=$(readlink -f /bin/sh || true)
   if [[ -n $f && -x $f ]] && is_elf "$f" && [[ $f != "$(readlink -f -- "$bb")" ]]; then
     put_host_file "$f"
     put_closure "$f"
-    rm -f -- "$root/bin/sh"
     ln -s "$f" "$root/bin/sh"
+  else
+    ln -s /bin/busybox "$root/bin/sh"
   fi
-  [[ -L $root/bin/sh || -e $root/bin/sh ]] || ln -s /bin/busybox "$root/bin/sh"
 
+  # Real tools at their host paths; the init links them into /usr/local/bin, first on PATH,
+  # ahead of busybox applets of the same name (ip).
+  : >"$root/etc/jg/tools"
   for tool in ip candump cansend canplayer cangen; do
     f=$(find_tool "$tool") || skip "'$tool' not found (apt-get install iproute2 can-utils)"
     f=$(readlink -f -- "$f")
@@ -365,7 +404,7 @@ run_vm() {
   need cpio gzip ldd od sed awk timeout
   qemu=$(find_tool qemu-system-x86_64) || skip "qemu-system-x86_64 not found (apt-get install qemu-system-x86)"
   ensure_kernel
-  [[ -f $kernel_dir/vmlinuz ]] || die "no vmlinuz in $kernel_dir (delete it to re-download)"
+  [[ -f $kernel_dir/vmlinuz ]] || die "no vmlinuz in $kernel_dir (delete that directory to download again)"
 
   t0=$(date +%s.%N)
   build_initramfs "$payload" "$script"
@@ -383,17 +422,32 @@ run_vm() {
   exec 3<>"$fifo"
   sed -u -e 's/\r$//' -e '/^\[ *[0-9.]*\] reboot: Power down$/d' <"$fifo" 3>&- &
   reader_pid=$!
-  timeout -k 10 "$timeout_s" "$qemu" \
-    -accel tcg -cpu max -m "$mem" -smp "$smp" \
-    -nodefaults -no-user-config -display none -no-reboot \
-    -pidfile "$qemu_pid_file" \
-    -kernel "$kernel_dir/vmlinuz" -initrd "$work/initramfs.gz" -append "$cmdline" \
-    -chardev "file,id=con,path=${fifo//,/,,}" -serial chardev:con \
-    -chardev "file,id=xfer,path=${xfer//,/,,}" -serial chardev:xfer \
-    </dev/null >"$work/qemu.log" 2>&1 3>&- &
-  child_pid=$!
-  wait "$child_pid" || rc=$?
-  child_pid=""
+  local kernel=$kernel_dir/vmlinuz
+  [[ ! -f $kernel_dir/vmlinux ]] || kernel=$kernel_dir/vmlinux
+  while :; do
+    : >"$xfer"
+    timeout -k 10 "$timeout_s" "$qemu" \
+      -accel tcg -cpu max -m "$mem" -smp "$smp" \
+      -nodefaults -no-user-config -display none -no-reboot \
+      -pidfile "$qemu_pid_file" \
+      -kernel "$kernel" -initrd "$work/initramfs.gz" -append "$cmdline" \
+      -chardev "file,id=con,path=${fifo//,/,,}" -serial chardev:con \
+      -chardev "file,id=xfer,path=${xfer//,/,,}" -serial chardev:xfer \
+      </dev/null >"$work/qemu.log" 2>&1 3>&- &
+    child_pid=$!
+    rc=0
+    wait "$child_pid" || rc=$?
+    child_pid=""
+    # A vmlinux without a PVH entry: remember that and boot the compressed kernel.
+    if ((rc == 1)) && [[ $kernel == */vmlinux ]] && grep -q 'PVH' "$work/qemu.log"; then
+      note "this vmlinux has no PVH entry point; using vmlinuz from now on"
+      rm -f -- "$kernel_dir/vmlinux"
+      touch "$kernel_dir/.no-vmlinux"
+      kernel=$kernel_dir/vmlinuz
+      continue
+    fi
+    break
+  done
   exec 3>&-
   wait "$reader_pid" || true
   reader_pid=""
