@@ -7,6 +7,7 @@ packages=(
   libeigen3-dev libcli11-dev nlohmann-json3-dev libyaml-cpp-dev liborocos-kdl-dev liburdfdom-dev
   gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm
   clang clang-tidy cppcheck
+  qemu-system-x86 can-utils iproute2 busybox-static cpio xz-utils
   chromium
 )
 missing=()
