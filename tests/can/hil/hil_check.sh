@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# Host side of can.hil_socketcan: hil_check.sh OUT_DIR JOINTGUARD PAYLOAD_DIR
+#  - the plant detected the push on link 2 and the drives sent collision events;
+#  - every captured frame decodes with docs/can/jointguard.dbc, and the product traffic per
+#    cycle is what the simulated bus model counts (8 frames for 3 joints);
+#  - the same scenario with the drives in-process on the simulated bus gives the same
+#    estimates, cycle for cycle and bit for bit (CSV traces identical).
+set -euo pipefail
+out=$1 jg=$2 payload=$3
+fail() { echo "hil_check: FAIL: $*" >&2; exit 1; }
+command -v /usr/bin/python3 >/dev/null || fail "/usr/bin/python3 is needed to read the JSON results"
+/usr/bin/python3 - "$out/plant.json" <<'PY' || fail "plant results"
+import json, sys
+j = json.load(open(sys.argv[1]))
+r = j["runs"][0]
+assert r["t_detected"] is not None, "no detection"
+assert r["link_isolated"] == 2, f"isolated link {r['link_isolated']}"
+assert 0 < r["delay"] < 0.05, f"delay {r['delay']}"
+assert any(e["joint"] == 2 for e in j["events"]), "no collision event from joint 2"
+assert j["bus"]["rejected"] == 0 and j["bus"]["out_of_cycle"] == 0, j["bus"]
+print(f"hil_check: detected at {r['t_detected']:.3f} s (delay {1e3*r['delay']:.1f} ms), link {r['link_isolated']}, "
+      f"{len(j['events'])} collision events, {j['bus']['cycles']} cycles")
+PY
+"$jg" decode "$out/capture.log" --json "$out/traffic.json" || fail "capture does not decode with the DBC"
+/usr/bin/python3 - "$out/traffic.json" "$out/plant.json" <<'PY' || fail "traffic"
+import json, sys
+t = json.load(open(sys.argv[1])); p = json.load(open(sys.argv[2]))
+cycles = p["bus"]["cycles"]
+m = t["messages"]
+# The master repeats cycle 0 until every node answers (start-up), so a sync or two extra.
+assert cycles <= m["CYCLE_SYNC"] <= cycles + 5, (m, cycles)
+per_cycle = sum(m[f"{k}_J{j}"] for k in ("OUTWARD", "INWARD") for j in (1, 2, 3) if f"{k}_J{j}" in m) / cycles
+assert per_cycle == 4.0, f"momentum messages per cycle {per_cycle}: 2(n-1) = 4 expected"
+for j in (1, 2, 3):
+    assert m[f"STATUS_J{j}"] == cycles, m
+    assert m[f"SENSOR_J{j}"] >= cycles, m
+per = t["product_frames_per_cycle"]
+# Wire time of the captured product traffic at 1/5 Mbit/s: the simulated bus model's figure
+# for 3 joints (tests/can/test_sim_bus.cpp, docs/can.md), one-off frames aside.
+assert abs(t["product_wire_us_per_cycle"] - 775.2) < 2.0, t["product_wire_us_per_cycle"]
+print(f"hil_check: capture {t['frames']} frames, {per:.3f} product frames and {t['product_wire_us_per_cycle']:.0f} us of "
+      f"wire time per cycle at 1/5 Mbit/s")
+PY
+for j in 1 2 3; do
+  /usr/bin/python3 -c "import json,sys; n=json.load(open(sys.argv[1])); r=n['rejected']; assert sum(r.values())==0 and not n['communication_fault'], n" \
+    "$out/node$j.json" || fail "node $j counters"
+done
+"$jg" plant "$payload/hil_shoulder.yaml" --bus sim --friction "$payload/friction.json" --threshold "$payload/threshold.json" \
+  --trace "$out/trace_sim.csv" >"$out/plant_sim.txt" || fail "in-process run"
+cmp "$out/trace.csv" "$out/trace_sim.csv" || fail "SocketCAN and in-process simulated-bus estimates differ"
+echo "hil_check: SocketCAN run and in-process run identical over $(($(wc -l <"$out/trace.csv") - 1)) cycles"
