@@ -8,7 +8,8 @@
 # (${CMAKE_CURRENT_BINARY_DIR}/<test>/payload); the script's cwd is that directory and what
 # it writes to out/ comes back to ${CMAKE_CURRENT_BINARY_DIR}/<test>/out. With CHECK, the host
 # then runs "bash CHECK <out dir> args...". Skipped ("vm_run: SKIP: ...") when neither vcan
-# nor qemu and the tools are available, or the kernel cannot be downloaded.
+# nor qemu and the tools are available, or the kernel cannot be downloaded. TIMEOUT
+# (default 600 s) is CTest's; qemu is stopped 60 s before it (JG_VM_TIMEOUT).
 include_guard(GLOBAL)
 option(JG_VM_TESTS "Register the SocketCAN tests (vcan; in a qemu VM when this kernel has no CAN)" ON)
 set(JG_VCAN_DIR ${CMAKE_CURRENT_LIST_DIR} CACHE INTERNAL "tests/vcan")
@@ -24,6 +25,13 @@ function(jg_add_vcan_test)
   if(NOT T_TIMEOUT)
     set(T_TIMEOUT 600)
   endif()
+  # vm_run.sh's own limit on qemu, below the CTest TIMEOUT so that a hanging VM ends with
+  # vm_run's message (the script inside gets 60 s less, so its out/ still comes back).
+  if(T_TIMEOUT GREATER 120)
+    math(EXPR vm_timeout "${T_TIMEOUT} - 60")
+  else()
+    set(vm_timeout ${T_TIMEOUT})
+  endif()
   set(labels vm ${T_LABELS})
   set(check_args)
   if(T_CHECK)
@@ -38,5 +46,6 @@ function(jg_add_vcan_test)
     TIMEOUT ${T_TIMEOUT}
     SKIP_REGULAR_EXPRESSION "vm_run: SKIP: "
     SKIP_RETURN_CODE 77
-    RESOURCE_LOCK jg_vcan0)
+    RESOURCE_LOCK jg_vcan0
+    ENVIRONMENT "JG_VM_TIMEOUT=${vm_timeout}")
 endfunction()

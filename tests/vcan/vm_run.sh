@@ -77,6 +77,7 @@ work=""
 child_pid=""
 reader_pid=""
 vcan_created=0
+dl_tmp=""
 # shellcheck disable=SC2317  # invoked by the EXIT trap
 cleanup() {
   local rc=$?
@@ -93,6 +94,7 @@ cleanup() {
   fi
   if [[ -n $reader_pid ]]; then kill "$reader_pid" 2>/dev/null || true; fi
   if ((vcan_created)); then "$(find_tool ip)" link del dev vcan0 2>/dev/null || true; fi
+  if [[ -n $dl_tmp ]]; then rm -rf -- "$dl_tmp"; fi
   if [[ -n $work && -d $work ]]; then
     if [[ ${JG_VM_KEEP:-0} == 1 ]]; then
       note "work directory kept: $work"
@@ -130,6 +132,15 @@ ensure_kernel() {
   fetch_kernel
   ensure_vmlinux
 }
+# Offline: fall back to the newest kernel already in the cache.
+use_cached_kernel() {
+  local cached
+  [[ -z ${JG_VM_KERNEL_PKG:-} ]] || return 1
+  cached=$(find "$cache" -mindepth 2 -maxdepth 2 -name .complete -printf '%h\n' 2>/dev/null | sort -V | tail -n 1)
+  [[ -n $cached ]] || return 1
+  kernel_dir=$cached
+  note "$1; using the cached $(basename "$cached")"
+}
 fetch_kernel() {
   local pkg=${JG_VM_KERNEL_PKG:-}
   mkdir -p -- "$cache" || skip "cannot create the kernel cache directory $cache"
@@ -145,14 +156,7 @@ fetch_kernel() {
     fi
     [[ -z $pkg ]] || echo "$pkg" >"$resolved" 2>/dev/null || true
     if [[ -z $pkg ]]; then
-      # Offline and no apt lists: fall back to the newest kernel already cached.
-      local cached
-      cached=$(find "$cache" -mindepth 2 -maxdepth 2 -name .complete -printf '%h\n' 2>/dev/null | sort -V | tail -n 1)
-      if [[ -n $cached ]]; then
-        kernel_dir=$cached
-        note "apt-cache cannot resolve linux-image-amd64; using the cached $(basename "$cached")"
-        return 0
-      fi
+      use_cached_kernel "apt-cache cannot resolve linux-image-amd64" && return 0
       skip "cannot determine the Debian kernel package ('apt-cache depends linux-image-amd64' gave nothing; run apt-get update, or set JG_VM_KERNEL_PKG)"
     fi
   fi
@@ -170,11 +174,14 @@ fetch_kernel() {
   t0=$(date +%s)
   note "downloading the kernel package $pkg into $cache (first run only)"
   dl=$(mktemp -d "$cache/.dl.XXXXXX")
+  dl_tmp=$dl
   local apt_opts=(-q)
   [[ $(id -u) -ne 0 ]] || apt_opts+=(-o APT::Sandbox::User=root)
   if ! (cd "$dl" && apt-get "${apt_opts[@]}" download "$pkg") >"$dl/apt.log" 2>&1; then
     sed 's/^/  apt-get: /' "$dl/apt.log" >&2
     rm -rf -- "$dl"
+    exec 9>&-
+    use_cached_kernel "downloading $pkg failed" && return 0
     skip "kernel download failed: 'apt-get download $pkg' did not work (no network or stale apt lists? run apt-get update)"
   fi
   ex=$dl/x
@@ -206,6 +213,7 @@ fetch_kernel() {
   rm -rf -- "$kernel_dir"
   mv -T "$dl/k" "$kernel_dir"
   rm -rf -- "$dl"
+  dl_tmp=""
   exec 9>&-
   note "kernel $kver cached in $kernel_dir ($(($(date +%s) - t0)) s)"
 }
