@@ -21,3 +21,11 @@ namespace jg {
 template class JointNode<float, hal::LoopbackCan<8>>;
 template class JointNode<q16, hal::LoopbackCan<8>>;
 }  // namespace jg
+
+// The drive (sync pacing, frame routing, status and events) over the loopback port.
+#include "jointguard/node/joint_drive.hpp"
+
+namespace jg {
+template class JointDrive<float, hal::LoopbackCan<8>>;
+template class JointDrive<q16, hal::LoopbackCan<8>>;
+}  // namespace jg

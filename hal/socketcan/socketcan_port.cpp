@@ -38,7 +38,8 @@ SocketCanPort::SocketCanPort(const std::string& interface, SocketCanOptions opti
     throw std::runtime_error("socketcan: interface name '" + interface + "' must have 1.." + std::to_string(IFNAMSIZ - 1) + " characters");
   }
   fd_ = ::socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK | SOCK_CLOEXEC, CAN_RAW);
-  if (fd_ < 0) fail(interface, "cannot open a raw CAN socket (is the kernel's can-raw module loaded?)", errno);
+  if (fd_ < 0) { fail(interface, "cannot open a raw CAN socket (is the kernel's can-raw module loaded?)", errno);
+}
   const unsigned index = ::if_nametoindex(interface.c_str());
   if (index == 0) {
     const int err = errno;
@@ -53,7 +54,8 @@ SocketCanPort::SocketCanPort(const std::string& interface, SocketCanOptions opti
     }
   };
   const int on = 1;
-  if (options.fd) set(SOL_CAN_RAW, CAN_RAW_FD_FRAMES, &on, sizeof on, "CAN FD frames not supported");
+  if (options.fd) { set(SOL_CAN_RAW, CAN_RAW_FD_FRAMES, &on, sizeof on, "CAN FD frames not supported");
+}
   const int own = options.receive_own ? 1 : 0;
   set(SOL_CAN_RAW, CAN_RAW_RECV_OWN_MSGS, &own, sizeof own, "cannot set CAN_RAW_RECV_OWN_MSGS");
   const can_err_mask_t errors = CAN_ERR_BUSOFF | CAN_ERR_CRTL | CAN_ERR_RESTARTED;
@@ -75,6 +77,7 @@ SocketCanPort::SocketCanPort(const std::string& interface, SocketCanOptions opti
   if (options.fd) {
     ifreq ifr{};
     std::strncpy(static_cast<char*>(ifr.ifr_name), interface.c_str(), IFNAMSIZ - 1);
+    // NOLINTNEXTLINE(cppcoreguidelines-pro-type-vararg): ioctl is the kernel's only way to read the MTU
     if (::ioctl(fd_, SIOCGIFMTU, &ifr) == 0 && ifr.ifr_mtu != CANFD_MTU) {
       ::close(fd_);
       throw std::runtime_error("socketcan " + interface + ": not CAN FD capable (MTU " + std::to_string(ifr.ifr_mtu) +
@@ -84,7 +87,8 @@ SocketCanPort::SocketCanPort(const std::string& interface, SocketCanOptions opti
 }
 
 SocketCanPort::~SocketCanPort() {
-  if (fd_ >= 0) ::close(fd_);
+  if (fd_ >= 0) { ::close(fd_);
+}
 }
 
 SocketCanPort::SocketCanPort(SocketCanPort&& other) noexcept
@@ -96,18 +100,22 @@ CanStatus SocketCanPort::send(const CanFrame& f) noexcept {
   if (!valid_length(f.length, f.fd) || f.id > (f.extended ? CAN_EFF_MASK : CAN_SFF_MASK) || (f.fd && !options_.fd)) {
     return CanStatus::invalid;
   }
-  if (state_ == CanErrorState::bus_off) return CanStatus::bus_off;
+  if (state_ == CanErrorState::bus_off) { return CanStatus::bus_off;
+}
   canfd_frame out{};
   out.can_id = f.id | (f.extended ? CAN_EFF_FLAG : 0U);
   out.len = f.length;
   out.flags = f.fd ? static_cast<__u8>(CANFD_BRS) : static_cast<__u8>(0U);
-  std::memcpy(out.data, static_cast<const std::uint8_t*>(f.data), f.length);
+  std::memcpy(static_cast<__u8*>(out.data), static_cast<const std::uint8_t*>(f.data), f.length);
   const std::size_t size = f.fd ? CANFD_MTU : CAN_MTU;  // a classic frame is written as struct can_frame
   const ssize_t n = ::write(fd_, &out, size);
-  if (n == static_cast<ssize_t>(size)) return CanStatus::ok;
-  if (n < 0 && (errno == ENOBUFS || errno == EAGAIN)) return CanStatus::queue_full;
+  if (n == static_cast<ssize_t>(size)) { return CanStatus::ok;
+}
+  if (n < 0 && (errno == ENOBUFS || errno == EAGAIN)) { return CanStatus::queue_full;
+}
   ++counters_.send_errors;
-  if (n < 0 && errno == ENETDOWN) state_ = CanErrorState::bus_off;
+  if (n < 0 && errno == ENETDOWN) { state_ = CanErrorState::bus_off;
+}
   return n < 0 && errno == ENETDOWN ? CanStatus::bus_off : CanStatus::invalid;
 }
 
@@ -122,9 +130,11 @@ bool SocketCanPort::receive(CanFrame& out) noexcept {
     msg.msg_control = control.data();
     msg.msg_controllen = control.size();
     const ssize_t n = ::recvmsg(fd_, &msg, MSG_DONTWAIT);
-    if (n < 0) return false;  // EAGAIN: nothing queued (other errors: nothing readable either)
+    if (n < 0) { return false;  // EAGAIN: nothing queued (other errors: nothing readable either)
+}
     const bool fd_frame = n == static_cast<ssize_t>(CANFD_MTU);
-    if (!fd_frame && n != static_cast<ssize_t>(CAN_MTU)) continue;  // not a CAN frame: skip
+    if (!fd_frame && n != static_cast<ssize_t>(CAN_MTU)) { continue;  // not a CAN frame: skip
+}
     if ((in.can_id & CAN_ERR_FLAG) != 0U) {
       ++counters_.error_frames;
       if ((in.can_id & CAN_ERR_BUSOFF) != 0U) {
@@ -133,23 +143,27 @@ bool SocketCanPort::receive(CanFrame& out) noexcept {
         state_ = CanErrorState::error_active;
       } else if ((in.can_id & CAN_ERR_CRTL) != 0U) {
         const auto ctrl = in.data[1];
-        if ((ctrl & (CAN_ERR_CRTL_RX_PASSIVE | CAN_ERR_CRTL_TX_PASSIVE)) != 0U) state_ = CanErrorState::error_passive;
+        if ((ctrl & (CAN_ERR_CRTL_RX_PASSIVE | CAN_ERR_CRTL_TX_PASSIVE)) != 0U) { state_ = CanErrorState::error_passive;
+}
 #ifdef CAN_ERR_CRTL_ACTIVE
-        if ((ctrl & CAN_ERR_CRTL_ACTIVE) != 0U) state_ = CanErrorState::error_active;
+        if ((ctrl & CAN_ERR_CRTL_ACTIVE) != 0U) { state_ = CanErrorState::error_active;
+}
 #endif
       }
       continue;
     }
-    if ((in.can_id & CAN_RTR_FLAG) != 0U) continue;  // the protocol has no remote frames
+    if ((in.can_id & CAN_RTR_FLAG) != 0U) { continue;  // the protocol has no remote frames
+}
     out = CanFrame{};
     out.extended = (in.can_id & CAN_EFF_FLAG) != 0U;
     out.id = in.can_id & (out.extended ? CAN_EFF_MASK : CAN_SFF_MASK);
     out.fd = fd_frame;
     out.length = in.len > (fd_frame ? CANFD_MAX_DLEN : CAN_MAX_DLEN) ? static_cast<std::uint8_t>(fd_frame ? CANFD_MAX_DLEN : CAN_MAX_DLEN)
                                                                      : in.len;
-    std::memcpy(static_cast<std::uint8_t*>(out.data), in.data, out.length);
+    std::memcpy(static_cast<std::uint8_t*>(out.data), static_cast<const __u8*>(in.data), out.length);
     for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c != nullptr; c = CMSG_NXTHDR(&msg, c)) {
-      if (c->cmsg_level != SOL_SOCKET) continue;
+      if (c->cmsg_level != SOL_SOCKET) { continue;
+}
       if (c->cmsg_type == SO_TIMESTAMPING) {
         std::array<timespec, 3> ts{};
         std::memcpy(ts.data(), CMSG_DATA(c), sizeof ts);
@@ -164,7 +178,7 @@ bool SocketCanPort::receive(CanFrame& out) noexcept {
   }
 }
 
-void SocketCanPort::set_filters(const CanFilter* filters, std::size_t n) noexcept {
+void SocketCanPort::set_filters(const CanFilter* filters, std::size_t n) const noexcept {
   std::vector<can_filter> k;
   k.reserve(n == 0 ? 1 : n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -172,7 +186,8 @@ void SocketCanPort::set_filters(const CanFilter* filters, std::size_t n) noexcep
     const canid_t frame_type = standard ? 0U : CAN_EFF_FLAG;
     k.push_back({filters[i].match | frame_type, filters[i].mask | CAN_EFF_FLAG | CAN_RTR_FLAG});
   }
-  if (n == 0) k.push_back({0U, 0U});  // accept everything
+  if (n == 0) { k.push_back({0U, 0U});  // accept everything
+}
   (void)::setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_FILTER, k.data(), static_cast<socklen_t>(k.size() * sizeof(can_filter)));
 }
 
@@ -182,6 +197,7 @@ bool SocketCanPort::wait_readable(std::int64_t timeout_us) const noexcept {
   return ::poll(&p, 1, ms) > 0 && (p.revents & POLLIN) != 0;
 }
 
+// NOLINTNEXTLINE(readability-convert-member-functions-to-static): the clock contract is a const member
 std::uint64_t MonotonicClock::now_us() const noexcept {
   timespec ts{};
   ::clock_gettime(CLOCK_MONOTONIC, &ts);

@@ -40,7 +40,7 @@ class SocketCanPort {
   [[nodiscard]] CanErrorState error_state() const noexcept { return state_; }
   /// Kernel acceptance filters (n = 0: accept all). Standard identifiers when match and
   /// mask fit 11 bits, extended otherwise.
-  void set_filters(const CanFilter* filters, std::size_t n) noexcept;
+  void set_filters(const CanFilter* filters, std::size_t n) const noexcept;  // the kernel holds the filters
 
   /// Blocks until a frame can be read or `timeout_us` passes (negative: forever).
   [[nodiscard]] bool wait_readable(std::int64_t timeout_us) const noexcept;
@@ -59,6 +59,7 @@ static_assert(is_can_port_v<SocketCanPort>, "SocketCanPort satisfies the CAN por
 
 /// Monotonic clock for host processes (CLOCK_MONOTONIC) [us].
 struct MonotonicClock {
+  // NOLINTNEXTLINE(readability-convert-member-functions-to-static): the clock contract is a const member
   [[nodiscard]] std::uint64_t now_us() const noexcept;
 };
 static_assert(is_clock_v<MonotonicClock>, "MonotonicClock satisfies the clock contract");
