@@ -7,7 +7,7 @@ SRC="$2"
 W=$(mktemp -d)
 trap 'rm -rf "$W"' EXIT
 cd "$SRC"
-for c in simulate identify calibrate evaluate replay diagnose bench demo; do
+for c in simulate identify calibrate evaluate replay diagnose bench demo node plant decode; do
   "$J" "$c" --help > /dev/null
 done
 "$J" simulate scenarios/paper_excitation.yaml --out "$W/excitation.csv"
@@ -21,6 +21,16 @@ grep -q '"link": 2' "$W/events.json" || { echo "replay did not isolate link 2"; 
 grep -q '"detection_rate": 1.0' "$W/paper.json" || { echo "paper scenarios not all detected"; exit 1; }
 "$J" diagnose --model models/ref3.yaml --real "$W/shoulder.csv" --sim "$W/shoulder.csv" --json "$W/diag.json" > "$W/diag.txt"
 grep -q '"effect": "none"' "$W/diag.json" || { echo "a recording against itself must show nothing missing"; exit 1; }
+# The drives in the loop on the simulated CAN FD bus (in-process; the SocketCAN processes
+# run in tests/can/hil).
+"$J" simulate scenarios/paper_collision_shoulder.yaml --out "$W/shoulder_bus.csv" --bus sim --friction "$W/friction.json" \
+  --threshold "$W/threshold.json" --json "$W/bus.json" > "$W/bus.txt"
+grep -q '"link_isolated": 2' "$W/bus.json" || { echo "drives on the bus did not isolate link 2"; cat "$W/bus.txt"; exit 1; }
+set +e
+"$J" node --joint 1 --iface jg-no-such-if0 --startup-timeout 1 2> "$W/err.txt"; rc=$?
+set -e
+[ "$rc" = 1 ] || { echo "expected exit 1 for a missing CAN interface, got $rc"; exit 1; }
+grep -q "socketcan jg-no-such-if0" "$W/err.txt" || { echo "the error must name the interface"; cat "$W/err.txt"; exit 1; }
 # Bad input: clear message, exit code 1 (work failed) or 2 (command line), nothing written.
 printf 't,q1,dq1,i1\n0,0,nan,0\n' > "$W/bad.csv"
 set +e
