@@ -122,6 +122,17 @@ struct PaperSetup {
     c.thresholds.low_speed_extra = {3.0, 3.0, 3.0};
     return c;
   }
+  /// The drives of config() on the simulated bus at 1 kHz, with `faults` injected.
+  eval::DistributedConfig bus_config(const can::FaultPlan& faults = {}) const {
+    const hil::HilConfig c = config();
+    eval::DistributedConfig dc;
+    dc.estimator.model = c.model;
+    dc.estimator.dt = 0.001;
+    dc.estimator.friction = c.friction;
+    dc.node_thresholds = eval::threshold_bands(c.thresholds);
+    dc.faults = faults;
+    return dc;
+  }
 };
 
 TEST(DrivesInTheLoop, DetectAsTheCentralisedChainOnThePaperCollisions) {
@@ -192,14 +203,8 @@ TEST(DrivesInTheLoop, EveryBusFaultEndsInItsDocumentedState) {
       {"duplicated (out-of-sequence) neighbour frames", plan(0, 0, 1.0, 0), false},
   };
   for (const FaultCase& fc : cases) {
-    hil::HilConfig c = ps.config();
-    eval::DistributedConfig dc;
-    dc.estimator.model = c.model;
-    dc.estimator.dt = 0.001;
-    dc.estimator.friction = c.friction;
-    dc.node_thresholds = eval::threshold_bands(c.thresholds);
-    dc.faults = fc.plan;
-    auto est = eval::make_distributed_estimator(dc, "float");
+    const hil::HilConfig c = ps.config();
+    auto est = eval::make_distributed_estimator(ps.bus_config(fc.plan), "float");
     eval::DetectionConfig d;
     d.threshold = c.thresholds.threshold;
     d.low_speed_extra = c.thresholds.low_speed_extra;
@@ -240,13 +245,8 @@ TEST(DrivesInTheLoop, BusOffAndBabblingNodeRaiseTheCommunicationFault) {
   const PaperSetup ps;
   const auto scenario = sim::load_scenario(std::string(JG_SOURCE_DIR) + "/scenarios/paper_collision_shoulder.yaml");
   for (const char* fault : {"bus-off", "babbling"}) {
-    hil::HilConfig c = ps.config();
-    eval::DistributedConfig dc;
-    dc.estimator.model = c.model;
-    dc.estimator.dt = 0.001;
-    dc.estimator.friction = c.friction;
-    dc.node_thresholds = eval::threshold_bands(c.thresholds);
-    auto est = eval::make_distributed_estimator(dc, "q");
+    const hil::HilConfig c = ps.config();
+    auto est = eval::make_distributed_estimator(ps.bus_config(), "q");
     if (std::string(fault) == "bus-off") {
       est->bus().port(2).go_bus_off();  // drive 2's controller leaves the bus
     } else {
