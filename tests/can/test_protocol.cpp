@@ -72,6 +72,62 @@ TEST(Protocol, SequenceTrackerRejectsDuplicatesAndReorderingAcrossTheWrap) {
   EXPECT_EQ(t.accept(5), FrameError::ok) << "lost frames in between are allowed (counted by the node)";
 }
 
+TEST(Protocol, SensorStatusAndSyncRoundTripAtTheirBoundsAndEveryRejection) {
+  const jg::q16 hi = std::numeric_limits<jg::q16>::max(), lo = std::numeric_limits<jg::q16>::lowest();
+  std::uint8_t buf[64];
+  std::uint8_t seq = 0;
+  for (const std::uint8_t s : {std::uint8_t{0}, std::uint8_t{255}}) {
+    const SensorMessage<jg::q16> m{hi, lo, jg::q16::from_raw(1)};
+    ASSERT_EQ(encode_sensor(m, s, buf), kSensorFrameLength);
+    SensorMessage<jg::q16> back{};
+    ASSERT_EQ(decode_sensor(buf, kSensorFrameLength, back, seq), FrameError::ok);
+    EXPECT_EQ(seq, s);
+    EXPECT_EQ(back.position.raw(), hi.raw());
+    EXPECT_EQ(back.velocity.raw(), lo.raw());
+    EXPECT_EQ(back.motor_torque.raw(), 1);
+  }
+  SensorMessage<float> fs{1e9F, -1e9F, 0.5F};  // saturates on the wire, never wraps
+  ASSERT_EQ(encode_sensor(fs, 1, buf), kSensorFrameLength);
+  SensorMessage<float> fb{};
+  ASSERT_EQ(decode_sensor(buf, kSensorFrameLength, fb, seq), FrameError::ok);
+  EXPECT_GT(fb.position, 32767.0F);
+  EXPECT_LT(fb.velocity, -32767.0F);
+  EXPECT_EQ(fb.motor_torque, 0.5F);
+  EXPECT_EQ(decode_sensor(buf, 8, fb, seq), FrameError::wrong_length);
+  buf[3] ^= 0x01U;
+  EXPECT_EQ(decode_sensor(buf, kSensorFrameLength, fb, seq), FrameError::bad_crc);
+  buf[3] ^= 0x01U;
+  buf[15] = 0x80U;
+  EXPECT_EQ(decode_sensor(buf, kSensorFrameLength, fb, seq), FrameError::bad_padding);
+
+  const StatusMessage<jg::q16> st{lo, 0xFF, 255};
+  ASSERT_EQ(encode_status(st, 255, buf), kStatusFrameLength);
+  StatusMessage<jg::q16> sb{};
+  ASSERT_EQ(decode_status(buf, kStatusFrameLength, sb, seq), FrameError::ok);
+  EXPECT_EQ(sb.external_torque.raw(), lo.raw());
+  EXPECT_EQ(sb.flags, 0xFF);
+  EXPECT_EQ(sb.rejected, 255);
+  EXPECT_EQ(decode_status(buf, 7, sb, seq), FrameError::wrong_length);
+  for (int byte = 0; byte < 8; ++byte) {
+    std::uint8_t bad[8];
+    std::memcpy(bad, buf, 8);
+    bad[byte] ^= 0x20U;
+    EXPECT_NE(decode_status(bad, 8, sb, seq), FrameError::ok) << "byte " << byte;
+  }
+
+  for (const std::uint32_t cycle : {0U, 255U, 256U, 0xFFFFFFFFU}) {
+    ASSERT_EQ(encode_sync(cycle, buf), kSyncFrameLength);
+    EXPECT_EQ(buf[0], cycle & 0xFFU) << "the sync's sequence is the cycle's low byte";
+    std::uint32_t back = 1;
+    ASSERT_EQ(decode_sync(buf, kSyncFrameLength, back), FrameError::ok);
+    EXPECT_EQ(back, cycle);
+  }
+  std::uint32_t c = 0;
+  EXPECT_EQ(decode_sync(buf, 12, c), FrameError::wrong_length);
+  buf[6] = 1U;
+  EXPECT_EQ(decode_sync(buf, kSyncFrameLength, c), FrameError::bad_crc) << "reserved bytes are inside the CRC";
+}
+
 TEST(Hal, LoopbackHonoursFiltersCapacityAndLengths) {
   jg::hal::LoopbackCan<2> port;
   jg::hal::CanFrame f;
