@@ -136,6 +136,35 @@ constexpr std::int64_t shift_round(std::int64_t v, int shift) noexcept {
 }  // namespace detail
 
 template <int FracBits>
+class Q;
+
+namespace detail {
+/// Rounds and saturates an exact 64-bit sum of products to Q<F>: `acc` holds the result's
+/// raw value times 2^Shift **with the rounding constant 2^(Shift-1) already added**, so the
+/// rounding is one arithmetic shift. The result fits when bits 63..31+Shift all copy the
+/// sign, i.e. when the high word equals (acc >> Shift) >> (32 - Shift) taken as int32;
+/// otherwise it saturates by the sign. Shift in [1, 32] keeps the test on the high word.
+template <int F, int Shift = F>
+constexpr Q<F> round_presum(std::int64_t acc) noexcept {
+  static_assert(Shift >= 1 && Shift <= 32, "the range test looks at the high word only");
+  const auto hi = static_cast<std::int32_t>(acc >> 32);
+  auto v = static_cast<std::int32_t>(acc >> Shift);
+  // v is exact iff the high word is v's sign extension (one CMP with a shifted operand);
+  // out of range is the rare case: keep the common path straight-line.
+  if (__builtin_expect(static_cast<long>(hi != (v >> (32 - Shift))), 0L) != 0L) {
+    v = hi < 0 ? kRawMin : kRawMax;
+  }
+  // INT32_MIN passes the test above but is outside the symmetric range.
+  return Q<F>::from_symmetric_raw(symmetric_raw(v));
+}
+template <int Shift>
+constexpr std::int64_t rounding_constant() noexcept {
+  return std::int64_t{1} << (Shift - 1);
+}
+
+}  // namespace detail
+
+template <int FracBits>
 class Q {
   static_assert(FracBits >= 1 && FracBits <= 30,
                 "Q<F>: 1..30 fractional bits (1.0 must be representable)");
@@ -273,15 +302,10 @@ class Q {
     return q;
   }
   /// Q<F> * Q<F> -> Q<F>: 32x32->64 product (SMULL on Cortex-M4), round, saturate.
+  /// 32x32->64 multiply-accumulate with the rounding constant (SMLAL), then the range
+  /// test on the high word (detail::round_presum).
   friend constexpr Q operator*(Q a, Q b) noexcept {
-    // 32x32->64 multiply-accumulate with the rounding constant (SMLAL); the result fits
-    // when every bit above bit 31+F copies the sign: (hi >> (F-1)) == (hi >> 31).
-    const std::int64_t prod = std::int64_t{a.raw_} * b.raw_ + (std::int64_t{1} << (FracBits - 1));
-    const auto hi = static_cast<std::int32_t>(prod >> 32);
-    if ((hi >> (FracBits - 1)) != (hi < 0 ? -1 : 0)) {
-      return from_raw(hi < 0 ? detail::kRawMin : detail::kRawMax);
-    }
-    return from_raw(static_cast<std::int32_t>(prod >> FracBits));
+    return detail::round_presum<FracBits>(std::int64_t{a.raw_} * b.raw_ + detail::rounding_constant<FracBits>());
   }
   constexpr Q& operator+=(Q b) noexcept { return *this = *this + b; }
   constexpr Q& operator-=(Q b) noexcept { return *this = *this - b; }

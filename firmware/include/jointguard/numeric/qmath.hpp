@@ -168,29 +168,6 @@ constexpr std::int32_t mul_hi(std::int32_t a, std::int32_t b) noexcept {
   return static_cast<std::int32_t>(product >> 32);
 }
 
-/// Rounds and saturates an exact 64-bit sum of products to Q<F>: `acc` holds the result's
-/// raw value times 2^Shift **with the rounding constant 2^(Shift-1) already added**, so the
-/// rounding is one arithmetic shift. The result fits when bits 63..31+Shift all copy the
-/// sign, i.e. when the high word equals (acc >> Shift) >> (32 - Shift) taken as int32;
-/// otherwise it saturates by the sign. Shift in [1, 32] keeps the test on the high word.
-template <int F, int Shift = F>
-constexpr Q<F> round_presum(std::int64_t acc) noexcept {
-  static_assert(Shift >= 1 && Shift <= 32, "the range test looks at the high word only");
-  const auto hi = static_cast<std::int32_t>(acc >> 32);
-  auto v = static_cast<std::int32_t>(acc >> Shift);
-  // v is exact iff the high word is v's sign extension (one CMP with a shifted operand);
-  // out of range is the rare case: keep the common path straight-line.
-  if (__builtin_expect(static_cast<long>(hi != (v >> (32 - Shift))), 0L) != 0L) {
-    v = hi < 0 ? kRawMin : kRawMax;
-  }
-  // INT32_MIN passes the test above but is outside the symmetric range.
-  return Q<F>::from_symmetric_raw(symmetric_raw(v));
-}
-template <int Shift>
-constexpr std::int64_t rounding_constant() noexcept {
-  return std::int64_t{1} << (Shift - 1);
-}
-
 /// Saturating int64 sum. Only used where more than two full-range products meet: two
 /// products of Q values are below 2^62 in magnitude each, so a pair never overflows.
 /// Written with the sign rule rather than __builtin_add_overflow, which GCC 12 expands
@@ -278,7 +255,7 @@ constexpr Q<F> from_unit_q30(std::int32_t v) noexcept {
   if constexpr (F == 30) {
     return Q<F>::from_raw(v);
   } else {
-    return Q<F>::from_raw((v + (std::int32_t{1} << (29 - F))) >> (30 - F));
+    return Q<F>::from_symmetric_raw((v + (std::int32_t{1} << (29 - F))) >> (30 - F));
   }
 }
 
@@ -404,7 +381,8 @@ template <int F>
   // p + 2^(s-1) < 2^31 + 2^30 fits uint32.
   const auto s = static_cast<unsigned>(30 - F - n);
   const std::uint32_t r = (p + ((std::uint32_t{1} << s) >> 1U)) >> s;
-  return Q<F>::from_raw(r > static_cast<std::uint32_t>(detail::kRawMax) ? detail::kRawMax : static_cast<std::int32_t>(r));
+  return Q<F>::from_symmetric_raw(r > static_cast<std::uint32_t>(detail::kRawMax) ? detail::kRawMax
+                                                                               : static_cast<std::int32_t>(r));
 }
 /// sin and cos of one angle, Q<F> rad -> Q<F>: one exact reduction modulo 2 pi (any x)
 /// and two short polynomials (detail::sincos_q30). Error 0.5 LSB plus < 1e-8.
@@ -454,7 +432,7 @@ template <int F>
     return Q<F>::from_raw(negative ? detail::kRawMin : detail::kRawMax);
   }
   const auto q = static_cast<std::int32_t>(quotient);
-  return Q<F>::from_raw(negative ? -q : q);
+  return Q<F>::from_symmetric_raw(negative ? -q : q);  // 0 <= q <= kRawMax
 }
 
 template <int F>
@@ -475,6 +453,13 @@ template <int F>
                                      detail::rounding_constant<30>());
 }
 
+/// c + a*b, Q<F>: exact (one product below 2^62 plus c 2^F below 2^(31+F) cannot
+/// overflow int64), one rounding, one saturation. No precondition.
+template <int F>
+[[nodiscard]] constexpr Q<F> mac(Q<F> c, Q<F> a, Q<F> b) noexcept {
+  return detail::round_presum<F>(std::int64_t{c.raw()} * Q<F>::one_raw + detail::rounding_constant<F>() +
+                                 std::int64_t{a.raw()} * b.raw());
+}
 /// a*b + c*d, Q<F>: both products exact in 64 bits (each below 2^62 in magnitude, so the
 /// sum cannot overflow), one rounding, one saturation.
 template <int F>
@@ -540,6 +525,11 @@ template <class T, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
 inline void sincos(T x, T& s, T& c) noexcept {
   s = std::sin(x);
   c = std::cos(x);
+}
+/// c + a * b for float/double.
+template <class T, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
+[[nodiscard]] constexpr T mac(T c, T a, T b) noexcept {
+  return c + a * b;
 }
 /// c1 * x1 + c2 * x2 for float/double.
 template <class T, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
