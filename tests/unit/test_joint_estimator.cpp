@@ -45,3 +45,37 @@ TEST(JointEstimator, RejectsNonFiniteInputsAndKeepsLastGoodOutput) {
   EXPECT_FALSE(s.input_fault);
 }
 }  // namespace
+
+namespace {
+TEST(LinkConstants, FoldedOnTheHostAndBounded) {
+  jg::LinkDescription d;
+  d.alpha_prev = 1.5707963267948966;
+  d.a_prev = 0.3;
+  d.d = 0.1;
+  d.mass = 2.0;
+  d.com[0] = 0.2;
+  d.com[2] = 0.05;
+  d.inertia_com[0] = 0.01;
+  d.inertia_com[1] = 0.02;
+  d.inertia_com[2] = 0.03;
+  jg::LinkConstants<double> c{};
+  ASSERT_EQ(jg::convert_link(d, c), jg::Error::ok);
+  // Parallel-axis theorem about O_i, first moment m c, origin (a, -sin(alpha) d, cos(alpha) d).
+  EXPECT_NEAR(c.inertia_origin.xx, 0.01 + 2.0 * 0.05 * 0.05, 1e-15);
+  EXPECT_NEAR(c.inertia_origin.yy, 0.02 + 2.0 * (0.2 * 0.2 + 0.05 * 0.05), 1e-15);
+  EXPECT_NEAR(c.inertia_origin.zz, 0.03 + 2.0 * 0.2 * 0.2, 1e-15);
+  EXPECT_NEAR(c.inertia_origin.xz, -2.0 * 0.2 * 0.05, 1e-15);
+  EXPECT_NEAR(c.first_moment.x, 0.4, 1e-15);
+  EXPECT_NEAR(c.origin_in_parent.y, -0.1, 1e-15);
+  EXPECT_NEAR(c.origin_in_parent.z, 0.0, 1e-15);
+  EXPECT_NEAR(c.a_sin_alpha_prev, 0.3, 1e-15);
+  EXPECT_NEAR(c.d_sin_alpha_prev, 0.1, 1e-15);
+  // Beyond kMaxLinkConstant the fused 64-bit sums of the Q16.16 recursion could overflow:
+  // refused for every scalar, `out` untouched.
+  d.mass = 5000.0;
+  jg::LinkConstants<jg::q16> q{};
+  EXPECT_EQ(jg::convert_link(d, q), jg::Error::out_of_range);
+  EXPECT_EQ(jg::convert_link(d, c), jg::Error::out_of_range);
+  EXPECT_NEAR(c.first_moment.x, 0.4, 1e-15);
+}
+}  // namespace

@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <limits>
 
 #include "jointguard/numeric/qmath.hpp"
 
@@ -124,5 +126,119 @@ TEST(QMath, ConvertIsRangeChecked) {
   EXPECT_EQ(st.not_finite, 1U);
   EXPECT_EQ(jg::convert<q16>(1e6, st).raw(), 2147483647);
   EXPECT_EQ(st.saturated, 2U);
+}
+}  // namespace
+
+namespace {
+// Reference semantics of the fused kernels: the exact sum in 128-bit-free double-checked
+// integer arithmetic (__int128 on the host), rounded half up, saturated symmetrically.
+std::int32_t reference_round(__int128 sum_q2f) {
+  const __int128 r = (sum_q2f + (__int128{1} << 15)) >> 16;
+  if (r > 2147483647) {
+    return 2147483647;
+  }
+  if (r < -2147483647) {
+    return -2147483647;
+  }
+  return static_cast<std::int32_t>(r);
+}
+
+TEST(QMath, FusedSumsRoundOnceAndSaturateSymmetrically) {
+  const std::int32_t edges[] = {0, 1, -1, 32767, -32768, 65535, 65536, -65536, 2147483647, -2147483647,
+                                1073741824, -1073741824, 123456789, -987654321, 1900000000, -1900000000};
+  for (const std::int32_t a : edges) {
+    for (const std::int32_t b : edges) {
+      for (const std::int32_t c : edges) {
+        const q16 qa = q16::from_raw(a), qb = q16::from_raw(b), qc = q16::from_raw(c);
+        const __int128 ab = static_cast<__int128>(a) * b;
+        ASSERT_EQ((qa * qb).raw(), reference_round(ab)) << a << " " << b;
+        ASSERT_EQ(jg::sum_of_products(qa, qb, qc, qa).raw(), reference_round(ab + static_cast<__int128>(c) * a));
+        ASSERT_EQ(jg::sum_of_products(qa, qb, qc, qa, qb, qc).raw(),
+                  reference_round(ab + static_cast<__int128>(c) * a + static_cast<__int128>(b) * c));
+        ASSERT_EQ(jg::sum_of_products(qa, qb, qc, qa, qb, qc, qa, qa).raw(),
+                  reference_round(ab + static_cast<__int128>(c) * a + static_cast<__int128>(b) * c +
+                                  static_cast<__int128>(a) * a));
+        ASSERT_EQ(jg::mac(qc, qa, qb).raw(), reference_round(ab + static_cast<__int128>(c) * 65536));
+        ASSERT_EQ((qa + qb).raw(), reference_round((static_cast<__int128>(a) + b) * 65536));
+        ASSERT_EQ((qa - qb).raw(), reference_round((static_cast<__int128>(a) - b) * 65536));
+      }
+    }
+  }
+  // INT32_MIN is never produced: a result of exactly -32768.0 (raw -2^31, which passes
+  // the high-word range test) maps to the symmetric minimum.
+  EXPECT_EQ((q16::from_double(-16384.0) * q16::from_double(2.0)).raw(), -2147483647);
+  EXPECT_EQ(jg::dot_bounded(q16::from_double(-16384.0), q16::from_double(2.0)).raw(), -2147483647);
+  EXPECT_EQ((q16::from_double(-32767.0) - q16::from_double(1.0)).raw(), -2147483647);
+  EXPECT_EQ(jg::mac(q16::from_double(-32767.0), q16::from_double(-1.0), q16::from_double(1.0)).raw(), -2147483647);
+}
+
+TEST(QMath, BoundedSumsMatchTheExactSum) {
+  // Within the documented bound (a full-range signal times operands below 2^28).
+  std::uint32_t seed = 12345U;
+  auto next = [&seed]() {
+    seed = seed * 1664525U + 1013904223U;
+    return static_cast<std::int32_t>(seed);
+  };
+  for (int i = 0; i < 200000; ++i) {
+    const q16 c = q16::from_raw(next() / 2), s0 = q16::from_raw(next() / 2), s1 = q16::from_raw(next() / 2),
+              s2 = q16::from_raw(next() / 2);
+    const q16 k0 = q16::from_raw(next() >> 4), k1 = q16::from_raw(next() >> 4), k2 = q16::from_raw(next() >> 4);
+    const __int128 exact = static_cast<__int128>(c.raw()) * 65536 + static_cast<__int128>(s0.raw()) * k0.raw() +
+                           static_cast<__int128>(s1.raw()) * k1.raw() + static_cast<__int128>(s2.raw()) * k2.raw();
+    ASSERT_EQ(jg::mac_bounded(c, s0, k0, s1, k1, s2, k2).raw(), reference_round(exact));
+    ASSERT_EQ(jg::dot_bounded(s0, k0, s1, k1, s2, k2).raw(), reference_round(exact - static_cast<__int128>(c.raw()) * 65536));
+  }
+}
+
+TEST(QMath, DivisionMatchesThe64BitQuotientExactly) {
+  // The 64/32 long division (UDIV digits) against the plain 64-bit quotient it replaced.
+  std::uint32_t seed = 777U;
+  auto next = [&seed]() {
+    seed = seed * 1664525U + 1013904223U;
+    return static_cast<std::int32_t>(seed);
+  };
+  for (int i = 0; i < 400000; ++i) {
+    const int shift_a = i % 31;
+    const int shift_b = (i / 31) % 31;
+    std::int32_t a = next() >> shift_a;
+    std::int32_t b = next() >> shift_b;
+    a = a == std::numeric_limits<std::int32_t>::min() ? a + 1 : a;
+    b = b == std::numeric_limits<std::int32_t>::min() ? b + 1 : b;
+    if (b == 0) {
+      continue;
+    }
+    const std::int64_t ua = a < 0 ? -std::int64_t{a} : a;
+    const std::int64_t ub = b < 0 ? -std::int64_t{b} : b;
+    const std::int64_t q = ((ua << 16) + ub / 2) / ub;
+    const std::int64_t sat = q > 2147483647 ? 2147483647 : q;
+    const std::int64_t expected = (a < 0) != (b < 0) ? -sat : sat;
+    ASSERT_EQ(jg::div(q16::from_raw(a), q16::from_raw(b)).raw(), expected) << a << " / " << b;
+  }
+}
+
+TEST(QMath, ExpEarlyExitsAreExact) {
+  // Below -(F+1) ln 2 the result is under half an LSB; from ln(2^15) up it saturates.
+  const double zero_below = -17.0 * std::log(2.0);
+  for (double x = zero_below - 3.0; x < zero_below + 0.2; x += 1.0 / 65536.0 * 37.0) {
+    const q16 q = q16::from_double(x);
+    const double ref = std::exp(q.to_double()) * 65536.0;
+    EXPECT_NEAR(static_cast<double>(jg::exp(q).raw()), ref, 0.5 + 1e-6) << x;
+  }
+  for (double x = 10.3; x < 10.5; x += 0.0007) {
+    const q16 q = q16::from_double(x);
+    const double ref = std::min(std::exp(q.to_double()) * 65536.0, 2147483647.0);
+    EXPECT_NEAR(static_cast<double>(jg::exp(q).raw()), ref, ref * 1e-8 + 0.5) << x;
+  }
+}
+
+TEST(QMath, SinCosTogether) {
+  for (double x = -40.0; x <= 40.0; x += 0.01237) {
+    q16 s{}, c{};
+    jg::sincos(q16::from_double(x), s, c);
+    EXPECT_EQ(s.raw(), jg::sin(q16::from_double(x)).raw());
+    EXPECT_EQ(c.raw(), jg::cos(q16::from_double(x)).raw());
+    EXPECT_LE(std::abs(s.raw()), 65536);
+    EXPECT_LE(std::abs(c.raw()), 65536);
+  }
 }
 }  // namespace

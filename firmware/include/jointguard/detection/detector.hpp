@@ -10,8 +10,9 @@
 // latched until reset. Across joints: a force on link i loads joints 1..i only, so the
 // highest joint whose flag is up names the collided link (fault signature [1..1 0..0]).
 //
-// Scalar: any (float, double, Q16.16). Q16.16: thresholds and torques in N·m; the band
-// is one product and one sum, saturating.
+// Scalar: any (float, double, Q16.16). Q16.16: thresholds and torques in N·m; the two
+// growth terms of the band are one exact sum of products (rounded once), then the base
+// is added; everything saturates.
 #pragma once
 
 #include <cstdint>
@@ -44,7 +45,8 @@ template <class S>
 [[nodiscard]] constexpr bool detector_step(const JointThreshold<S>& threshold, DebounceSettings debounce,
                                            JointDetectorState& state, S external_torque, S velocity) noexcept {
   const S u = velocity * threshold.inv_low_speed_width;
-  const S band = threshold.base + threshold.per_speed * jg::abs(velocity) + threshold.low_speed_extra * jg::exp(-(u * u));
+  const S band =
+      threshold.base + sum_of_products(threshold.per_speed, jg::abs(velocity), threshold.low_speed_extra, jg::exp(-(u * u)));
   if (band < jg::abs(external_torque)) {
     if (state.over_count < 255U) {
       ++state.over_count;

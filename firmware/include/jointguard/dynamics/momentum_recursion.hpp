@@ -14,8 +14,15 @@
 // (checked numerically in tests/dynamics).
 //
 // Q16.16: velocities [rad/s, m/s], momenta [N·m·s, N·s], first moments [kg m], masses
-// [kg], gravity [m/s^2] all well inside +/-32768 for a collaborative arm; each scalar
-// operation rounds to 0.5 LSB and saturates. Error against double: tests/dynamics.
+// [kg], gravity [m/s^2] all well inside +/-32768 for a collaborative arm. Every output
+// component is one exact 64-bit sum of products (the link's folded constants, see
+// LinkConstants), rounded to 0.5 LSB and saturated once. The sums use mac_bounded /
+// dot_bounded (no 64-bit overflow check): their operands are full-range signals (< 2^31
+// raw, whatever a neighbour sends) times either sin/cos entries (<= 2^16 raw) or link
+// constants (< 2^28 raw, enforced by convert_link), at most 7 products and one signal
+// addend per sum: below 7 * 2^59 + 2^47 < 2^63. Where two signals multiply (gravity and
+// Coriolis terms) the checked sum_of_products is used. Error against double:
+// tests/dynamics.
 #pragma once
 
 #include "jointguard/dynamics/link.hpp"
@@ -44,9 +51,9 @@ struct InwardMessage {
 template <class S>
 struct OutwardState {
   DhRotation<S> rotation{};
-  Vec3<S> origin_in_parent{};  ///< O_i in frame i-1 [m]
   Vec3<S> parent_angular_velocity{}, parent_point_velocity{};  ///< in frame i, at O_i
-  Vec3<S> angular_velocity{}, origin_velocity{}, gravity{};    ///< link i, frame i
+  Vec3<S> angular_velocity{}, gravity{};  ///< link i, frame i (O_i's velocity is parent_point_velocity:
+                                          ///< O_i lies on joint i's axis)
 };
 
 template <class S>
@@ -75,17 +82,29 @@ template <class S>
 template <class S>
 constexpr void outward_step(const LinkConstants<S>& c, S q, S dq, const OutwardMessage<S>& parent,
                             OutwardState<S>& st, OutwardMessage<S>& to_child) noexcept {
-  const S theta = q + c.theta_offset;
-  st.rotation = {jg::cos(theta), jg::sin(theta), c.cos_alpha_prev, c.sin_alpha_prev};
-  st.origin_in_parent = {c.a_prev, -(c.sin_alpha_prev * c.d), c.cos_alpha_prev * c.d};
+  S ct{};
+  S s_t{};
+  jg::sincos(q + c.theta_offset, s_t, ct);
+  const S ca = c.cos_alpha_prev;
+  const S sa = c.sin_alpha_prev;
+  st.rotation = {ct, s_t, ca, sa};
   st.parent_angular_velocity = to_link(st.rotation, parent.angular_velocity);
-  st.parent_point_velocity =
-      to_link(st.rotation, parent.origin_velocity + cross(parent.angular_velocity, st.origin_in_parent));
   st.gravity = to_link(st.rotation, parent.gravity);
+  // Velocity of the parent's point at O_i, u = v + w x o (o = O_i in frame i-1), first
+  // rotated by RotX(alpha)^T; with o = (a, -sa d, ca d) the products of constants fold to
+  //   u'_x = v_x + ca d w_y + sa d w_z
+  //   u'_y = ca v_y + sa v_z - d w_x - sa a w_y + ca a w_z
+  //   u'_z = -sa v_y + ca v_z - ca a w_y - sa a w_z
+  // (ca^2 + sa^2 = 1 used on the host), then RotZ(theta)^T.
+  const Vec3<S>& w = parent.angular_velocity;
+  const Vec3<S>& v = parent.origin_velocity;
+  const S ux = mac_bounded(v.x, c.origin_in_parent.z, w.y, c.d_sin_alpha_prev, w.z);
+  const S uy = dot_bounded(ca, v.y, sa, v.z, -c.d, w.x, -c.a_sin_alpha_prev, w.y, c.a_cos_alpha_prev, w.z);
+  const S uz = dot_bounded(-sa, v.y, ca, v.z, -c.a_cos_alpha_prev, w.y, -c.a_sin_alpha_prev, w.z);
+  st.parent_point_velocity = {sum_of_products(ct, ux, s_t, uy), sum_of_products(-s_t, ux, ct, uy), uz};
   st.angular_velocity = st.parent_angular_velocity;
   st.angular_velocity.z = st.angular_velocity.z + dq;
-  st.origin_velocity = st.parent_point_velocity;  // O_i lies on joint i's axis
-  to_child = {st.angular_velocity, st.origin_velocity, st.gravity};
+  to_child = {st.angular_velocity, st.parent_point_velocity, st.gravity};
 }
 
 /// Inward step of joint i: adds its own link to the child's subtree message, returns the
@@ -93,23 +112,40 @@ constexpr void outward_step(const LinkConstants<S>& c, S q, S dq, const OutwardM
 template <class S>
 constexpr void inward_step(const LinkConstants<S>& c, S dq, const OutwardState<S>& st, const InwardMessage<S>& child,
                            InwardMessage<S>& parent_message, JointMomentum<S>& out) noexcept {
-  const Vec3<S> com_velocity = st.origin_velocity + cross(st.angular_velocity, c.com);
-  const Vec3<S> own_linear = c.mass * com_velocity;
-  const Vec3<S> own_angular = c.inertia_com * st.angular_velocity + cross(c.com, own_linear);
-  const Vec3<S> n = own_angular + child.angular_momentum;
-  const Vec3<S> l = own_linear + child.linear_momentum;
-  const Vec3<S> h = c.first_moment + child.first_moment;
+  const Vec3<S>& w = st.angular_velocity;
+  const Vec3<S>& v = st.parent_point_velocity;  // O_i's velocity
+  const Vec3<S>& fm = c.first_moment;
+  const Sym3<S>& in = c.inertia_origin;
+  // Own link about O_i, with the child's subtree added in the same sums:
+  //   linear  m (v + w x c)        = m v + w x (m c)
+  //   angular I_c w + c x m(v + w x c) = I_O w + (m c) x v   (I_O: parallel-axis, host)
+  const Vec3<S> l = {mac_bounded(child.linear_momentum.x, c.mass, v.x, w.y, fm.z, -w.z, fm.y),
+                     mac_bounded(child.linear_momentum.y, c.mass, v.y, w.z, fm.x, -w.x, fm.z),
+                     mac_bounded(child.linear_momentum.z, c.mass, v.z, w.x, fm.y, -w.y, fm.x)};
+  const Vec3<S> n = {
+      mac_bounded(child.angular_momentum.x, in.xx, w.x, in.xy, w.y, in.xz, w.z, fm.y, v.z, -fm.z, v.y),
+      mac_bounded(child.angular_momentum.y, in.xy, w.x, in.yy, w.y, in.yz, w.z, fm.z, v.x, -fm.x, v.z),
+      mac_bounded(child.angular_momentum.z, in.xz, w.x, in.yz, w.y, in.zz, w.z, fm.x, v.y, -fm.y, v.x)};
+  const Vec3<S> h = fm + child.first_moment;
   const S m = c.mass + child.mass;
-  out.momentum = n.z + c.rotor_inertia * dq;
-  out.gravity = -(cross(h, st.gravity).z);
-  // (C^T dq)_i = dT/dq_i = -z . (w_par x n + v_par x L)
-  const S coriolis_transpose = -(cross(st.parent_angular_velocity, n).z + cross(st.parent_point_velocity, l).z);
-  out.beta = out.gravity - coriolis_transpose;
-  // Re-express the subtree about O_{i-1} in frame i-1 for the parent.
-  const Vec3<S> l_parent = to_parent(st.rotation, l);
-  parent_message.linear_momentum = l_parent;
-  parent_message.angular_momentum = to_parent(st.rotation, n) + cross(st.origin_in_parent, l_parent);
-  parent_message.first_moment = to_parent(st.rotation, h) + m * st.origin_in_parent;
+  out.momentum = mac_bounded(n.z, c.rotor_inertia, dq);
+  // g_i = -z . (h x g); beta = g_i - (C^T dq)_i with (C^T dq)_i = -z . (w_par x n + v_par x L)
+  out.gravity = sum_of_products(h.y, st.gravity.x, -h.x, st.gravity.y);
+  const Vec3<S>& wp = st.parent_angular_velocity;
+  out.beta = out.gravity + sum_of_products(wp.x, n.y, -wp.y, n.x, v.x, l.y, -v.y, l.x);
+  // Re-express the subtree about O_{i-1} in frame i-1 for the parent:
+  //   L' = R L,  N' = R n + o x L',  H' = R h + m o,  R = RotX(alpha) RotZ(theta).
+  const DhRotation<S>& r = st.rotation;
+  const Vec3<S>& o = c.origin_in_parent;
+  const Vec3<S> lp = to_parent(r, l);
+  const S ny1 = sum_of_products(r.st, n.x, r.ct, n.y);
+  parent_message.angular_momentum = {dot_bounded(r.ct, n.x, -r.st, n.y, o.y, lp.z, -o.z, lp.y),
+                                     dot_bounded(r.ca, ny1, -r.sa, n.z, o.z, lp.x, -o.x, lp.z),
+                                     dot_bounded(r.sa, ny1, r.ca, n.z, o.x, lp.y, -o.y, lp.x)};
+  const S hy1 = sum_of_products(r.st, h.x, r.ct, h.y);
+  parent_message.first_moment = {dot_bounded(r.ct, h.x, -r.st, h.y, m, o.x), dot_bounded(r.ca, hy1, -r.sa, h.z, m, o.y),
+                                 dot_bounded(r.sa, hy1, r.ca, h.z, m, o.z)};
+  parent_message.linear_momentum = lp;
   parent_message.mass = m;
 }
 

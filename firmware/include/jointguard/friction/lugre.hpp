@@ -21,7 +21,8 @@
 //
 // Q16.16 (every member below): ranges needed for the paper's parameters at 125 Hz:
 // a <= 800, c1 <= 3.2 at 1 kHz, |w| <= 40 rad/s, |a w| < 32768 -> fits. Intermediates
-// are single Q16.16 products (64-bit accumulate, rounded, saturated).
+// are exact 64-bit sums of at most two products, each rounded once and saturated
+// (mac, sum_of_products, diff_of_products_scaled).
 #pragma once
 
 #include "jointguard/error.hpp"
@@ -109,11 +110,11 @@ template <class S>
                                      S velocity) noexcept {
   const S level = stribeck_level(c.curve, velocity);
   const S speed = jg::abs(velocity);
-  const S gain = jg::div(c.bristle_gain, level + c.bristle_gain * speed);
+  const S gain = jg::div(c.bristle_gain, mac(level, c.bristle_gain, speed));
   const S previous = state.bristle_torque;
   const S next = previous + jg::diff_of_products_scaled(velocity, level, previous, speed, gain);
   state.bristle_torque = next;
-  return next + c.bristle_damping * (next - previous) + c.viscous * velocity;
+  return next + sum_of_products(c.bristle_damping, next - previous, c.viscous, velocity);
 }
 
 }  // namespace jg

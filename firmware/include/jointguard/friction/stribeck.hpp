@@ -21,7 +21,7 @@ struct StribeckCurve {
 template <class S>
 [[nodiscard]] constexpr S stribeck_level(const StribeckCurve<S>& c, S velocity) noexcept {
   const S u = velocity * c.inv_stribeck_velocity;
-  return c.coulomb + c.stribeck_drop * jg::exp(-(u * u));
+  return mac(c.coulomb, c.stribeck_drop, jg::exp(-(u * u)));
 }
 
 template <class S>

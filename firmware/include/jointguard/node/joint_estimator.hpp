@@ -31,11 +31,18 @@ struct JointEstimatorState {
   S friction_torque{};
   S external_torque{};  ///< estimate of the contact's torque on this joint (J^T F) [N·m]
   bool flagged = false;
-  OutwardMessage<S> last_to_child{};
-  InwardMessage<S> last_to_parent{};
+  InwardMessage<S> last_to_parent{};  ///< repeated on a faulty cycle (the last good outward
+                                      ///< message is kept in `outward`, see last_to_child())
   bool input_fault = false;           ///< this cycle's inputs were rejected
   std::uint32_t rejected_cycles = 0;  ///< cycles with rejected inputs since start
 };
+
+/// The last good outward message: the outward step leaves exactly its three vectors in
+/// the state (updated on good cycles only), so no separate copy is kept.
+template <class S>
+[[nodiscard]] constexpr OutwardMessage<S> last_to_child(const JointEstimatorState<S>& s) noexcept {
+  return {s.outward.angular_velocity, s.outward.parent_point_velocity, s.outward.gravity};
+}
 
 namespace detail {
 template <class S>
@@ -72,11 +79,10 @@ constexpr Error joint_outward(const JointEstimatorParams<S>& p, JointEstimatorSt
   s.input_fault = !detail::finite_inputs(q, dq, from_parent);
   if (s.input_fault) {
     ++s.rejected_cycles;
-    to_child = s.last_to_child;
+    to_child = last_to_child(s);
     return Error::not_finite;
   }
   outward_step(p.link, q, dq, from_parent, s.outward, to_child);
-  s.last_to_child = to_child;
   return Error::ok;
 }
 

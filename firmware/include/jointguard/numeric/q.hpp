@@ -19,6 +19,9 @@
 #include <cstdint>
 #include <limits>
 #include <type_traits>
+#if defined(__ARM_FEATURE_DSP) && (__ARM_FEATURE_DSP == 1)
+#include <arm_acle.h>
+#endif
 
 namespace jg {
 
@@ -60,6 +63,50 @@ constexpr std::int32_t saturate32(std::int64_t v) noexcept {
   return static_cast<std::int32_t>(v);
 }
 
+/// Maps INT32_MIN (the one int32 outside the symmetric range) to kRawMin; identity
+/// otherwise. On Cortex-M4 (DSP extension) this is two saturating subtractions,
+/// 0 - (0 - v) (QSUB: -INT32_MIN saturates to INT32_MAX, whose negation is kRawMin),
+/// instead of a compare against a literal and a conditional move. The builtin's result is
+/// also opaque to GCC, which otherwise widens a saturated result feeding a 32x32->64
+/// product into a 64-bit phi and the product into a 64x64 multiplication.
+/// Same results on every target: the host evaluates the plain comparison.
+inline std::int32_t symmetric_raw_target(std::int32_t v) noexcept {
+#if defined(__ARM_FEATURE_DSP) && (__ARM_FEATURE_DSP == 1)
+  return __qsub(0, __qsub(0, v));
+#else
+  return v == std::numeric_limits<std::int32_t>::min() ? kRawMin : v;
+#endif
+}
+constexpr std::int32_t symmetric_raw(std::int32_t v) noexcept {
+  if (__builtin_is_constant_evaluated()) {
+    return v == std::numeric_limits<std::int32_t>::min() ? kRawMin : v;
+  }
+  return symmetric_raw_target(v);
+}
+/// Saturating int32 sum in the symmetric range (QADD on Cortex-M4, then symmetric_raw).
+inline std::int32_t add_sat_target(std::int32_t a, std::int32_t b) noexcept {
+#if defined(__ARM_FEATURE_DSP) && (__ARM_FEATURE_DSP == 1)
+  return symmetric_raw_target(__qadd(a, b));
+#else
+  std::int32_t r = 0;
+  if (__builtin_add_overflow(a, b, &r)) {
+    return a > 0 ? kRawMax : kRawMin;
+  }
+  return symmetric_raw_target(r);
+#endif
+}
+inline std::int32_t sub_sat_target(std::int32_t a, std::int32_t b) noexcept {
+#if defined(__ARM_FEATURE_DSP) && (__ARM_FEATURE_DSP == 1)
+  return symmetric_raw_target(__qsub(a, b));
+#else
+  std::int32_t r = 0;
+  if (__builtin_sub_overflow(a, b, &r)) {
+    return a > 0 ? kRawMax : kRawMin;
+  }
+  return symmetric_raw_target(r);
+#endif
+}
+
 /// Arithmetic shift with round-to-nearest (ties toward +inf). shift may be negative
 /// (left shift); left shifts saturate. Result is still 64-bit; callers saturate.
 constexpr std::int64_t shift_round(std::int64_t v, int shift) noexcept {
@@ -89,6 +136,35 @@ constexpr std::int64_t shift_round(std::int64_t v, int shift) noexcept {
 }  // namespace detail
 
 template <int FracBits>
+class Q;
+
+namespace detail {
+/// Rounds and saturates an exact 64-bit sum of products to Q<F>: `acc` holds the result's
+/// raw value times 2^Shift **with the rounding constant 2^(Shift-1) already added**, so the
+/// rounding is one arithmetic shift. The result fits when bits 63..31+Shift all copy the
+/// sign, i.e. when the high word equals (acc >> Shift) >> (32 - Shift) taken as int32;
+/// otherwise it saturates by the sign. Shift in [1, 32] keeps the test on the high word.
+template <int F, int Shift = F>
+constexpr Q<F> round_presum(std::int64_t acc) noexcept {
+  static_assert(Shift >= 1 && Shift <= 32, "the range test looks at the high word only");
+  const auto hi = static_cast<std::int32_t>(acc >> 32);
+  auto v = static_cast<std::int32_t>(acc >> Shift);
+  // v is exact iff the high word is v's sign extension (one CMP with a shifted operand);
+  // out of range is the rare case: keep the common path straight-line.
+  if (__builtin_expect(static_cast<long>(hi != (v >> (32 - Shift))), 0L) != 0L) {
+    v = hi < 0 ? kRawMin : kRawMax;
+  }
+  // INT32_MIN passes the test above but is outside the symmetric range.
+  return Q<F>::from_symmetric_raw(symmetric_raw(v));
+}
+template <int Shift>
+constexpr std::int64_t rounding_constant() noexcept {
+  return std::int64_t{1} << (Shift - 1);
+}
+
+}  // namespace detail
+
+template <int FracBits>
 class Q {
   static_assert(FracBits >= 1 && FracBits <= 30,
                 "Q<F>: 1..30 fractional bits (1.0 must be representable)");
@@ -103,7 +179,8 @@ class Q {
   /// Wraps a raw value; INT32_MIN is mapped to the symmetric minimum.
   [[nodiscard]] static constexpr Q from_raw(std::int32_t r) noexcept {
     Q q;
-    q.raw_ = r < detail::kRawMin ? detail::kRawMin : r;
+    // Written as an equality test (CMP with an immediate, no literal load on Cortex-M).
+    q.raw_ = r == std::numeric_limits<std::int32_t>::min() ? detail::kRawMin : r;
     return q;
   }
   [[nodiscard]] constexpr std::int32_t raw() const noexcept { return raw_; }
@@ -139,6 +216,13 @@ class Q {
       --truncated;  // truncation went toward zero for a negative value
     }
     return from_raw(detail::saturate32(truncated));
+  }
+  /// Wraps a raw value known to be in the symmetric range (never INT32_MIN): the
+  /// producers in qmath.hpp map INT32_MIN themselves (detail::symmetric_raw).
+  [[nodiscard]] static constexpr Q from_symmetric_raw(std::int32_t r) noexcept {
+    Q q;
+    q.raw_ = r;
+    return q;
   }
   /// For constants known to be in range (checked at compile time when constexpr).
   [[nodiscard]] static constexpr Q from_double(double x) noexcept {
@@ -189,9 +273,12 @@ class Q {
   }
 
   // Same-format arithmetic: 64-bit intermediate, rounding, saturation.
-  // The overflow builtins compile to one add and a branch on the V flag on Cortex-M:
-  // the hot path stays 32-bit.
+  // On Cortex-M4 QADD/QSUB saturate in one instruction (symmetric_raw then maps
+  // INT32_MIN); elsewhere the overflow builtins. Same results on every target.
   friend constexpr Q operator+(Q a, Q b) noexcept {
+    if (!__builtin_is_constant_evaluated()) {
+      return from_symmetric_raw(detail::add_sat_target(a.raw_, b.raw_));
+    }
     std::int32_t r = 0;
     if (__builtin_add_overflow(a.raw_, b.raw_, &r)) {
       return from_raw(a.raw_ > 0 ? detail::kRawMax : detail::kRawMin);
@@ -199,23 +286,26 @@ class Q {
     return from_raw(r);
   }
   friend constexpr Q operator-(Q a, Q b) noexcept {
+    if (!__builtin_is_constant_evaluated()) {
+      return from_symmetric_raw(detail::sub_sat_target(a.raw_, b.raw_));
+    }
     std::int32_t r = 0;
     if (__builtin_sub_overflow(a.raw_, b.raw_, &r)) {
       return from_raw(a.raw_ > 0 ? detail::kRawMax : detail::kRawMin);
     }
     return from_raw(r);
   }
-  friend constexpr Q operator-(Q a) noexcept { return from_raw(-a.raw_); }
+  /// Exact: the stored value is never INT32_MIN, so its negation is in range (one RSB).
+  friend constexpr Q operator-(Q a) noexcept {
+    Q q;
+    q.raw_ = -a.raw_;
+    return q;
+  }
   /// Q<F> * Q<F> -> Q<F>: 32x32->64 product (SMULL on Cortex-M4), round, saturate.
+  /// 32x32->64 multiply-accumulate with the rounding constant (SMLAL), then the range
+  /// test on the high word (detail::round_presum).
   friend constexpr Q operator*(Q a, Q b) noexcept {
-    // 32x32->64 multiply-accumulate with the rounding constant (SMLAL); the result fits
-    // when every bit above bit 31+F copies the sign: (hi >> (F-1)) == (hi >> 31).
-    const std::int64_t prod = std::int64_t{a.raw_} * b.raw_ + (std::int64_t{1} << (FracBits - 1));
-    const auto hi = static_cast<std::int32_t>(prod >> 32);
-    if ((hi >> (FracBits - 1)) != (hi < 0 ? -1 : 0)) {
-      return from_raw(hi < 0 ? detail::kRawMin : detail::kRawMax);
-    }
-    return from_raw(static_cast<std::int32_t>(prod >> FracBits));
+    return detail::round_presum<FracBits>(std::int64_t{a.raw_} * b.raw_ + detail::rounding_constant<FracBits>());
   }
   constexpr Q& operator+=(Q b) noexcept { return *this = *this + b; }
   constexpr Q& operator-=(Q b) noexcept { return *this = *this - b; }

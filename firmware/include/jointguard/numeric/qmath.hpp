@@ -157,65 +157,162 @@ template <class S>
 // ---------------------------------------------------------------- Q<F>
 
 namespace detail {
-inline constexpr std::int64_t kOneQ30 = std::int64_t{1} << 30;
-inline constexpr std::int64_t kLog2eQ30 = 1549082005;   // round(log2(e) * 2^30)
-inline constexpr std::int64_t kLn2Q30 = 744261118;      // round(ln(2) * 2^30)
-inline constexpr std::int64_t kHalfPiQ30 = 1686629713;  // round(pi/2 * 2^30)
 inline constexpr std::int64_t kTurnsPerRadQ32 = 683565276;  // round(2^32 / (2 pi))
+inline constexpr std::int32_t kLog2eQ30 = 1549082005;       // round(log2(e) * 2^30)
 
-/// Q2.30 product of two values known to fit 32 bits (|x| < 2): a 32x32->64 multiply
-/// (SMULL on Cortex-M4), rounded.
-constexpr std::int64_t mul_q30(std::int64_t a, std::int64_t b) noexcept {
-  const std::int64_t p = std::int64_t{static_cast<std::int32_t>(a)} * static_cast<std::int32_t>(b);
-  return (p + (std::int64_t{1} << 29)) >> 30;
+/// floor(a * b / 2^32): the high word of the 32x32->64 product (SMMUL / SMULL on
+/// Cortex-M4). The polynomial kernels below choose their Q formats so that every product
+/// is exactly this: no 64-bit shifts, no rounding constant.
+constexpr std::int32_t mul_hi(std::int32_t a, std::int32_t b) noexcept {
+  const std::int64_t product = std::int64_t{a} * b;
+  return static_cast<std::int32_t>(product >> 32);
 }
 
-/// 1/k! in Q2.30 for k = 0..10 (Taylor coefficients; no run-time division).
-inline constexpr std::int32_t kInvFactorialQ30[11] = {1073741824, 1073741824, 536870912, 178956971, 44739243, 8947849,
-                                                      1491308,    213044,     26631,     2959,      296};
-
-/// e^t for t in [0, ln 2), Q2.30 in and out; Taylor to t^10 by Horner (truncation < 4e-10).
-constexpr std::int64_t exp_unit_q30(std::int64_t t) noexcept {
-  std::int64_t acc = kInvFactorialQ30[10];
-  for (int k = 9; k >= 0; --k) {
-    acc = mul_q30(acc, t) + kInvFactorialQ30[k];
+/// Saturating int64 sum. Only used where more than two full-range products meet: two
+/// products of Q values are below 2^62 in magnitude each, so a pair never overflows.
+/// Written with the sign rule rather than __builtin_add_overflow, which GCC 12 expands
+/// with 64-bit sign extensions on Cortex-M: this is ADDS/ADC and a test on the high words.
+constexpr std::int64_t add_sat64(std::int64_t a, std::int64_t b) noexcept {
+  const auto r = static_cast<std::int64_t>(static_cast<std::uint64_t>(a) + static_cast<std::uint64_t>(b));
+  if (((a ^ r) & (b ^ r)) < 0) {
+    return a > 0 ? std::numeric_limits<std::int64_t>::max() : std::numeric_limits<std::int64_t>::min();
   }
+  return r;
+}
+
+/// Adds the exact products a*b (Q(2F), 64-bit) to `acc`.
+template <int F>
+constexpr std::int64_t add_products(std::int64_t acc) noexcept {
   return acc;
 }
-
-/// sin r and cos r for |r| <= pi/4, Q2.30 (Taylor to r^9 / r^10 in r^2, truncation < 2e-9).
-constexpr std::int64_t sin_small_q30(std::int64_t r) noexcept {
-  const std::int64_t r2 = mul_q30(r, r);
-  // r (1 - r2/3! + r2^2/5! - r2^3/7! + r2^4/9!)
-  std::int64_t acc = kInvFactorialQ30[9];
-  acc = kInvFactorialQ30[7] - mul_q30(r2, acc);
-  acc = kInvFactorialQ30[5] - mul_q30(r2, acc);
-  acc = kInvFactorialQ30[3] - mul_q30(r2, acc);
-  acc = kInvFactorialQ30[1] - mul_q30(r2, acc);
-  return mul_q30(r, acc);
-}
-constexpr std::int64_t cos_small_q30(std::int64_t r) noexcept {
-  const std::int64_t r2 = mul_q30(r, r);
-  std::int64_t acc = kInvFactorialQ30[10];
-  acc = kInvFactorialQ30[8] - mul_q30(r2, acc);
-  acc = kInvFactorialQ30[6] - mul_q30(r2, acc);
-  acc = kInvFactorialQ30[4] - mul_q30(r2, acc);
-  acc = kInvFactorialQ30[2] - mul_q30(r2, acc);
-  return kInvFactorialQ30[0] - mul_q30(r2, acc);
+template <int F, class... Rest>
+constexpr std::int64_t add_products(std::int64_t acc, Q<F> a, Q<F> b, Rest... rest) noexcept {
+  return add_products<F>(acc + std::int64_t{a.raw()} * b.raw(), rest...);
 }
 
-/// Reduce an angle to the nearest quarter turn: returns the quadrant (0..3) and the
-/// remainder in Q2.30 radians, |r| <= pi/4. The angle in turns is held as a uint32
-/// fraction of a turn: wrapping modulo 2^32 **is** the modulo-2pi reduction here.
+/// Angle (Q<F> rad) -> quadrant (nearest quarter turn, 0..3) and the remainder
+/// z in Q1.31 as a fraction of an eighth turn, z in [-1, 1): angle = quadrant pi/2 + z pi/4.
+/// The angle in turns is a uint32 fraction of a turn (round(x 2^32 / 2pi), the 64-bit
+/// product rounded once); its wrap modulo 2^32 **is** the reduction modulo 2 pi, for any x.
+/// 1/(2 pi) is precomputed (Q0.32 in kTurnsPerRadQ32): no division, no 2 pi subtraction.
 template <int F>
-constexpr void reduce_angle(Q<F> x, std::uint32_t& quadrant, std::int64_t& r_q30) noexcept {
-  const std::int64_t turns_q32 = shift_round(std::int64_t{x.raw()} * kTurnsPerRadQ32, F);
-  const auto turns = static_cast<std::uint32_t>(static_cast<std::uint64_t>(turns_q32));
+constexpr void reduce_angle(Q<F> x, std::uint32_t& quadrant, std::int32_t& z_q31) noexcept {
+  const std::int64_t turns_qf32 = std::int64_t{x.raw()} * kTurnsPerRadQ32 + rounding_constant<F>();
+  const auto turns = static_cast<std::uint32_t>(static_cast<std::uint64_t>(turns_qf32) >> static_cast<unsigned>(F));
   const std::uint32_t shifted = turns + (std::uint32_t{1} << 29U);
   quadrant = shifted >> 30U;
-  const auto rem = static_cast<std::int32_t>(shifted & ((std::uint32_t{1} << 30U) - 1U)) -
-                   (std::int32_t{1} << 29);  // [-2^29, 2^29): fraction of a quarter turn
-  r_q30 = shift_round(std::int64_t{rem} * kHalfPiQ30, 30);  // rem * 2^-32 turn = rem * pi/2 * 2^-30 rad
+  // [-2^29, 2^29) quarter-turn units of 2^-30, times 4: Q1.31 eighth turns, |z| < 1.
+  const auto rem = static_cast<std::int32_t>(shifted & ((std::uint32_t{1} << 30U) - 1U)) - (std::int32_t{1} << 29);
+  z_q31 = rem * 4;
+}
+
+/// sin(z pi/4) and cos(z pi/4) for z in [-1, 1) (Q1.31), results Q2.30.
+/// Near-minimax polynomials in w = z^2 (Remez, cos with its constant term fixed at 1 so
+/// that cos 0 is exact): sin/z degree 3 (error 2.4e-9), (cos - 1)/w degree 3 (error
+/// 1.9e-10). Horner steps are single high-word products (mul_hi, floor): each
+/// coefficient k is stored in Q(30 + 2k) (cos) or Q(31 + 2k) (sin), so every step drops
+/// exactly 2 fractional bits and no intermediate exceeds 0.8 (all fit int32).
+/// Arithmetic error: a few Q2.30 LSB (measured in test_qmath: < 6e-9 total).
+constexpr void sincos_eighth_q30(std::int32_t z_q31, std::int32_t& s_q30, std::int32_t& c_q30) noexcept {
+  const std::int32_t w = mul_hi(z_q31, z_q31);  // z^2, Q2.30, in [0, 2^30]
+  std::int32_t c = 973608;                      // Q38
+  c = -22399897 + mul_hi(c, w);                 // Q36
+  c = 272375456 + mul_hi(c, w);                 // Q34
+  c = -1324675878 + mul_hi(c, w);               // Q32
+  c_q30 = (std::int32_t{1} << 30) + mul_hi(c, w);
+  std::int32_t s = -4941550;                    // Q37
+  s = 85555993 + mul_hi(s, w);                  // Q35
+  s = -693598004 + mul_hi(s, w);                // Q33
+  s = 1686629708 + mul_hi(s, w);                // Q31 (~pi/4)
+  s_q30 = mul_hi(z_q31, s);
+}
+
+/// sin and cos of a Q<F> angle in Q2.30: one reduction, both polynomials, quadrant swap.
+template <int F>
+constexpr void sincos_q30(Q<F> x, std::int32_t& s_q30, std::int32_t& c_q30) noexcept {
+  std::uint32_t quadrant = 0;
+  std::int32_t z = 0;
+  reduce_angle(x, quadrant, z);
+  std::int32_t s = 0;
+  std::int32_t c = 0;
+  sincos_eighth_q30(z, s, c);
+  // sin(q pi/2 + r) = s, c, -s, -c and cos(q pi/2 + r) = c, -s, -c, s for q = 0..3.
+  const bool odd = (quadrant & 1U) != 0U;
+  s_q30 = odd ? c : s;
+  c_q30 = odd ? s : c;
+  if ((quadrant & 2U) != 0U) {
+    s_q30 = -s_q30;
+  }
+  if (((quadrant + 1U) & 2U) != 0U) {
+    c_q30 = -c_q30;
+  }
+}
+
+/// Q2.30 -> Q<F>, rounded (ties toward +inf). For |v| <= 2^30 (sin, cos: the polynomials
+/// stay within 1 + 2e-9) the result is at most 2^F: no saturation needed (F <= 30).
+template <int F>
+constexpr Q<F> from_unit_q30(std::int32_t v) noexcept {
+  if constexpr (F == 30) {
+    return Q<F>::from_raw(v);
+  } else {
+    return Q<F>::from_symmetric_raw((v + (std::int32_t{1} << (29 - F))) >> (30 - F));
+  }
+}
+
+/// 2^(k/16), k = 0..15, Q1.31 unsigned (2^31 <= T < 2^32).
+inline constexpr std::uint32_t kExp2Table[16] = {2147483648U, 2242560872U, 2341847524U, 2445529972U,
+                                                 2553802834U, 2666869345U, 2784941738U, 2908241642U,
+                                                 3037000500U, 3171459999U, 3311872529U, 3458501653U,
+                                                 3611622603U, 3771522796U, 3938502376U, 4112874773U};
+
+/// 2^f for f in [0, 1) given as Q0.32, result Q2.30 in [2^30, 2^31): table of 2^(k/16)
+/// for the top 4 bits, and for the rest g < 1/16 a near-minimax (Remez) quadratic of
+/// (2^g - 1)/g (error 2.9e-10 on 2^g); one unsigned high-word product joins them.
+constexpr std::uint32_t exp2_frac_q30(std::uint32_t f_q32) noexcept {
+  const std::uint32_t k = f_q32 >> 28U;
+  const auto t = static_cast<std::int32_t>((f_q32 & 0x0FFFFFFFU) << 3U);  // g in Q35, < 2^31
+  std::int32_t p = 236623;                    // Q22
+  p = 8059945 + mul_hi(p, t);                 // Q25
+  p = 186065300 + mul_hi(p, t);               // Q28 (~ln 2)
+  // 2^g in Q1.31 (unsigned): 1 + g p, g p < 2^-4 * 0.7.
+  const std::uint32_t two_g = 0x80000000U + static_cast<std::uint32_t>(mul_hi(p, t));
+  const std::uint64_t product = std::uint64_t{kExp2Table[k]} * two_g;
+  return static_cast<std::uint32_t>(product >> 32U);
+}
+
+/// floor(n / d) for d != 0 and n < d 2^32 (the quotient fits 32 bits): normalised long
+/// division in two 16-bit digits, each a 32/32 UDIV plus at most two corrections
+/// (Hacker's Delight, divlu). Replaces the 64/64 library division (__aeabi_uldivmod).
+constexpr std::uint32_t udiv64_32(std::uint64_t n, std::uint32_t d) noexcept {
+  const auto s = static_cast<unsigned>(__builtin_clz(d));  // d != 0
+  d <<= s;
+  n <<= s;  // n < d 2^32 before the shift, so nothing is lost
+  const auto u1 = static_cast<std::uint32_t>(n >> 32U);
+  const auto u0 = static_cast<std::uint32_t>(n);
+  const std::uint32_t dh = d >> 16U;
+  const std::uint32_t dl = d & 0xFFFFU;
+  const std::uint32_t un1 = u0 >> 16U;
+  const std::uint32_t un0 = u0 & 0xFFFFU;
+  std::uint32_t q1 = u1 / dh;
+  std::uint32_t rhat = u1 - q1 * dh;
+  while (q1 > 0xFFFFU || q1 * dl > ((rhat << 16U) | un1)) {
+    --q1;
+    rhat += dh;
+    if (rhat > 0xFFFFU) {
+      break;
+    }
+  }
+  const std::uint32_t un21 = (u1 << 16U) + un1 - q1 * d;  // modulo 2^32 by design
+  std::uint32_t q0 = un21 / dh;
+  rhat = un21 - q0 * dh;
+  while (q0 > 0xFFFFU || q0 * dl > ((rhat << 16U) | un0)) {
+    --q0;
+    rhat += dh;
+    if (rhat > 0xFFFFU) {
+      break;
+    }
+  }
+  return (q1 << 16U) | q0;
 }
 
 constexpr std::uint64_t isqrt64(std::uint64_t n) noexcept {
@@ -261,56 +358,61 @@ template <int F>
   const auto n = static_cast<std::uint64_t>(x.raw()) << static_cast<unsigned>(F);
   return Q<F>::from_raw(detail::saturate32(static_cast<std::int64_t>(detail::isqrt64(n))));
 }
-/// e^x, Q<F> -> Q<F>. x*log2(e) = n + f is split in Q2.30; 2^f by a Taylor series in
-/// Q2.30, then shifted by n with rounding. Saturates to max for large x, rounds to 0 for
-/// very negative x. Error: about 1 LSB plus 2e-9 relative (measured in tests).
+/// e^x, Q<F> -> Q<F> (F >= 2). y = x log2(e) (Q(F+30), one 32x32 product) splits into
+/// n = floor(y) and f in [0, 1) (Q0.32); 2^f from the 16-entry table and a quadratic
+/// (detail::exp2_frac_q30, Q2.30); the result is 2^f shifted by n, rounded once.
+/// Early exits, exact: n <= -(F+2) means e^x < 2^-(F+1), half an LSB, so the result is 0;
+/// n >= 31-F means e^x >= 2^(31-F), beyond the range, so it saturates.
+/// Error: 0.5 LSB plus 4e-9 relative (measured in tests).
 template <int F>
 [[nodiscard]] constexpr Q<F> exp(Q<F> x) noexcept {
-  const std::int64_t y_q30 = detail::shift_round(std::int64_t{x.raw()} * detail::kLog2eQ30, F);
-  const std::int64_t n = y_q30 >> 30;  // floor
-  const std::int64_t f_q30 = y_q30 - n * detail::kOneQ30;
-  const std::int64_t pow2f = detail::exp_unit_q30(detail::mul_q30(f_q30, detail::kLn2Q30));
-  const std::int64_t shift = 30 - F - n;
-  if (shift > 62) {
+  static_assert(F >= 2, "exp: the fraction of x log2(e) is taken from bit F-2 of the product");
+  const std::int64_t y = std::int64_t{x.raw()} * detail::kLog2eQ30;  // Q(F+30)
+  const auto n = static_cast<std::int32_t>(y >> (F + 30));
+  if (n <= -(F + 2)) {
     return Q<F>{};
   }
-  if (shift < -31) {
+  if (n >= 31 - F) {
     return std::numeric_limits<Q<F>>::max();
   }
-  return Q<F>::from_raw(detail::saturate32(detail::shift_round(pow2f, static_cast<int>(shift))));
+  const auto f_q32 = static_cast<std::uint32_t>(static_cast<std::uint64_t>(y) >> static_cast<unsigned>(F - 2));
+  const std::uint32_t p = detail::exp2_frac_q30(f_q32);  // [2^30, 2^31)
+  // Round p 2^(n - 30 + F) to an integer: shift right by s = 30 - F - n in [0, 31];
+  // p + 2^(s-1) < 2^31 + 2^30 fits uint32.
+  const auto s = static_cast<unsigned>(30 - F - n);
+  const std::uint32_t r = (p + ((std::uint32_t{1} << s) >> 1U)) >> s;
+  return Q<F>::from_symmetric_raw(r > static_cast<std::uint32_t>(detail::kRawMax) ? detail::kRawMax
+                                                                               : static_cast<std::int32_t>(r));
 }
-/// sin(x), Q<F> rad -> Q<F>; any x (reduced modulo 2 pi exactly in turns). Error ~1 LSB.
+/// sin and cos of one angle, Q<F> rad -> Q<F>: one exact reduction modulo 2 pi (any x)
+/// and two short polynomials (detail::sincos_q30). Error 0.5 LSB plus < 1e-8.
+template <int F>
+constexpr void sincos(Q<F> x, Q<F>& s, Q<F>& c) noexcept {
+  std::int32_t s30 = 0;
+  std::int32_t c30 = 0;
+  detail::sincos_q30(x, s30, c30);
+  s = detail::from_unit_q30<F>(s30);
+  c = detail::from_unit_q30<F>(c30);
+}
+/// sin(x), Q<F> rad -> Q<F>; as sincos.
 template <int F>
 [[nodiscard]] constexpr Q<F> sin(Q<F> x) noexcept {
-  std::uint32_t quadrant = 0;
-  std::int64_t r = 0;
-  detail::reduce_angle(x, quadrant, r);
-  std::int64_t v = 0;
-  switch (quadrant) {
-    case 0U: v = detail::sin_small_q30(r); break;
-    case 1U: v = detail::cos_small_q30(r); break;
-    case 2U: v = -detail::sin_small_q30(r); break;
-    default: v = -detail::cos_small_q30(r); break;
-  }
-  return Q<F>::from_raw(detail::saturate32(detail::shift_round(v, 30 - F)));
+  Q<F> s{};
+  Q<F> c{};
+  sincos(x, s, c);
+  return s;
 }
-/// cos(x), Q<F> rad -> Q<F>; as sin.
+/// cos(x), Q<F> rad -> Q<F>; as sincos.
 template <int F>
 [[nodiscard]] constexpr Q<F> cos(Q<F> x) noexcept {
-  std::uint32_t quadrant = 0;
-  std::int64_t r = 0;
-  detail::reduce_angle(x, quadrant, r);
-  std::int64_t v = 0;
-  switch (quadrant) {
-    case 0U: v = detail::cos_small_q30(r); break;
-    case 1U: v = -detail::sin_small_q30(r); break;
-    case 2U: v = -detail::cos_small_q30(r); break;
-    default: v = detail::sin_small_q30(r); break;
-  }
-  return Q<F>::from_raw(detail::saturate32(detail::shift_round(v, 30 - F)));
+  Q<F> s{};
+  Q<F> c{};
+  sincos(x, s, c);
+  return c;
 }
-/// a / b, Q<F> -> Q<F>: (a << F) / b in 64 bits, rounded to nearest (ties away from
-/// zero), saturated. b == 0 gives +/-max by the sign of a, and 0 for 0/0.
+/// a / b, Q<F> -> Q<F>: (|a| << F + |b|/2) / |b| in 64/32 bits (detail::udiv64_32), i.e.
+/// rounded to nearest (ties away from zero), saturated. b == 0 gives +/-max by the sign
+/// of a, and 0 for 0/0.
 template <int F>
 [[nodiscard]] constexpr Q<F> div(Q<F> a, Q<F> b) noexcept {
   if (b.raw() == 0) {
@@ -318,11 +420,19 @@ template <int F>
                        : (a.raw() < 0 ? std::numeric_limits<Q<F>>::min() : Q<F>{});
   }
   const bool negative = (a.raw() < 0) != (b.raw() < 0);
-  const auto num = static_cast<std::uint64_t>(a.raw() < 0 ? -std::int64_t{a.raw()} : std::int64_t{a.raw()})
-                   << static_cast<unsigned>(F);
-  const auto den = static_cast<std::uint64_t>(b.raw() < 0 ? -std::int64_t{b.raw()} : std::int64_t{b.raw()});
-  const auto quotient = static_cast<std::int64_t>((num + den / 2U) / den);
-  return Q<F>::from_raw(detail::saturate32(negative ? -quotient : quotient));
+  // |raw| <= 2^31 - 1 (symmetric range): the negations cannot overflow.
+  const auto den = static_cast<std::uint32_t>(b.raw() < 0 ? -b.raw() : b.raw());
+  const std::uint64_t num = (std::uint64_t{static_cast<std::uint32_t>(a.raw() < 0 ? -a.raw() : a.raw())}
+                             << static_cast<unsigned>(F)) + (den >> 1U);
+  if ((num >> 32U) >= den) {  // quotient >= 2^32: far out of range
+    return Q<F>::from_raw(negative ? detail::kRawMin : detail::kRawMax);
+  }
+  const std::uint32_t quotient = detail::udiv64_32(num, den);
+  if (quotient > static_cast<std::uint32_t>(detail::kRawMax)) {
+    return Q<F>::from_raw(negative ? detail::kRawMin : detail::kRawMax);
+  }
+  const auto q = static_cast<std::int32_t>(quotient);
+  return Q<F>::from_symmetric_raw(negative ? -q : q);  // 0 <= q <= kRawMax
 }
 
 template <int F>
@@ -332,36 +442,63 @@ struct precise_coefficient<Q<F>> {
 /// Q2.30 coefficient * Q<F> -> Q<F>: 64-bit product, one rounding, saturation.
 template <int F>
 [[nodiscard]] constexpr Q<F> scale(Q<30> coefficient, Q<F> x) noexcept {
-  return mul<F>(coefficient, x);
+  return detail::round_presum<F, 30>(std::int64_t{coefficient.raw()} * x.raw() + detail::rounding_constant<30>());
 }
-
-namespace detail {
-/// Saturating int64 sum (the products of two Q values are below 2^62 in magnitude, so
-/// only sums of several extreme values can overflow).
-constexpr std::int64_t add_sat64(std::int64_t a, std::int64_t b) noexcept {
-  std::int64_t r = 0;
-  if (__builtin_add_overflow(a, b, &r)) {
-    return a > 0 ? std::numeric_limits<std::int64_t>::max() : std::numeric_limits<std::int64_t>::min();
-  }
-  return r;
-}
+/// c1 * x1 + c2 * x2 with Q2.30 coefficients, Q<F> -> Q<F>: both products exact
+/// (Q(F+30), each below 2^62 in magnitude, so the pair cannot overflow int64), one
+/// rounding, one saturation (a filter section: decay * state + gain * input).
 template <int F>
-constexpr Q<F> round_product_sum(std::int64_t sum) noexcept {
-  return Q<F>::from_raw(saturate32(shift_round(sum, F)));
+[[nodiscard]] constexpr Q<F> scale_sum(Q<30> c1, Q<F> x1, Q<30> c2, Q<F> x2) noexcept {
+  return detail::round_presum<F, 30>(std::int64_t{c1.raw()} * x1.raw() + std::int64_t{c2.raw()} * x2.raw() +
+                                     detail::rounding_constant<30>());
 }
-}  // namespace detail
 
-/// a*b + c*d, Q<F>: both products exact in 64 bits, one rounding, one saturation.
+/// c + a*b, Q<F>: exact (one product below 2^62 plus c 2^F below 2^(31+F) cannot
+/// overflow int64), one rounding, one saturation. No precondition.
+template <int F>
+[[nodiscard]] constexpr Q<F> mac(Q<F> c, Q<F> a, Q<F> b) noexcept {
+  return detail::round_presum<F>(std::int64_t{c.raw()} * Q<F>::one_raw + detail::rounding_constant<F>() +
+                                 std::int64_t{a.raw()} * b.raw());
+}
+/// a*b + c*d, Q<F>: both products exact in 64 bits (each below 2^62 in magnitude, so the
+/// sum cannot overflow), one rounding, one saturation.
 template <int F>
 [[nodiscard]] constexpr Q<F> sum_of_products(Q<F> a, Q<F> b, Q<F> c, Q<F> d) noexcept {
-  return detail::round_product_sum<F>(
-      detail::add_sat64(std::int64_t{a.raw()} * b.raw(), std::int64_t{c.raw()} * d.raw()));
+  return detail::round_presum<F>(detail::add_products<F>(detail::rounding_constant<F>(), a, b, c, d));
 }
-/// a*b + c*d + e*f, Q<F>: one rounding, one saturation (dot products, matrix rows).
+/// a*b + c*d + e*f, Q<F>: one rounding, one saturation (dot products, matrix rows). The
+/// third product is added with an overflow check (three full-range products can exceed
+/// int64).
 template <int F>
 [[nodiscard]] constexpr Q<F> sum_of_products(Q<F> a, Q<F> b, Q<F> c, Q<F> d, Q<F> e, Q<F> f) noexcept {
-  return detail::round_product_sum<F>(detail::add_sat64(
-      detail::add_sat64(std::int64_t{a.raw()} * b.raw(), std::int64_t{c.raw()} * d.raw()), std::int64_t{e.raw()} * f.raw()));
+  return detail::round_presum<F>(
+      detail::add_sat64(detail::add_products<F>(detail::rounding_constant<F>(), a, b, c, d), std::int64_t{e.raw()} * f.raw()));
+}
+/// a*b + c*d + e*f + g*h, Q<F>: two exact pairs joined with an overflow check, one rounding.
+template <int F>
+[[nodiscard]] constexpr Q<F> sum_of_products(Q<F> a, Q<F> b, Q<F> c, Q<F> d, Q<F> e, Q<F> f, Q<F> g,
+                                             Q<F> h) noexcept {
+  return detail::round_presum<F>(detail::add_sat64(detail::add_products<F>(detail::rounding_constant<F>(), a, b, c, d),
+                                                   detail::add_products<F>(0, e, f, g, h)));
+}
+
+/// c + a0*b0 + a1*b1 + ... for operands whose magnitudes the caller has bounded, Q<F>:
+/// one exact 64-bit sum (SMLAL chain), one rounding, one saturation, **no overflow check
+/// on the 64-bit sum**. Precondition (each call site states why it holds):
+/// sum |a_i.raw * b_i.raw| + |c.raw| 2^F < 2^63 - 2^F, e.g. any number of products of a
+/// full-range signal (< 2^31) with an operand below 2^16 (|sin|, |cos| <= 1) or with a
+/// link constant below 2^28 (4096 in Q16.16, checked by convert_link), up to 7 of them.
+template <int F, class... Rest>
+[[nodiscard]] constexpr Q<F> mac_bounded(Q<F> c, Q<F> a, Q<F> b, Rest... rest) noexcept {
+  static_assert((std::is_same_v<Rest, Q<F>> && ...), "one format");
+  return detail::round_presum<F>(
+      detail::add_products<F>(std::int64_t{c.raw()} * Q<F>::one_raw + detail::rounding_constant<F>(), a, b, rest...));
+}
+/// a0*b0 + a1*b1 + ..., as mac_bounded without the addend.
+template <int F, class... Rest>
+[[nodiscard]] constexpr Q<F> dot_bounded(Q<F> a, Q<F> b, Rest... rest) noexcept {
+  static_assert((std::is_same_v<Rest, Q<F>> && ...), "one format");
+  return detail::round_presum<F>(detail::add_products<F>(detail::rounding_constant<F>(), a, b, rest...));
 }
 
 /// (a*b - c*d) * scale, Q<F> -> Q<F>, with one rounding instead of three: the
@@ -373,9 +510,56 @@ template <int F>
 template <int F>
 [[nodiscard]] constexpr Q<F> diff_of_products_scaled(Q<F> a, Q<F> b, Q<F> c, Q<F> d, Q<F> scale) noexcept {
   constexpr int kExtra = 8;
-  const std::int64_t diff_2f = std::int64_t{a.raw()} * b.raw() - std::int64_t{c.raw()} * d.raw();
-  const std::int64_t diff = detail::saturate32(detail::shift_round(diff_2f, F - kExtra));
-  return Q<F>::from_raw(detail::saturate32(detail::shift_round(diff * scale.raw(), F + kExtra)));
+  static_assert(F > kExtra, "the difference is kept in Q(F+8) within 32 bits");
+  // Two products of magnitude < 2^62: the difference cannot overflow int64.
+  const std::int64_t diff_2f = std::int64_t{a.raw()} * b.raw() - std::int64_t{c.raw()} * d.raw() +
+                               detail::rounding_constant<F - kExtra>();
+  const std::int32_t diff = detail::round_presum<F + kExtra, F - kExtra>(diff_2f).raw();  // Q(F+8), saturated
+  return detail::round_presum<F, F + kExtra>(std::int64_t{diff} * scale.raw() + detail::rounding_constant<F + kExtra>());
+}
+
+// ---------------------------------------------------------------- fused, float / double
+
+/// sin and cos of one angle (float/double: the library's own).
+template <class T, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
+inline void sincos(T x, T& s, T& c) noexcept {
+  s = std::sin(x);
+  c = std::cos(x);
+}
+/// c + a * b for float/double.
+template <class T, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
+[[nodiscard]] constexpr T mac(T c, T a, T b) noexcept {
+  return c + a * b;
+}
+/// c1 * x1 + c2 * x2 for float/double.
+template <class T, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
+[[nodiscard]] constexpr T scale_sum(T c1, T x1, T c2, T x2) noexcept {
+  return c1 * x1 + c2 * x2;
+}
+/// a*b + c*d + e*f + g*h for float/double.
+template <class T, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
+[[nodiscard]] constexpr T sum_of_products(T a, T b, T c, T d, T e, T f, T g, T h) noexcept {
+  return a * b + c * d + e * f + g * h;
+}
+namespace detail {
+template <class T>
+constexpr T add_products_fp(T acc) noexcept {
+  return acc;
+}
+template <class T, class... Rest>
+constexpr T add_products_fp(T acc, T a, T b, Rest... rest) noexcept {
+  return add_products_fp(acc + a * b, rest...);
+}
+}  // namespace detail
+/// c + a0*b0 + a1*b1 + ..., left to right, for float/double (no bound needed).
+template <class T, class... Rest, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
+[[nodiscard]] constexpr T mac_bounded(T c, T a, T b, Rest... rest) noexcept {
+  return detail::add_products_fp(c + a * b, rest...);
+}
+/// a0*b0 + a1*b1 + ..., left to right, for float/double.
+template <class T, class... Rest, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
+[[nodiscard]] constexpr T dot_bounded(T a, T b, Rest... rest) noexcept {
+  return detail::add_products_fp(a * b, rest...);
 }
 
 }  // namespace jg

@@ -18,7 +18,9 @@
 // Q16.16: d_k, section states and output in N·m; decay in (0, 1) held in Q2.30 (a slow
 // pole's decay 0.998 would be off by 0.8 % of its distance to 1 in Q16.16), input gains
 // likewise in Q2.30 (|gain| < 2, else discretize() reports out_of_range); 1/dT <= 32767 Hz;
-// momentum in N·m·s. Each operation rounds to 0.5 LSB and saturates.
+// momentum in N·m·s. Each operation rounds to 0.5 LSB and saturates; the disturbance
+// (tau_m - beta - f + (p_{k-1} - p_k) / dT) and each section (decay * state + gain * d)
+// are one exact 64-bit sum each, rounded once (mac, scale_sum).
 #pragma once
 
 #include <cstdint>
@@ -142,11 +144,12 @@ template <class S>
     st.primed = true;
     return st.last_output;
   }
-  const S disturbance = motor_torque - beta - friction - (momentum - st.last_momentum) * c.inv_dt;
+  // One product and one rounding: (p_k - p_{k-1}) / dT enters the balance exactly.
+  const S disturbance = mac(motor_torque - beta - friction, st.last_momentum - momentum, c.inv_dt);
   st.last_momentum = momentum;
   S out{};
   for (std::uint8_t i = 0; i < c.sections && i < 2U; ++i) {
-    st.section[i] = scale(c.decay[i], st.section[i]) + scale(c.input_gain[i], disturbance);
+    st.section[i] = scale_sum(c.decay[i], st.section[i], c.input_gain[i], disturbance);
     out = out + st.section[i];
   }
   st.last_output = out;
