@@ -42,7 +42,8 @@ print(f"hil_check: capture {t['frames']} frames, {per:.3f} product frames and {t
       f"wire time per cycle at 1/5 Mbit/s")
 PY
 for j in 1 2 3; do
-  /usr/bin/python3 -c "import json,sys; n=json.load(open(sys.argv[1])); r=n['rejected']; assert sum(r.values())==0 and not n['communication_fault'], n" \
+  # A stale sync or two: the master repeats cycle 0 until every node has answered.
+  /usr/bin/python3 -c "import json,sys; n=json.load(open(sys.argv[1])); r=n['rejected']; s=r.pop('stale_sync'); assert sum(r.values())==0 and s<=5 and not n['communication_fault'], n" \
     "$out/node$j.json" || fail "node $j counters"
 done
 "$jg" plant "$payload/hil_shoulder.yaml" --bus sim --friction "$payload/friction.json" --threshold "$payload/threshold.json" \
