@@ -36,7 +36,7 @@ Command add_decode(CLI::App& app) {
             const auto frames = can::read_candump_log(o->capture);
             std::map<std::string, std::size_t> count;
             std::vector<std::string> problems;
-            std::size_t cycles = 0, product_frames = 0;
+            std::size_t cycles = 0, product_frames = 0, announcements = 0;
             double product_s = 0.0, all_s = 0.0;
             nlohmann::json events = nlohmann::json::array(), last = nlohmann::json::object();
             const can::BusTiming timing{o->nominal_bps, o->data_bps};
@@ -61,7 +61,11 @@ Command add_decode(CLI::App& app) {
               const double wire = can::frame_duration_s(f, timing);
               all_s += wire;
               if (f.id == protocol::kSyncId) ++cycles;
-              if (protocol::kind_of(f.id) != protocol::MessageKind::sensor) {
+              const bool announcement = protocol::kind_of(f.id) == protocol::MessageKind::status && f.length > 5 &&
+                                        (f.data[5] & protocol::kStatusBooting) != 0U;
+              if (announcement) {
+                ++announcements;  // start-up only, not per-cycle traffic
+              } else if (protocol::kind_of(f.id) != protocol::MessageKind::sensor) {
                 ++product_frames;
                 product_s += wire;
               }
@@ -73,7 +77,8 @@ Command add_decode(CLI::App& app) {
               last[m.name] = sig;
             }
             const double per_cycle_us = cycles ? 1e6 * product_s / static_cast<double>(cycles) : 0.0;
-            std::printf("%zu frames, %zu cycles (CYCLE_SYNC); %zu frames not decodable\n", frames.size(), cycles, problems.size());
+            std::printf("%zu frames, %zu cycles (CYCLE_SYNC), %zu start-up announcements; %zu frames not decodable\n", frames.size(),
+                        cycles, announcements, problems.size());
             for (const auto& p : problems) std::printf("  %s\n", p.c_str());
             for (const auto& [name, n] : count) std::printf("  %-20s %8zu\n", name.c_str(), n);
             if (cycles) {
@@ -83,7 +88,7 @@ Command add_decode(CLI::App& app) {
                           o->data_bps / 1e3, 1e6 / per_cycle_us);
             }
             if (!o->json.empty()) {
-              nlohmann::json j{{"frames", frames.size()}, {"cycles", cycles}, {"undecodable", problems.size()}, {"problems", problems},
+              nlohmann::json j{{"frames", frames.size()}, {"cycles", cycles}, {"announcements", announcements}, {"undecodable", problems.size()}, {"problems", problems},
                                {"messages", count}, {"events", events}, {"last", last},
                                {"product_frames_per_cycle", cycles ? static_cast<double>(product_frames) / static_cast<double>(cycles) : 0.0},
                                {"product_wire_us_per_cycle", per_cycle_us},

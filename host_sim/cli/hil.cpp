@@ -62,8 +62,13 @@ int run_node(const NodeOptions& o) {
   const std::uint64_t t0 = clock.now_us();
   std::uint64_t last = t0;
   bool started = false, flagged_reported = false;
+  std::uint64_t last_announce = 0;
   while (!g_stop) {
-    if (port.wait_readable(100000) && drive.poll()) {
+    if (!started && clock.now_us() - last_announce > 100000U) {
+      drive.announce();  // until the master's first sync
+      last_announce = clock.now_us();
+    }
+    if (port.wait_readable(20000) && drive.poll()) {
       started = true;
       last = clock.now_us();
       if (!flagged_reported && (drive.last_status().flags & protocol::kStatusCollision) != 0U) {

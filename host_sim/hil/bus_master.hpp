@@ -33,7 +33,8 @@ class BusMaster {
   static_assert(hal::is_can_port_v<Port>, "the master needs a CAN port satisfying the HAL contract");
 
  public:
-  BusMaster(Port& port, std::size_t joints) : port_(port), torque_(joints, 0.0), flags_(joints, 0), have_(joints, false) {
+  BusMaster(Port& port, std::size_t joints)
+      : port_(port), torque_(joints, 0.0), flags_(joints, 0), have_(joints, false), announced_(joints, false) {
     const hal::CanFilter filters[] = {
         {protocol::frame_id(protocol::MessageKind::status, 0), 0x7F0U},
         {protocol::frame_id(protocol::MessageKind::collision_event, 0), 0x7F0U},
@@ -41,11 +42,8 @@ class BusMaster {
     port_.set_filters(static_cast<const hal::CanFilter*>(filters), 2);
   }
 
-  /// Sensor samples (link side, SI) of every joint, then the sync of `cycle`. `repeat`:
-  /// the same cycle again (start-up, for drives that were not listening yet); status frames
-  /// already received for it are kept.
-  void send_cycle(std::uint32_t cycle, const double* position, const double* velocity, const double* motor_torque,
-                  bool repeat = false) {
+  /// Sensor samples (link side, SI) of every joint, then the sync of `cycle`.
+  void send_cycle(std::uint32_t cycle, const double* position, const double* velocity, const double* motor_torque) {
     const auto seq = static_cast<std::uint8_t>(cycle & 0xFFU);
     for (std::size_t j = 0; j < torque_.size(); ++j) {
       hal::CanFrame f{};
@@ -62,7 +60,7 @@ class BusMaster {
     sync.length = protocol::encode_sync(cycle, static_cast<std::uint8_t*>(sync.data));
     send(sync);
     cycle_ = cycle;
-    if (!repeat) have_.assign(have_.size(), false);
+    have_.assign(have_.size(), false);
   }
 
   /// Reads what has arrived; true when every drive's status of the current cycle is in.
@@ -82,6 +80,10 @@ class BusMaster {
       std::uint8_t seq = 0;
       if (protocol::decode_status(static_cast<const std::uint8_t*>(f.data), f.length, m, seq) != protocol::FrameError::ok) {
         ++counters_.rejected;
+        continue;
+      }
+      if ((m.flags & protocol::kStatusBooting) != 0U) {
+        announced_[joint - 1] = true;  // listening, before the first sync
         continue;
       }
       if (kind == protocol::MessageKind::collision_event) {
@@ -104,6 +106,20 @@ class BusMaster {
       if (!h) return false;
     }
     return true;
+  }
+  /// Every drive has announced itself (start-up, before the first sync).
+  [[nodiscard]] bool all_announced() const {
+    for (const bool a : announced_) {
+      if (!a) return false;
+    }
+    return true;
+  }
+  [[nodiscard]] std::vector<int> not_announced() const {
+    std::vector<int> out;
+    for (std::size_t j = 0; j < announced_.size(); ++j) {
+      if (!announced_[j]) out.push_back(static_cast<int>(j + 1));
+    }
+    return out;
   }
   /// Joints whose status of this cycle is missing (1-based).
   [[nodiscard]] std::vector<int> missing() const {
@@ -145,7 +161,7 @@ class BusMaster {
   std::uint32_t cycle_ = 0;
   std::vector<double> torque_;
   std::vector<std::uint8_t> flags_;
-  std::vector<bool> have_;
+  std::vector<bool> have_, announced_;
   std::vector<NodeEvent> events_;
   MasterCounters counters_{};
   unsigned missing_run_ = 0;

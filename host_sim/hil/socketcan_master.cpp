@@ -18,22 +18,15 @@ class SocketCanMasterImpl final : public SocketCanMaster {
   explicit SocketCanMasterImpl(const SocketCanMasterConfig& c) : config_(c), port_(c.interface), master_(port_, c.joints) {}
   void reset(const eval::EstimatorInput&) override {}
   void step(const eval::EstimatorInput& in, sim::JointVector& mu) override {
-    master_.send_cycle(cycle_, in.q.data(), in.dq.data(), in.tau_m.data());
     const hal::MonotonicClock clock;
+    if (cycle_ == 0) wait_for_announcements(clock);
+    master_.send_cycle(cycle_, in.q.data(), in.dq.data(), in.tau_m.data());
     const std::uint64_t start = clock.now_us();
-    const bool first = cycle_ == 0;
-    const std::uint64_t limit = 1000ULL * static_cast<std::uint64_t>(first ? config_.startup_timeout_ms : config_.cycle_timeout_ms);
-    std::uint64_t last_send = start;
+    const std::uint64_t limit = 1000ULL * static_cast<std::uint64_t>(config_.cycle_timeout_ms);
     while (!master_.collect()) {
-      const std::uint64_t now = clock.now_us();
-      if (now - start > limit) {
+      if (clock.now_us() - start > limit) {
         throw std::runtime_error("socketcan " + config_.interface + ": no status from joint(s) " + joint_list(master_.missing()) +
-                                 " for cycle " + std::to_string(cycle_) + " within " + std::to_string(limit / 1000) +
-                                 " ms (is `jointguard node --joint J --iface " + config_.interface + "` running for each joint?)");
-      }
-      if (first && now - last_send > 200000ULL) {  // drives that start after the plant
-        master_.send_cycle(cycle_, in.q.data(), in.dq.data(), in.tau_m.data(), true);
-        last_send = now;
+                                 " for cycle " + std::to_string(cycle_) + " within " + std::to_string(limit / 1000) + " ms");
       }
       (void)port_.wait_readable(50000);
     }
@@ -44,6 +37,20 @@ class SocketCanMasterImpl final : public SocketCanMaster {
     ++cycle_;
   }
   [[nodiscard]] std::string name() const override { return "drives as processes on SocketCAN " + config_.interface; }
+
+  /// The bus starts only when every drive listens (each announces itself until the first
+  /// sync), so a start-up does not depend on the order the processes came up in.
+  void wait_for_announcements(const hal::MonotonicClock& clock) {
+    const std::uint64_t start = clock.now_us();
+    while (!(master_.collect(), master_.all_announced())) {
+      if (clock.now_us() - start > 1000ULL * static_cast<std::uint64_t>(config_.startup_timeout_ms)) {
+        throw std::runtime_error("socketcan " + config_.interface + ": joint(s) " + joint_list(master_.not_announced()) +
+                                 " did not announce themselves within " + std::to_string(config_.startup_timeout_ms / 1000) +
+                                 " s (is `jointguard node --joint J --iface " + config_.interface + "` running for each joint?)");
+      }
+      (void)port_.wait_readable(50000);
+    }
+  }
   [[nodiscard]] JointMask reported_flags() const override { return master_.flagged(); }
   [[nodiscard]] bool communication_fault() const override { return master_.any_comm_fault(); }
   [[nodiscard]] const std::vector<NodeEvent>& events() const override { return master_.events(); }

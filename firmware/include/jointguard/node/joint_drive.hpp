@@ -103,6 +103,17 @@ class JointDrive {
     has_sample_ = true;
   }
 
+  /// Before its first cycle the drive announces itself (a status frame with the booting
+  /// flag, sequence 0), repeated by the caller until the first sync arrives, so that the
+  /// master starts the bus only once every drive listens: then no drive misses its
+  /// neighbours' first messages and a start-up is the same whatever order the drives boot in.
+  void announce() noexcept {
+    if (!synced_) {
+      const protocol::StatusMessage<S> booting{S{}, protocol::kStatusBooting, 0U};
+      publish(protocol::MessageKind::status, 0U, booting);
+    }
+  }
+
   /// Reads every received frame and runs the cycle once its sync (and, with sensors over
   /// CAN, its sample) are in. Returns true when a cycle ran.
   bool poll() noexcept {
@@ -183,17 +194,17 @@ class JointDrive {
     status_.rejected = static_cast<std::uint8_t>(rejected > 255U ? 255U : rejected);
     const auto seq = static_cast<std::uint8_t>(last_cycle_ & 0xFFU);
     if (flag && !event_sent_) {
-      publish(protocol::MessageKind::collision_event, seq);
+      publish(protocol::MessageKind::collision_event, seq, status_);
       event_sent_ = true;
     }
-    publish(protocol::MessageKind::status, seq);
+    publish(protocol::MessageKind::status, seq, status_);
   }
 
-  void publish(protocol::MessageKind kind, std::uint8_t seq) noexcept {
+  void publish(protocol::MessageKind kind, std::uint8_t seq, const protocol::StatusMessage<S>& status) noexcept {
     hal::CanFrame f{};
     f.fd = true;  // 8 bytes in the data phase: a third of the classic frame's wire time
     f.id = protocol::frame_id(kind, config_.node.joint);
-    f.length = protocol::encode_status(status_, seq, static_cast<std::uint8_t*>(f.data));
+    f.length = protocol::encode_status(status, seq, static_cast<std::uint8_t*>(f.data));
     if (port_.send(f) != hal::CanStatus::ok) {
       ++counters_.send_failures;
     }

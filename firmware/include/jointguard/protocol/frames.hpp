@@ -222,6 +222,7 @@ inline constexpr std::uint8_t kStatusCollision = 0x01U;   ///< the joint's detec
 inline constexpr std::uint8_t kStatusCommFault = 0x02U;   ///< a neighbour has been silent for too long
 inline constexpr std::uint8_t kStatusReady = 0x04U;       ///< the chain is filled: the estimate is valid
 inline constexpr std::uint8_t kStatusInputFault = 0x08U;  ///< this cycle's inputs were rejected
+inline constexpr std::uint8_t kStatusBooting = 0x10U;     ///< announcement before the first sync: the drive is listening
 
 /// Observer/detector status of joint j, every cycle (0x05j); the same layout, sent once on
 /// the detector's rising edge, is the collision event (0x00j, highest priority).
