@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "cli/commands.hpp"
+#include "cli/mcu_cost.hpp"
 #include "eval/experiments.hpp"
 #include "identification/identify.hpp"
 #include "identification/lugre_batch.hpp"
@@ -33,12 +34,7 @@ std::string run_capture(const std::string& command) {
   return out;
 }
 
-struct McuFigures {
-  double float_insns = 0, q_insns = 0;
-  long text = 0, data = 0, bss = 0;
-  bool ok = false;
-  std::string note;
-};
+}  // namespace
 
 McuFigures measure_mcu(const std::string& elf, const std::string& core_lib) {
   McuFigures f;
@@ -94,7 +90,6 @@ McuFigures measure_mcu(const std::string& elf, const std::string& core_lib) {
   f.ok = true;
   return f;
 }
-}  // namespace
 
 Command add_bench(CLI::App& app) {
   auto json = std::make_shared<std::string>();
@@ -104,7 +99,7 @@ Command add_bench(CLI::App& app) {
                                  "Example: jointguard bench --json out/bench.json");
   cmd->add_option("--json", *json, "Write the figures here (contract format)");
   return {cmd, [json]() {
-            const std::string mcu = std::string(JG_BUILD_DIR) + "/mcu-cortex-m4";
+            const std::string mcu = mcu_build_dir();
             const McuFigures m = measure_mcu(mcu + "/toolchain/mcu/jg_cycle_bench.elf", mcu + "/firmware/libjg_core.a");
             // Host: 60 s of the reference arm at 1 kHz (plant, sensors, controller), recording off.
             eval::ExperimentConfig c;

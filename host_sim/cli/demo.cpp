@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "cli/commands.hpp"
+#include "cli/mcu_cost.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -127,7 +128,7 @@ int run_demo(const DemoOptions& options) {
           "(or <code>build/host/jointguard demo --out out</code>).</p>\n";
 
   // 1. Identification and calibration at 1 kHz.
-  std::printf("[1/5] identification from observer output and threshold calibration (1 kHz)...\n");
+  std::printf("[1/6] identification from observer output and threshold calibration (1 kHz)...\n");
   eval::ExperimentConfig c;
   c.model = robot::load_robot(JG_DEFAULT_MODEL);
   c.rate_hz = 1000.0;
@@ -157,7 +158,7 @@ int run_demo(const DemoOptions& options) {
           "model predicts; the band widens there by the amount observed.</p>\n";
 
   // 2. The paper's three collisions at 1 kHz and 125 Hz, float and Q.
-  std::printf("[2/5] the paper's three collisions at 1 kHz and 125 Hz, float and Q16.16...\n");
+  std::printf("[2/6] the paper's three collisions at 1 kHz and 125 Hz, float and Q16.16...\n");
   std::vector<PaperRow> rows;
   eval::ExperimentConfig c125 = c;
   c125.rate_hz = 125.0;
@@ -184,7 +185,7 @@ int run_demo(const DemoOptions& options) {
   html << "</table>\n";
 
   // 3. Figures in the spirit of the paper's Figures 5-7.
-  std::printf("[3/5] traces with and without compensation...\n");
+  std::printf("[3/6] traces with and without compensation...\n");
   {
     eval::ExperimentConfig trace_cfg = c;
     trace_cfg.reaction = Reaction::none;
@@ -200,7 +201,7 @@ int run_demo(const DemoOptions& options) {
   }
 
   // 4. Campaign and false alarms.
-  std::printf("[4/5] random campaign (50 collisions on links 2-3) and a 10-minute collision-free run...\n");
+  std::printf("[4/6] random campaign (50 collisions on links 2-3) and a 10-minute collision-free run...\n");
   const auto camp = eval::campaign(c, 50, {2, 3});
   const eval::Summary sum = eval::summarize(camp);
   int alarms = 0;
@@ -216,7 +217,7 @@ int run_demo(const DemoOptions& options) {
           "Isolation names the highest joint over threshold at the detection cycle (paper's signature).</p>\n";
 
   // 5. Fixed point against double.
-  std::printf("[5/5] LuGre in float and Q16.16 against double...\n");
+  std::printf("[5/6] LuGre in float and Q16.16 against double...\n");
   html << "<h2>Firmware arithmetic: LuGre friction in float and Q16.16 against double</h2>\n<table><tr><th>joint</th><th>dT [s]</th>"
           "<th>max |float - double| [N·m]</th><th>max |Q16.16 - double| [N·m]</th><th>Q16.16 arithmetic alone [N·m]</th></tr>\n";
   for (const double dt : {0.008, 0.001}) {
@@ -227,12 +228,20 @@ int run_demo(const DemoOptions& options) {
     }
   }
   html << "</table>\n";
-  const std::filesystem::path size_file = std::filesystem::path(JG_BUILD_DIR) / "mcu_size.txt";
-  if (std::filesystem::exists(size_file)) {
-    std::ifstream in(size_file);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    html << "<h2>Firmware size (Cortex-M4F, arm-none-eabi-size)</h2><pre>" << report::escape(ss.str()) << "</pre>\n";
+  // 6. What one joint's cycle costs on the drive's MCU.
+  std::printf("[6/6] firmware cost per joint cycle on the emulated Cortex-M4F...\n");
+  const McuFigures mcu = measure_mcu(mcu_build_dir() + "/toolchain/mcu/jg_cycle_bench.elf", mcu_build_dir() + "/firmware/libjg_core.a");
+  html << "<h2>Firmware cost per joint cycle (Cortex-M4F)</h2>\n";
+  if (mcu.ok) {
+    html << "<table><tr><th>scalar</th><th>instructions per joint cycle</th><th>goal</th></tr>\n<tr><td>float</td><td>"
+         << fmt("%.0f", mcu.float_insns) << "</td><td>700</td></tr>\n<tr><td>Q16.16</td><td>" << fmt("%.0f", mcu.q_insns)
+         << "</td><td>1200</td></tr></table>\n<p class=\"note\">One joint's full cycle (outward and inward recursion step, LuGre, observer, "
+            "detector) counted instruction by instruction under <code>qemu-system-arm -M mps2-an386</code> (qemu has no cycle model); "
+            "core library: text "
+         << mcu.text << " B, data " << mcu.data << " B, bss " << mcu.bss
+         << " B. Reproduce: <code>build/host/jointguard bench</code>.</p>\n";
+  } else {
+    html << "<p class=\"note\">Not measured: " << report::escape(mcu.note) << "</p>\n";
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   html << "<p class=\"note\">Generated in " << fmt("%.0f", wall) << " s.</p></body></html>\n";

@@ -1,0 +1,22 @@
+// Firmware cost on the emulated Cortex-M4F: instructions per joint cycle counted under qemu
+// (no cycle model there) and the core's size; shared by `bench` and the demo's report.
+#pragma once
+
+#include <string>
+
+namespace jg::cli {
+
+struct McuFigures {
+  double float_insns = 0, q_insns = 0;
+  long text = 0, data = 0, bss = 0;
+  bool ok = false;
+  std::string note;  ///< why the figures are missing when !ok
+};
+
+/// Runs the cycle benchmark ELF under qemu-system-arm and sizes the core library.
+McuFigures measure_mcu(const std::string& elf, const std::string& core_lib);
+
+/// The cycle benchmark ELF and the core library of this build's Cortex-M4F cross build.
+inline std::string mcu_build_dir() { return std::string(JG_BUILD_DIR) + "/mcu-cortex-m4"; }
+
+}  // namespace jg::cli
