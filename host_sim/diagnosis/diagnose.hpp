@@ -66,6 +66,9 @@ struct DiagnoseOptions {
   /// Share of an effect's regressor norm that must lie outside the span of the effects
   /// already chosen (1/sqrt(variance inflation)); below it the effect is not separable.
   double min_independence = 0.14;
+  /// An effect in the gear-deflection channel must move the deflection by at least this
+  /// many noise levels of that channel (RMS of its fitted contribution).
+  double min_deflection_snr = 3.0;
 };
 
 JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o = {});

@@ -33,6 +33,14 @@ Candidate make_candidate(const std::string& effect, const std::map<std::string, 
   c.setting = setting;
   c.nonlinear_params = static_cast<int>(setting.size());
   auto col = column(n);
+  if (setting.count("rotor_acceleration") != 0U) {
+    // Elastic gear or backlash seen in the torque: the rotor's acceleration relative to
+    // the link, the second derivative of the measured deflection (coefficient: J_rotor).
+    if (s.deflection.size() != n) return c;
+    c.nonlinear_params = 0;
+    c.columns.push_back(derivative(derivative(s.deflection, s.dt), s.dt));
+    return c;
+  }
   if (effect == "coulomb") {
     for (std::size_t k = 0; k < n; ++k) col[k] = sgn(k);
   } else if (effect == "viscous") {
@@ -134,7 +142,10 @@ std::vector<std::vector<Candidate>> build_candidates(const JointSignals& s) {
   group("torque_constant", nullptr, {});
   group("current_offset", nullptr, {});
   group("time_delay", nullptr, {});
-  group("backlash", "gap_rad", {0.0005, 0.001, 0.002, 0.004, 0.008, 0.016});
+  // Backlash from the torque alone (the load not driven after velocity reversals) only when
+  // there is no gear-deflection channel: with motor and link encoders, backlash is judged
+  // on the deflection itself (diagnose.cpp), far more directly.
+  if (s.deflection.size() != s.size()) group("backlash", "gap_rad", {0.0005, 0.001, 0.002, 0.004, 0.008, 0.016});
   return all;
 }
 
@@ -199,6 +210,9 @@ std::map<std::string, double> describe(const Candidate& c, const std::vector<dou
   } else if (e == "time_delay") {
     p["delay_s"] = -b[0];
     os << "measurement delay of " << -b[0] * 1000.0 << " ms between motion and torque";
+  } else if (c.setting.count("rotor_acceleration") != 0U) {
+    p["deflection_acceleration_gain"] = b[0];
+    os << "torque transients where the gear deflection accelerates (" << e << "): " << b[0] << " N·m per rad/s²";
   } else if (e == "backlash") {
     p["gap_rad"] = c.setting.at("gap_rad");
     p["fraction"] = b[0];

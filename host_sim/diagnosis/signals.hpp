@@ -22,6 +22,11 @@ struct JointSignals {
   /// of the last link; empty when no model is available.
   std::vector<std::vector<double>> payload_columns;
   std::vector<double> velocity_mismatch;  ///< dq - d/dt q (elastic deflection rate) [rad/s]
+  /// Gear deflection not in the model [rad]: motor-side position (the motor-encoder
+  /// velocity dq integrated, exact for differenced encoder counts) minus the link encoder's
+  /// q, both from their first sample; real minus simulated when a simulation is given.
+  /// Empty when unavailable.
+  std::vector<double> deflection;
   [[nodiscard]] std::size_t size() const { return t.size(); }
 };
 

@@ -28,8 +28,7 @@ struct ConcealedCase {
   unsigned long long seed = 1;
 };
 
-/// The effects the plant can hide (presliding and backlash need sub-sample dynamics the
-/// 500 Hz recordings cannot resolve and are not drawn).
+/// The effects the plant can hide (all of the vocabulary but "none").
 const std::vector<std::string>& producible_effects();
 
 std::vector<ConcealedCase> draw_cases(int count, unsigned long long seed, double noise_rms_nm, int joints);
