@@ -1,8 +1,12 @@
 #include "diagnosis/effects.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <functional>
 #include <sstream>
 #include <stdexcept>
+
+#include "identification/lugre_batch.hpp"
 
 namespace jg::diag {
 namespace {
@@ -16,6 +20,19 @@ double velocity_band(const JointSignals& s) {
 }
 
 std::vector<double> column(std::size_t n) { return std::vector<double>(n, 0.0); }
+
+/// Change of the nominal LuGre friction over the recorded velocity when one parameter is
+/// changed (per unit of the change for `per_unit`).
+std::vector<double> lugre_change(const JointSignals& s, const std::function<void(LuGreParams<double>&)>& change,
+                                 double per_unit) {
+  LuGreParams<double> p = *s.friction;
+  change(p);
+  const auto f0 = ident::lugre_predict(*s.friction, s.dq, s.dt);
+  const auto f1 = ident::lugre_predict(p, s.dq, s.dt);
+  std::vector<double> d(f0.size());
+  for (std::size_t k = 0; k < d.size(); ++k) d[k] = (f1[k] - f0[k]) / per_unit;
+  return d;
+}
 }  // namespace
 
 Candidate make_candidate(const std::string& effect, const std::map<std::string, double>& setting,
@@ -41,7 +58,18 @@ Candidate make_candidate(const std::string& effect, const std::map<std::string, 
     c.columns.push_back(derivative(derivative(s.deflection, s.dt), s.dt));
     return c;
   }
-  if (effect == "coulomb") {
+  if (effect == "coulomb" && setting.count("model_curve") != 0U) {
+    // The model's Coulomb level raised alone: its static level and Stribeck curve kept.
+    if (!s.friction) return c;
+    c.nonlinear_params = 0;
+    const double eps = 0.01 * std::max(s.friction->tau_c, 1e-3);
+    col = lugre_change(s, [eps](LuGreParams<double>& p) { p.tau_c += eps; }, eps);
+  } else if (effect == "presliding" && setting.count("sigma0_ratio") != 0U) {
+    // The model's bristles softer by this ratio: a longer presliding regime after reversals.
+    if (!s.friction) return c;
+    const double ratio = get("sigma0_ratio");
+    col = lugre_change(s, [ratio](LuGreParams<double>& p) { p.sigma0 *= ratio; }, 1.0);
+  } else if (effect == "coulomb") {
     for (std::size_t k = 0; k < n; ++k) col[k] = sgn(k);
   } else if (effect == "viscous") {
     col = s.dq;
@@ -124,10 +152,23 @@ std::vector<std::vector<Candidate>> build_candidates(const JointSignals& s) {
     }
     if (!g.front().columns.empty()) all.push_back(std::move(g));
   };
+  // With the nominal friction model, friction effects are also its parameters' changes:
+  // further instances of the same group (they compete with the generic shapes by BIC).
+  auto model_instances = [&](const std::string& effect, const char* key, const std::vector<double>& grid) {
+    if (!s.friction) return;
+    auto it = std::find_if(all.begin(), all.end(), [&](const std::vector<Candidate>& g) { return g.front().effect == effect; });
+    if (it == all.end()) return;
+    for (const double v : grid) {
+      Candidate c = make_candidate(effect, {{key, v}}, s);
+      if (!c.columns.empty()) it->push_back(std::move(c));
+    }
+  };
   group("coulomb", nullptr, {});
   group("viscous", nullptr, {});
   group("stribeck", "w_s", {0.003, 0.006, 0.01, 0.02, 0.04, 0.07, 0.1, 0.15, 0.25, 0.4});
   group("presliding", "displacement_rad", {2e-5, 5e-5, 1e-4, 2e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2});
+  model_instances("coulomb", "model_curve", {1.0});
+  model_instances("presliding", "sigma0_ratio", {0.5, 0.3, 0.2, 0.1, 0.05, 0.02});
   group("asymmetric_friction", nullptr, {});
   // Once per turn, a ripple cannot be told from a gravity-model error on one joint; with
   // a rigid-body model at hand that is the payload effect's job, so ripple starts at 2.
@@ -165,6 +206,11 @@ std::map<std::string, double> describe(const Candidate& c, const std::vector<dou
     p["amplitude"] = b[0];
     p["w_s"] = c.setting.at("w_s");
     os << "Stribeck effect missing: " << b[0] << " N·m extra friction at low speed, w_s " << p["w_s"] << " rad/s";
+  } else if (e == "presliding" && c.setting.count("sigma0_ratio") != 0U) {
+    p["sigma0_ratio"] = c.setting.at("sigma0_ratio") * b[0] + (1.0 - b[0]);
+    p["level"] = b[0];
+    os << "presliding (bristle) dynamics off: the bristles are softer than modelled, stiffness x"
+       << c.setting.at("sigma0_ratio") << " (fit " << b[0] << " of that change)";
   } else if (e == "presliding") {
     p["level"] = -b[0];
     p["displacement_rad"] = c.setting.at("displacement_rad");

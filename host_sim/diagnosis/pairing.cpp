@@ -73,6 +73,7 @@ void add_model_terms(std::vector<JointSignals>& out, const io::Recording& real, 
     out[j].velocity_mismatch.resize(n);
     for (std::size_t k = 0; k < n; ++k) out[j].velocity_mismatch[k] = real.dq[j][k] - dq_link[k];
     out[j].deflection = deflection_of(real, j);
+    if (j < m.friction.size()) out[j].friction = m.friction[j];
   }
   if (m.arm == nullptr || m.arm->joints() != static_cast<int>(nj)) return;
   sim::ArmDynamics plus = *m.arm;

@@ -2,8 +2,11 @@
 // predicted motor torque) and the variables that may explain it.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "jointguard/friction/lugre.hpp"
 
 namespace jg::diag {
 
@@ -27,6 +30,9 @@ struct JointSignals {
   /// q, both from their first sample; real minus simulated when a simulation is given.
   /// Empty when unavailable.
   std::vector<double> deflection;
+  /// The nominal model's friction of this joint, when known: friction effects are then
+  /// also offered as changes of its parameters (exact sensitivity columns).
+  std::optional<LuGreParams<double>> friction;
   [[nodiscard]] std::size_t size() const { return t.size(); }
 };
 

@@ -41,10 +41,10 @@ int main(int argc, char** argv) {
       pe.second++;
       pe.first += o.named ? 1 : 0;
       ++floor_n;
-      floor_ok += o.heldout_after <= 1.1 * o.noise ? 1 : 0;
+      floor_ok += jg::diag::at_noise_floor(o) ? 1 : 0;
     }
   }
-  std::printf("\nnamed correctly: %d / %d (%.0f %%); matched pairs with a claim: %d / %d; held-out RMS within 10 %% of noise: %d / %d\n",
+  std::printf("\nnamed correctly: %d / %d (%.0f %%); matched pairs with a claim: %d / %d; held-out RMS at the noise floor (within 10 %% of the noise, or >= 2x lower where the effect is >= 3x the noise): %d / %d\n",
               named, effect_cases, 100.0 * named / std::max(1, effect_cases), false_claims, matched, floor_ok, floor_n);
   for (const auto& [e, v] : per_effect) std::printf("  %-24s %d / %d\n", e.c_str(), v.first, v.second);
   return 0;

@@ -18,7 +18,7 @@ TEST(DiagnosisTestSet, NamesConcealedEffectsAndClaimsNothingOnMatchedPairs) {
     }
     ++effects;
     named += o.named ? 1 : 0;
-    at_floor += o.heldout_after <= 1.1 * o.noise ? 1 : 0;
+    at_floor += jg::diag::at_noise_floor(o) ? 1 : 0;
     std::printf("%-24s joint %d %-13s -> %s\n", c.effect.c_str(), c.joint, c.concealment.c_str(), o.named ? "named" : "missed");
   }
   std::printf("named %d / %d, false claims %d / %d, held-out at noise floor %d / %d\n", named, effects, false_claims, matched,
