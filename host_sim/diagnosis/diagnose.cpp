@@ -3,6 +3,8 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <numeric>
 #include <sstream>
 #include <tuple>
@@ -399,6 +401,7 @@ JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
     std::vector<const Candidate*> trial = chosen;
     trial.push_back(best_cand);
     const double h = heldout_rms(trial);
+    if (std::getenv("JG_DIAG_TRACE") != nullptr) std::fprintf(stderr, "  j%d -> %s dBIC %.1f held-out %.4f -> %.4f\n", s.joint, best_cand->effect.c_str(), best_delta, current_heldout, h);
     if (h > current_heldout * (1.0 - o.min_heldout_gain)) {
       rejected[best_group] = true;  // fits the training blocks only: not claimed
       d.notes.push_back(best_cand->effect + " improved the training fit but not the held-out blocks: not claimed");

@@ -64,6 +64,13 @@ Candidate make_candidate(const std::string& effect, const std::map<std::string, 
     c.nonlinear_params = 0;
     const double eps = 0.01 * std::max(s.friction->tau_c, 1e-3);
     col = lugre_change(s, [eps](LuGreParams<double>& p) { p.tau_c += eps; }, eps);
+  } else if (effect == "stribeck" && setting.count("model_curve") != 0U) {
+    // The model's static (breakaway) level raised alone: its Coulomb level, Stribeck
+    // velocity and bristles kept.
+    if (!s.friction) return c;
+    c.nonlinear_params = 0;
+    const double eps = 0.01 * std::max(std::fabs(s.friction->tau_s), 1e-3);
+    col = lugre_change(s, [eps](LuGreParams<double>& p) { p.tau_s += eps; }, eps);
   } else if (effect == "presliding" && setting.count("sigma0_ratio") != 0U) {
     // The model's bristles softer by this ratio: a longer presliding regime after reversals.
     if (!s.friction) return c;
@@ -168,6 +175,7 @@ std::vector<std::vector<Candidate>> build_candidates(const JointSignals& s) {
   group("stribeck", "w_s", {0.003, 0.006, 0.01, 0.02, 0.04, 0.07, 0.1, 0.15, 0.25, 0.4});
   group("presliding", "displacement_rad", {2e-5, 5e-5, 1e-4, 2e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2});
   model_instances("coulomb", "model_curve", {1.0});
+  model_instances("stribeck", "model_curve", {1.0});
   model_instances("presliding", "sigma0_ratio", {0.5, 0.3, 0.2, 0.1, 0.05, 0.02});
   group("asymmetric_friction", nullptr, {});
   // Once per turn, a ripple cannot be told from a gravity-model error on one joint; with
@@ -202,6 +210,10 @@ std::map<std::string, double> describe(const Candidate& c, const std::vector<dou
   } else if (e == "viscous") {
     p["delta_sigma2"] = b[0];
     os << "viscous friction off by " << b[0] << " N·m·s/rad";
+  } else if (e == "stribeck" && c.setting.count("model_curve") != 0U) {
+    p["delta_tau_s"] = b[0];
+    if (s.friction) p["w_s"] = s.friction->w_s;
+    os << "Stribeck effect off: static (breakaway) friction level " << b[0] << " N·m above the model's";
   } else if (e == "stribeck") {
     p["amplitude"] = b[0];
     p["w_s"] = c.setting.at("w_s");
