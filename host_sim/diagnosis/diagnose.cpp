@@ -340,8 +340,6 @@ JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
     all_candidates.push_back({make_candidate(strongest->effect, {{"rotor_acceleration", 1.0}}, s)});
   }
 
-  std::vector<const Candidate*> chosen;
-  std::vector<bool> used(all_candidates.size(), false), rejected(all_candidates.size(), false);
   auto columns_of = [](const std::vector<const Candidate*>& cs) {
     std::vector<const std::vector<double>*> cols;
     for (const auto* c : cs) for (const auto& col : c->columns) cols.push_back(&col);
@@ -358,63 +356,107 @@ JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
     const VectorXd b = solve(rows_of(cols, split.train), y_train);
     return rms(y_test - rows_of(cols, split.test) * b);
   };
-  double current_rss = y_train.squaredNorm();
-  double current_bic = bic(current_rss, split.train.size(), 0);
-  double current_heldout = rms(y_test);
-  d.heldout_rms_before = current_heldout;
-  while (static_cast<int>(chosen.size()) < o.max_effects) {
-    // Orthonormal basis of the chosen columns (train rows): candidates are judged on
-    // what they add beyond them (Frisch-Waugh).
-    const MatrixXd Xs = rows_of(columns_of(chosen), split.train);
-    MatrixXd Q;
-    if (Xs.cols() > 0) {
-      Eigen::HouseholderQR<MatrixXd> qr(Xs);
-      Q = qr.householderQ() * MatrixXd::Identity(Xs.rows(), Xs.cols());
-    }
-    const VectorXd r_s = Xs.cols() > 0 ? VectorXd(y_train - Q * (Q.transpose() * y_train)) : y_train;
-    double best_delta = 0.0;
-    std::size_t best_group = all_candidates.size();
-    const Candidate* best_cand = nullptr;
-    for (std::size_t g = 0; g < all_candidates.size(); ++g) {
-      if (used[g] || rejected[g]) continue;
-      for (const auto& cand : all_candidates[g]) {
-        std::vector<const std::vector<double>*> cols;
-        for (const auto& col : cand.columns) cols.push_back(&col);
-        MatrixXd Xc = rows_of(cols, split.train);
-        const double raw_norm = Xc.norm();
-        if (Q.cols() > 0) Xc -= Q * (Q.transpose() * Xc);
-        // An effect mostly explained by those already chosen (variance inflation > 50)
-        // cannot be told apart from them on these data: it is not a candidate.
-        if (Xc.norm() < 1e-9 || Xc.norm() < o.min_independence * raw_norm) continue;
-        const VectorXd b = Xc.colPivHouseholderQr().solve(r_s);
-        const double rss = (r_s - Xc * b).squaredNorm();
-        const int k = param_count(chosen) + static_cast<int>(cand.columns.size()) + cand.nonlinear_params;
-        const double delta = bic(rss, split.train.size(), k) + prior_cost(cand.effect) - current_bic;
-        if (delta < best_delta) {
-          best_delta = delta;
-          best_group = g;
-          best_cand = &cand;
+  const bool trace = std::getenv("JG_DIAG_TRACE") != nullptr;
+  // One forward selection (groups in `excluded` not offered): effects added one at a time
+  // by the information criterion, each confirmed on the held-out blocks.
+  struct Selection {
+    std::vector<const Candidate*> chosen;
+    std::vector<std::size_t> groups;  ///< group of each chosen candidate
+    double heldout = 0.0;
+    double score = 0.0;  ///< BIC on the training blocks plus the chosen effects' prior costs
+    std::vector<std::string> notes;
+  };
+  auto forward = [&](const std::vector<bool>& excluded) {
+    Selection sel;
+    std::vector<bool> used(all_candidates.size(), false), rejected(excluded);
+    double current_bic = bic(y_train.squaredNorm(), split.train.size(), 0);
+    double prior = 0.0;
+    sel.heldout = rms(y_test);
+    auto& chosen = sel.chosen;
+    while (static_cast<int>(chosen.size()) < o.max_effects) {
+      // Orthonormal basis of the chosen columns (train rows): candidates are judged on
+      // what they add beyond them (Frisch-Waugh).
+      const MatrixXd Xs = rows_of(columns_of(chosen), split.train);
+      MatrixXd Q;
+      if (Xs.cols() > 0) {
+        Eigen::HouseholderQR<MatrixXd> qr(Xs);
+        Q = qr.householderQ() * MatrixXd::Identity(Xs.rows(), Xs.cols());
+      }
+      const VectorXd r_s = Xs.cols() > 0 ? VectorXd(y_train - Q * (Q.transpose() * y_train)) : y_train;
+      double best_delta = 0.0;
+      std::size_t best_group = all_candidates.size();
+      const Candidate* best_cand = nullptr;
+      for (std::size_t g = 0; g < all_candidates.size(); ++g) {
+        if (used[g] || rejected[g]) continue;
+        for (const auto& cand : all_candidates[g]) {
+          std::vector<const std::vector<double>*> cols;
+          for (const auto& col : cand.columns) cols.push_back(&col);
+          MatrixXd Xc = rows_of(cols, split.train);
+          const double raw_norm = Xc.norm();
+          if (Q.cols() > 0) Xc -= Q * (Q.transpose() * Xc);
+          // An effect mostly explained by those already chosen (variance inflation > 50)
+          // cannot be told apart from them on these data: it is not a candidate.
+          if (Xc.norm() < 1e-9 || Xc.norm() < o.min_independence * raw_norm) continue;
+          const VectorXd b = Xc.colPivHouseholderQr().solve(r_s);
+          const double rss = (r_s - Xc * b).squaredNorm();
+          const int k = param_count(chosen) + static_cast<int>(cand.columns.size()) + cand.nonlinear_params;
+          const double delta = bic(rss, split.train.size(), k) + prior_cost(cand.effect) - current_bic;
+          if (delta < best_delta) {
+            best_delta = delta;
+            best_group = g;
+            best_cand = &cand;
+          }
         }
       }
+      if (best_cand == nullptr || best_delta > -o.min_delta_bic) break;
+      std::vector<const Candidate*> trial = chosen;
+      trial.push_back(best_cand);
+      const double h = heldout_rms(trial);
+      if (trace) std::fprintf(stderr, "  j%d -> %s dBIC %.1f held-out %.4f -> %.4f\n", s.joint, best_cand->effect.c_str(), best_delta, sel.heldout, h);
+      if (h > sel.heldout * (1.0 - o.min_heldout_gain)) {
+        rejected[best_group] = true;  // fits the training blocks only: not claimed
+        sel.notes.push_back(best_cand->effect + " improved the training fit but not the held-out blocks: not claimed");
+        continue;
+      }
+      chosen = trial;
+      sel.groups.push_back(best_group);
+      used[best_group] = true;
+      sel.heldout = h;
+      prior += prior_cost(best_cand->effect);
+      const VectorXd b = solve(rows_of(columns_of(chosen), split.train), y_train);
+      current_bic = bic((y_train - rows_of(columns_of(chosen), split.train) * b).squaredNorm(), split.train.size(), param_count(chosen));
     }
-    if (best_cand == nullptr || best_delta > -o.min_delta_bic) break;
-    std::vector<const Candidate*> trial = chosen;
-    trial.push_back(best_cand);
-    const double h = heldout_rms(trial);
-    if (std::getenv("JG_DIAG_TRACE") != nullptr) std::fprintf(stderr, "  j%d -> %s dBIC %.1f held-out %.4f -> %.4f\n", s.joint, best_cand->effect.c_str(), best_delta, current_heldout, h);
-    if (h > current_heldout * (1.0 - o.min_heldout_gain)) {
-      rejected[best_group] = true;  // fits the training blocks only: not claimed
-      d.notes.push_back(best_cand->effect + " improved the training fit but not the held-out blocks: not claimed");
-      continue;
+    sel.score = current_bic + prior;
+    return sel;
+  };
+  d.heldout_rms_before = rms(y_test);
+  // Greedy forward selection can lock in a single effect that imitates two (a torque-
+  // constant error imitating a payload plus a friction-level change): replacement steps
+  // rerun the selection without each chosen effect in turn and keep the alternative when
+  // it scores better by the same criterion (BIC plus prior costs) and is no worse on the
+  // held-out blocks.
+  Selection sel = forward(std::vector<bool>(all_candidates.size(), false));
+  std::vector<bool> excluded(all_candidates.size(), false);
+  for (int pass = 0; pass < o.replacement_passes; ++pass) {
+    bool improved = false;
+    for (const std::size_t g : sel.groups) {
+      auto ex = excluded;
+      ex[g] = true;
+      if (trace) std::fprintf(stderr, "  j%d replacement: without %s\n", s.joint, all_candidates[g].front().effect.c_str());
+      Selection alt = forward(ex);
+      if (trace) std::fprintf(stderr, "  j%d   score %.1f vs %.1f, held-out %.4f vs %.4f\n", s.joint, alt.score, sel.score, alt.heldout, sel.heldout);
+      if (alt.score < sel.score && alt.heldout <= sel.heldout * (1.0 + o.min_heldout_gain)) {
+        sel = std::move(alt);
+        excluded = ex;
+        improved = true;
+        break;
+      }
     }
-    chosen = trial;
-    used[best_group] = true;
-    current_heldout = h;
-    const VectorXd b = solve(rows_of(columns_of(chosen), split.train), y_train);
-    current_rss = (y_train - rows_of(columns_of(chosen), split.train) * b).squaredNorm();
-    current_bic = bic(current_rss, split.train.size(), param_count(chosen));
+    if (!improved) break;
   }
-  d.heldout_rms_after = current_heldout;
+  const std::vector<const Candidate*> chosen = sel.chosen;
+  for (auto& note : sel.notes) d.notes.push_back(std::move(note));
+  d.heldout_rms_after = sel.heldout;
   // Final fit on all samples, ranking by the evidence each effect carries.
   std::vector<std::size_t> all_rows(n);
   std::iota(all_rows.begin(), all_rows.end(), 0U);

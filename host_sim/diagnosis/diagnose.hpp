@@ -63,6 +63,8 @@ struct DiagnoseOptions {
   double min_delta_bic = 25.0;  ///< evidence an effect must bring (strong, Kass-Raftery)
   double min_heldout_gain = 0.005;  ///< relative held-out RMS reduction an effect must bring
   int max_effects = 5;
+  /// Replacement passes after the forward selection (0 = greedy forward selection only).
+  int replacement_passes = 2;
   /// Share of an effect's regressor norm that must lie outside the span of the effects
   /// already chosen (1/sqrt(variance inflation)); below it the effect is not separable.
   double min_independence = 0.14;

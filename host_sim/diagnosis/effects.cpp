@@ -21,6 +21,27 @@ double velocity_band(const JointSignals& s) {
 
 std::vector<double> column(std::size_t n) { return std::vector<double>(n, 0.0); }
 
+/// Slope of a local linear fit over +/-half_window_s (uniform dt): a derivative with far
+/// less noise than derivative()'s +/-10 ms, for signals much slower than the window.
+std::vector<double> slow_derivative(const std::vector<double>& x, double dt, double half_window_s) {
+  const std::size_t n = x.size();
+  const auto h = static_cast<std::size_t>(std::max(2.0, std::round(half_window_s / dt)));
+  std::vector<double> d(n, 0.0);
+  if (n < 2 * h + 1) return derivative(x, dt);
+  double denom = 0.0;
+  for (std::size_t i = 1; i <= h; ++i) denom += 2.0 * static_cast<double>(i * i);
+  for (std::size_t k = h; k + h < n; ++k) {
+    double acc = 0.0;
+    for (std::size_t i = 1; i <= h; ++i) acc += static_cast<double>(i) * (x[k + i] - x[k - i]);
+    d[k] = acc / (denom * dt);
+  }
+  for (std::size_t k = 0; k < h; ++k) {
+    d[k] = d[h];
+    d[n - 1 - k] = d[n - 1 - h];
+  }
+  return d;
+}
+
 /// Change of the nominal LuGre friction over the recorded velocity when one parameter is
 /// changed (per unit of the change for `per_unit`).
 std::vector<double> lugre_change(const JointSignals& s, const std::function<void(LuGreParams<double>&)>& change,
@@ -119,7 +140,11 @@ Candidate make_candidate(const std::string& effect, const std::map<std::string, 
     c.columns = {s.payload_columns[0], s.payload_columns[1]};
     return c;
   } else if (effect == "inertia_error") {
-    col = s.ddq;
+    // The acceleration from the motor-encoder velocity over +/-30 ms: an inertia error
+    // acts on the motion's acceleration, and a regressor carrying the differentiation
+    // noise would fit it with a bias and a worse likelihood than shapes of the (nearly
+    // noise-free) position.
+    col = slow_derivative(s.dq, s.dt, 0.03);
   } else if (effect == "torque_constant") {
     // A scale error of current to torque scales the whole modelled torque. The model's
     // torque, not the measured one, is the regressor: the prediction must never use the
@@ -180,8 +205,17 @@ std::vector<std::vector<Candidate>> build_candidates(const JointSignals& s) {
   group("asymmetric_friction", nullptr, {});
   // Once per turn, a ripple cannot be told from a gravity-model error on one joint; with
   // a rigid-body model at hand that is the payload effect's job, so ripple starts at 2.
+  // Nor can a ripple of which the motion covers less than 1.5 periods: over that range a
+  // sine is just a smooth function of the position, as the gravity torque of a payload
+  // is. With a rigid-body model, a ripple must show at least 1.5 periods over the
+  // recorded range of position.
   std::vector<double> per_rev;
-  for (int k = s.payload_columns.empty() ? 1 : 2; k <= 200; ++k) per_rev.push_back(k);
+  const auto [q_lo, q_hi] = std::minmax_element(s.q.begin(), s.q.end());
+  const double q_range = s.q.empty() ? 0.0 : *q_hi - *q_lo;
+  const int k_min = s.payload_columns.empty()
+                        ? 1
+                        : std::max(2, static_cast<int>(std::ceil(1.5 * 2.0 * M_PI / std::max(q_range, 1e-6))));
+  for (int k = k_min; k <= 200; ++k) per_rev.push_back(k);
   group("position_ripple", "periods_per_rev", per_rev);
   const double span = s.t.back() - s.t.front();
   group("temperature_drift", "time_constant_s", {0.1 * span, 0.25 * span, 0.5 * span, span, 3.0 * span});
