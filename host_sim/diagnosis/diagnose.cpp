@@ -433,8 +433,8 @@ JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
   // Greedy forward selection can lock in a single effect that imitates two (a torque-
   // constant error imitating a payload plus a friction-level change): replacement steps
   // rerun the selection without each chosen effect in turn and keep the alternative when
-  // it scores better by the same criterion (BIC plus prior costs) and is no worse on the
-  // held-out blocks.
+  // it scores better by the same criterion (BIC plus prior costs), is no worse on the
+  // held-out blocks and has at most one effect more.
   Selection sel = forward(std::vector<bool>(all_candidates.size(), false));
   std::vector<bool> excluded(all_candidates.size(), false);
   for (int pass = 0; pass < o.replacement_passes; ++pass) {
@@ -445,7 +445,10 @@ JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
       if (trace) std::fprintf(stderr, "  j%d replacement: without %s\n", s.joint, all_candidates[g].front().effect.c_str());
       Selection alt = forward(ex);
       if (trace) std::fprintf(stderr, "  j%d   score %.1f vs %.1f, held-out %.4f vs %.4f\n", s.joint, alt.score, sel.score, alt.heldout, sel.heldout);
-      if (alt.score < sel.score && alt.heldout <= sel.heldout * (1.0 + o.min_heldout_gain)) {
+      // A replacement exchanges one effect for at most two (what one effect imitating two
+      // needs); a wholesale rearrangement into many small effects is not a replacement.
+      if (alt.score < sel.score && alt.heldout <= sel.heldout * (1.0 + o.min_heldout_gain) &&
+          alt.chosen.size() <= sel.chosen.size() + 1) {
         sel = std::move(alt);
         excluded = ex;
         improved = true;
