@@ -3,7 +3,11 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <numeric>
+#include <sstream>
+#include <tuple>
 #include <stdexcept>
 
 namespace jg::diag {
@@ -179,6 +183,137 @@ Location locate(const JointSignals& s, double noise) {
   loc.elsewhere_rms = n2 > 0 ? std::sqrt(a2 / n2) : 0.0;
   return loc;
 }
+
+/// The gear-deflection channel (JointSignals::deflection): joint elasticity makes the
+/// deflection follow the torque the gear transmits (1 / stiffness); backlash adds a jump of
+/// the gap width where that torque changes sign. A constant and a slow drift (of the
+/// integrated motor position) are always allowed for. Forward selection by BIC with the
+/// held-out confirmation of the torque channel; an effect must also move the deflection by
+/// more than its noise level (below it, the gear is as stiff as the encoders can tell).
+void deflection_channel(const JointSignals& s, const Split& split, const DiagnoseOptions& o, JointDiagnosis& d) {
+  const std::size_t n = s.size();
+  if (s.deflection.size() != n) return;
+  const std::vector<double>& torque = s.load.size() == n ? s.load : s.tau_real;
+  const double span = std::max(s.t.back() - s.t.front(), 1e-9);
+  std::vector<double> ones(n, 1.0), trend(n);
+  for (std::size_t k = 0; k < n; ++k) trend[k] = (s.t[k] - s.t.front()) / span;
+  double tau_ms = 0.0;
+  for (const double v : torque) tau_ms += v * v;
+  const double tau_rms = std::sqrt(tau_ms / static_cast<double>(n));
+  if (!(tau_rms > 0.0)) return;
+  struct Group {
+    std::string effect;
+    std::vector<std::pair<double, std::vector<double>>> instances;  // (setting, column)
+  };
+  std::vector<Group> groups(2);
+  groups[0].effect = "joint_elasticity";
+  groups[0].instances.push_back({0.0, torque});
+  groups[1].effect = "backlash";
+  // Backlash is only observable where the gear torque changes sign: both signs must be
+  // held for a fair share of the recording.
+  std::size_t positive = 0;
+  for (const double v : torque) positive += v > 0.0 ? 1U : 0U;
+  const bool reverses = positive > n / 20 && n - positive > n / 20;
+  for (const double band : {0.01, 0.03, 0.1}) {  // width of the sign change, share of the torque RMS
+    if (!reverses) break;
+    std::vector<double> col(n);
+    for (std::size_t k = 0; k < n; ++k) col[k] = std::tanh(torque[k] / (band * tau_rms));
+    groups[1].instances.push_back({band, std::move(col)});
+  }
+  const VectorXd y_train = vec_of(s.deflection, split.train), y_test = vec_of(s.deflection, split.test);
+  // Noise: the MAD estimate fails on a deflection that moves by whole encoder counts (most
+  // second differences exactly zero); the RMS of the second differences without their
+  // largest 5 % (jumps) covers that case.
+  std::vector<double> d2;
+  for (std::size_t k = 1; k + 1 < n; ++k) d2.push_back(std::fabs(s.deflection[k + 1] - 2.0 * s.deflection[k] + s.deflection[k - 1]));
+  std::sort(d2.begin(), d2.end());
+  double d2_ms = 0.0;
+  const std::size_t keep = d2.size() * 95 / 100;
+  for (std::size_t k = 0; k < keep; ++k) d2_ms += d2[k] * d2[k];
+  const double noise = std::max({noise_level(s.deflection), std::sqrt(d2_ms / static_cast<double>(std::max<std::size_t>(keep, 1)) / 6.0), 1e-12});
+  std::vector<const std::vector<double>*> cols{&ones, &trend};
+  std::vector<std::pair<std::size_t, std::size_t>> chosen;  // (group, instance)
+  auto fit = [&](const std::vector<const std::vector<double>*>& c) {
+    const MatrixXd X = rows_of(c, split.train);
+    const VectorXd b = solve(X, y_train);
+    return std::make_pair((y_train - X * b).squaredNorm(), rms(y_test - rows_of(c, split.test) * b));
+  };
+  auto [rss, held] = fit(cols);
+  const double held_before = held;
+  double cur_bic = bic(rss, split.train.size(), static_cast<int>(cols.size()));
+  std::vector<bool> used(groups.size(), false);
+  for (int round = 0; round < 2; ++round) {
+    double best = 0.0;
+    std::pair<std::size_t, std::size_t> pick{groups.size(), 0};
+    double pick_held = 0.0;
+    for (std::size_t g = 0; g < groups.size(); ++g) {
+      if (used[g]) continue;
+      for (std::size_t i = 0; i < groups[g].instances.size(); ++i) {
+        auto c = cols;
+        c.push_back(&groups[g].instances[i].second);
+        const auto [r2, h2] = fit(c);
+        const int k = static_cast<int>(c.size()) + (groups[g].instances.size() > 1 ? 1 : 0);
+        const double delta = bic(r2, split.train.size(), k) - cur_bic;
+        if (delta < best) {
+          best = delta;
+          pick = {g, i};
+          pick_held = h2;
+        }
+      }
+    }
+    if (pick.first == groups.size() || best > -o.min_delta_bic || pick_held > held * (1.0 - o.min_heldout_gain)) break;
+    used[pick.first] = true;
+    chosen.push_back(pick);
+    cols.push_back(&groups[pick.first].instances[pick.second].second);
+    std::tie(rss, held) = fit(cols);
+    cur_bic = bic(rss, split.train.size(), static_cast<int>(cols.size()));
+  }
+  if (chosen.empty()) return;
+  // Final fit on all samples; each effect's contribution and evidence.
+  std::vector<std::size_t> all_rows(n);
+  std::iota(all_rows.begin(), all_rows.end(), 0U);
+  const VectorXd y = vec_of(s.deflection, all_rows);
+  const MatrixXd X = rows_of(cols, all_rows);
+  const VectorXd b = solve(X, y);
+  const double full_bic = bic((y - X * b).squaredNorm(), n, static_cast<int>(cols.size()));
+  for (std::size_t c = 0; c < chosen.size(); ++c) {
+    const auto& g = groups[chosen[c].first];
+    const auto& inst = g.instances[chosen[c].second];
+    const double coef = b(static_cast<Eigen::Index>(2 + c));
+    double contrib = 0.0;
+    for (std::size_t k = 0; k < n; ++k) contrib += coef * inst.second[k] * coef * inst.second[k];
+    contrib = std::sqrt(contrib / static_cast<double>(n));
+    if (contrib < o.min_deflection_snr * noise) {
+      d.notes.push_back(g.effect + " fits the deflection but moves it by less than its noise: not claimed");
+      continue;
+    }
+    if (g.effect == "joint_elasticity" && coef <= 0.0) continue;  // a spring deflects with the load
+    if (g.effect == "backlash" && coef <= 0.0) continue;
+    auto without = cols;
+    without.erase(without.begin() + static_cast<std::ptrdiff_t>(2 + c));
+    const MatrixXd Xw = rows_of(without, all_rows);
+    Finding f;
+    f.effect = g.effect;
+    f.delta_bic = bic((y - Xw * solve(Xw, y)).squaredNorm(), n, static_cast<int>(without.size())) - full_bic;
+    f.confidence = 1.0 / (1.0 + std::exp(-(f.delta_bic - o.min_delta_bic) / 10.0));
+    std::ostringstream os;
+    os.precision(3);
+    if (g.effect == "joint_elasticity") {
+      f.params["stiffness_nm_per_rad"] = 1.0 / coef;
+      os << "joint elasticity: the gear deflects with the load, stiffness ~" << 1.0 / coef << " N·m/rad";
+    } else {
+      f.params["gap_rad"] = 2.0 * coef;
+      f.params["transition_share_of_torque_rms"] = inst.first;
+      os << "backlash: the deflection jumps by " << 2.0 * coef << " rad where the gear torque changes sign";
+    }
+    f.params["deflection_effect_rms_rad"] = contrib;
+    f.params["deflection_noise_rad"] = noise;
+    f.params["deflection_heldout_rms_before"] = held_before;
+    f.params["deflection_heldout_rms_after"] = held;
+    f.text = os.str();
+    d.findings.push_back(f);
+  }
+}
 }  // namespace
 
 JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
@@ -194,10 +329,17 @@ JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
   d.location = locate(s, d.noise_rms);
   const Split split = make_split(n, o);
   const VectorXd y_train = vec_of(s.residual, split.train), y_test = vec_of(s.residual, split.test);
-  const auto all_candidates = build_candidates(s);
+  auto all_candidates = build_candidates(s);
+  // The gear-deflection channel first: what it finds also shows in the torque as the
+  // rotor's acceleration relative to the link (J_rotor d²(deflection)/dt²), a candidate
+  // under the same name.
+  deflection_channel(s, split, o, d);
+  if (!d.findings.empty()) {
+    const auto strongest = std::max_element(d.findings.begin(), d.findings.end(),
+                                            [](const Finding& a, const Finding& b) { return a.delta_bic < b.delta_bic; });
+    all_candidates.push_back({make_candidate(strongest->effect, {{"rotor_acceleration", 1.0}}, s)});
+  }
 
-  std::vector<const Candidate*> chosen;
-  std::vector<bool> used(all_candidates.size(), false), rejected(all_candidates.size(), false);
   auto columns_of = [](const std::vector<const Candidate*>& cs) {
     std::vector<const std::vector<double>*> cols;
     for (const auto* c : cs) for (const auto& col : c->columns) cols.push_back(&col);
@@ -214,62 +356,110 @@ JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
     const VectorXd b = solve(rows_of(cols, split.train), y_train);
     return rms(y_test - rows_of(cols, split.test) * b);
   };
-  double current_rss = y_train.squaredNorm();
-  double current_bic = bic(current_rss, split.train.size(), 0);
-  double current_heldout = rms(y_test);
-  d.heldout_rms_before = current_heldout;
-  while (static_cast<int>(chosen.size()) < o.max_effects) {
-    // Orthonormal basis of the chosen columns (train rows): candidates are judged on
-    // what they add beyond them (Frisch-Waugh).
-    const MatrixXd Xs = rows_of(columns_of(chosen), split.train);
-    MatrixXd Q;
-    if (Xs.cols() > 0) {
-      Eigen::HouseholderQR<MatrixXd> qr(Xs);
-      Q = qr.householderQ() * MatrixXd::Identity(Xs.rows(), Xs.cols());
-    }
-    const VectorXd r_s = Xs.cols() > 0 ? VectorXd(y_train - Q * (Q.transpose() * y_train)) : y_train;
-    double best_delta = 0.0;
-    std::size_t best_group = all_candidates.size();
-    const Candidate* best_cand = nullptr;
-    for (std::size_t g = 0; g < all_candidates.size(); ++g) {
-      if (used[g] || rejected[g]) continue;
-      for (const auto& cand : all_candidates[g]) {
-        std::vector<const std::vector<double>*> cols;
-        for (const auto& col : cand.columns) cols.push_back(&col);
-        MatrixXd Xc = rows_of(cols, split.train);
-        const double raw_norm = Xc.norm();
-        if (Q.cols() > 0) Xc -= Q * (Q.transpose() * Xc);
-        // An effect mostly explained by those already chosen (variance inflation > 50)
-        // cannot be told apart from them on these data: it is not a candidate.
-        if (Xc.norm() < 1e-9 || Xc.norm() < o.min_independence * raw_norm) continue;
-        const VectorXd b = Xc.colPivHouseholderQr().solve(r_s);
-        const double rss = (r_s - Xc * b).squaredNorm();
-        const int k = param_count(chosen) + static_cast<int>(cand.columns.size()) + cand.nonlinear_params;
-        const double delta = bic(rss, split.train.size(), k) + prior_cost(cand.effect) - current_bic;
-        if (delta < best_delta) {
-          best_delta = delta;
-          best_group = g;
-          best_cand = &cand;
+  const bool trace = std::getenv("JG_DIAG_TRACE") != nullptr;
+  // One forward selection (groups in `excluded` not offered): effects added one at a time
+  // by the information criterion, each confirmed on the held-out blocks.
+  struct Selection {
+    std::vector<const Candidate*> chosen;
+    std::vector<std::size_t> groups;  ///< group of each chosen candidate
+    double heldout = 0.0;
+    double score = 0.0;  ///< BIC on the training blocks plus the chosen effects' prior costs
+    std::vector<std::string> notes;
+  };
+  auto forward = [&](const std::vector<bool>& excluded) {
+    Selection sel;
+    std::vector<bool> used(all_candidates.size(), false), rejected(excluded);
+    double current_bic = bic(y_train.squaredNorm(), split.train.size(), 0);
+    double prior = 0.0;
+    sel.heldout = rms(y_test);
+    auto& chosen = sel.chosen;
+    while (static_cast<int>(chosen.size()) < o.max_effects) {
+      // Orthonormal basis of the chosen columns (train rows): candidates are judged on
+      // what they add beyond them (Frisch-Waugh).
+      const MatrixXd Xs = rows_of(columns_of(chosen), split.train);
+      MatrixXd Q;
+      if (Xs.cols() > 0) {
+        Eigen::HouseholderQR<MatrixXd> qr(Xs);
+        Q = qr.householderQ() * MatrixXd::Identity(Xs.rows(), Xs.cols());
+      }
+      const VectorXd r_s = Xs.cols() > 0 ? VectorXd(y_train - Q * (Q.transpose() * y_train)) : y_train;
+      double best_delta = 0.0;
+      std::size_t best_group = all_candidates.size();
+      const Candidate* best_cand = nullptr;
+      for (std::size_t g = 0; g < all_candidates.size(); ++g) {
+        if (used[g] || rejected[g]) continue;
+        for (const auto& cand : all_candidates[g]) {
+          std::vector<const std::vector<double>*> cols;
+          for (const auto& col : cand.columns) cols.push_back(&col);
+          MatrixXd Xc = rows_of(cols, split.train);
+          const double raw_norm = Xc.norm();
+          if (Q.cols() > 0) Xc -= Q * (Q.transpose() * Xc);
+          // An effect mostly explained by those already chosen (variance inflation > 50)
+          // cannot be told apart from them on these data: it is not a candidate.
+          if (Xc.norm() < 1e-9 || Xc.norm() < o.min_independence * raw_norm) continue;
+          const VectorXd b = Xc.colPivHouseholderQr().solve(r_s);
+          const double rss = (r_s - Xc * b).squaredNorm();
+          const int k = param_count(chosen) + static_cast<int>(cand.columns.size()) + cand.nonlinear_params;
+          const double delta = bic(rss, split.train.size(), k) + prior_cost(cand.effect) - current_bic;
+          if (delta < best_delta) {
+            best_delta = delta;
+            best_group = g;
+            best_cand = &cand;
+          }
         }
       }
+      if (best_cand == nullptr || best_delta > -o.min_delta_bic) break;
+      std::vector<const Candidate*> trial = chosen;
+      trial.push_back(best_cand);
+      const double h = heldout_rms(trial);
+      if (trace) std::fprintf(stderr, "  j%d -> %s dBIC %.1f held-out %.4f -> %.4f\n", s.joint, best_cand->effect.c_str(), best_delta, sel.heldout, h);
+      if (h > sel.heldout * (1.0 - o.min_heldout_gain)) {
+        rejected[best_group] = true;  // fits the training blocks only: not claimed
+        sel.notes.push_back(best_cand->effect + " improved the training fit but not the held-out blocks: not claimed");
+        continue;
+      }
+      chosen = trial;
+      sel.groups.push_back(best_group);
+      used[best_group] = true;
+      sel.heldout = h;
+      prior += prior_cost(best_cand->effect);
+      const VectorXd b = solve(rows_of(columns_of(chosen), split.train), y_train);
+      current_bic = bic((y_train - rows_of(columns_of(chosen), split.train) * b).squaredNorm(), split.train.size(), param_count(chosen));
     }
-    if (best_cand == nullptr || best_delta > -o.min_delta_bic) break;
-    std::vector<const Candidate*> trial = chosen;
-    trial.push_back(best_cand);
-    const double h = heldout_rms(trial);
-    if (h > current_heldout * (1.0 - o.min_heldout_gain)) {
-      rejected[best_group] = true;  // fits the training blocks only: not claimed
-      d.notes.push_back(best_cand->effect + " improved the training fit but not the held-out blocks: not claimed");
-      continue;
+    sel.score = current_bic + prior;
+    return sel;
+  };
+  d.heldout_rms_before = rms(y_test);
+  // Greedy forward selection can lock in a single effect that imitates two (a torque-
+  // constant error imitating a payload plus a friction-level change): replacement steps
+  // rerun the selection without each chosen effect in turn and keep the alternative when
+  // it scores better by the same criterion (BIC plus prior costs), is no worse on the
+  // held-out blocks and has at most one effect more.
+  Selection sel = forward(std::vector<bool>(all_candidates.size(), false));
+  std::vector<bool> excluded(all_candidates.size(), false);
+  for (int pass = 0; pass < o.replacement_passes; ++pass) {
+    bool improved = false;
+    for (const std::size_t g : sel.groups) {
+      auto ex = excluded;
+      ex[g] = true;
+      if (trace) std::fprintf(stderr, "  j%d replacement: without %s\n", s.joint, all_candidates[g].front().effect.c_str());
+      Selection alt = forward(ex);
+      if (trace) std::fprintf(stderr, "  j%d   score %.1f vs %.1f, held-out %.4f vs %.4f\n", s.joint, alt.score, sel.score, alt.heldout, sel.heldout);
+      // A replacement exchanges one effect for at most two (what one effect imitating two
+      // needs); a wholesale rearrangement into many small effects is not a replacement.
+      if (alt.score < sel.score && alt.heldout <= sel.heldout * (1.0 + o.min_heldout_gain) &&
+          alt.chosen.size() <= sel.chosen.size() + 1) {
+        sel = std::move(alt);
+        excluded = ex;
+        improved = true;
+        break;
+      }
     }
-    chosen = trial;
-    used[best_group] = true;
-    current_heldout = h;
-    const VectorXd b = solve(rows_of(columns_of(chosen), split.train), y_train);
-    current_rss = (y_train - rows_of(columns_of(chosen), split.train) * b).squaredNorm();
-    current_bic = bic(current_rss, split.train.size(), param_count(chosen));
+    if (!improved) break;
   }
-  d.heldout_rms_after = current_heldout;
+  const std::vector<const Candidate*> chosen = sel.chosen;
+  for (auto& note : sel.notes) d.notes.push_back(std::move(note));
+  d.heldout_rms_after = sel.heldout;
   // Final fit on all samples, ranking by the evidence each effect carries.
   std::vector<std::size_t> all_rows(n);
   std::iota(all_rows.begin(), all_rows.end(), 0U);
@@ -307,30 +497,22 @@ JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
       f.params = describe(c, coef, s, f.text);
       d.findings.push_back(f);
     }
-    std::sort(d.findings.begin(), d.findings.end(), [](const Finding& a, const Finding& b2) { return a.delta_bic > b2.delta_bic; });
   }
-  // Joint elasticity shows in the velocity channel: motor-side velocity minus the link
-  // encoder's derivative follows the torque rate / stiffness.
-  if (!s.velocity_mismatch.empty()) {
-    const auto rate = derivative(s.tau_real, s.dt);
-    const VectorXd v_train = vec_of(s.velocity_mismatch, split.train), v_test = vec_of(s.velocity_mismatch, split.test);
-    const std::vector<const std::vector<double>*> cols{&rate};
-    const MatrixXd Xtr = rows_of(cols, split.train), Xte = rows_of(cols, split.test);
-    const VectorXd b = solve(Xtr, v_train);
-    const double rss0 = v_train.squaredNorm(), rss1 = (v_train - Xtr * b).squaredNorm();
-    const double delta = bic(rss0, split.train.size(), 0) - bic(rss1, split.train.size(), 1);
-    const double h0 = rms(v_test), h1 = rms(v_test - Xte * b);
-    if (delta > o.min_delta_bic && h1 < h0 * (1.0 - o.min_heldout_gain) && b(0) > 0.0) {
-      Finding f;
-      f.effect = "joint_elasticity";
-      f.delta_bic = delta;
-      f.confidence = 1.0 / (1.0 + std::exp(-(delta - o.min_delta_bic) / 10.0));
-      f.params = describe(Candidate{"joint_elasticity", {}, {}, 0}, {b(0)}, s, f.text);
-      f.params["velocity_rms_before"] = h0;
-      f.params["velocity_rms_after"] = h1;
-      d.findings.push_back(f);
+  // One finding per effect: the deflection and torque evidence of the same effect merged.
+  std::vector<Finding> merged;
+  for (auto& f : d.findings) {
+    auto it = std::find_if(merged.begin(), merged.end(), [&](const Finding& m) { return m.effect == f.effect; });
+    if (it == merged.end()) {
+      merged.push_back(std::move(f));
+      continue;
     }
+    for (const auto& [k, v] : f.params) it->params.emplace(k, v);
+    it->delta_bic += f.delta_bic;
+    it->confidence = 1.0 / (1.0 + std::exp(-(it->delta_bic - o.min_delta_bic) / 10.0));
+    it->text += "; " + f.text;
   }
+  d.findings = std::move(merged);
+  std::sort(d.findings.begin(), d.findings.end(), [](const Finding& a, const Finding& b2) { return a.delta_bic > b2.delta_bic; });
   std::vector<double> final_residual(n);
   for (std::size_t k = 0; k < n; ++k) final_residual[k] = s.residual[k] - d.fitted[k];
   d.whiteness_q = ljung_box(final_residual, 20);

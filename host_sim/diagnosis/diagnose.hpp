@@ -63,9 +63,14 @@ struct DiagnoseOptions {
   double min_delta_bic = 25.0;  ///< evidence an effect must bring (strong, Kass-Raftery)
   double min_heldout_gain = 0.005;  ///< relative held-out RMS reduction an effect must bring
   int max_effects = 5;
+  /// Replacement passes after the forward selection (0 = greedy forward selection only).
+  int replacement_passes = 2;
   /// Share of an effect's regressor norm that must lie outside the span of the effects
   /// already chosen (1/sqrt(variance inflation)); below it the effect is not separable.
   double min_independence = 0.14;
+  /// An effect in the gear-deflection channel must move the deflection by at least this
+  /// many noise levels of that channel (RMS of its fitted contribution).
+  double min_deflection_snr = 3.0;
 };
 
 JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o = {});

@@ -1,8 +1,12 @@
 #include "diagnosis/effects.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <functional>
 #include <sstream>
 #include <stdexcept>
+
+#include "identification/lugre_batch.hpp"
 
 namespace jg::diag {
 namespace {
@@ -16,6 +20,40 @@ double velocity_band(const JointSignals& s) {
 }
 
 std::vector<double> column(std::size_t n) { return std::vector<double>(n, 0.0); }
+
+/// Slope of a local linear fit over +/-half_window_s (uniform dt): a derivative with far
+/// less noise than derivative()'s +/-10 ms, for signals much slower than the window.
+std::vector<double> slow_derivative(const std::vector<double>& x, double dt, double half_window_s) {
+  const std::size_t n = x.size();
+  const auto h = static_cast<std::size_t>(std::max(2.0, std::round(half_window_s / dt)));
+  std::vector<double> d(n, 0.0);
+  if (n < 2 * h + 1) return derivative(x, dt);
+  double denom = 0.0;
+  for (std::size_t i = 1; i <= h; ++i) denom += 2.0 * static_cast<double>(i * i);
+  for (std::size_t k = h; k + h < n; ++k) {
+    double acc = 0.0;
+    for (std::size_t i = 1; i <= h; ++i) acc += static_cast<double>(i) * (x[k + i] - x[k - i]);
+    d[k] = acc / (denom * dt);
+  }
+  for (std::size_t k = 0; k < h; ++k) {
+    d[k] = d[h];
+    d[n - 1 - k] = d[n - 1 - h];
+  }
+  return d;
+}
+
+/// Change of the nominal LuGre friction over the recorded velocity when one parameter is
+/// changed (per unit of the change for `per_unit`).
+std::vector<double> lugre_change(const JointSignals& s, const std::function<void(LuGreParams<double>&)>& change,
+                                 double per_unit) {
+  LuGreParams<double> p = *s.friction;
+  change(p);
+  const auto f0 = ident::lugre_predict(*s.friction, s.dq, s.dt);
+  const auto f1 = ident::lugre_predict(p, s.dq, s.dt);
+  std::vector<double> d(f0.size());
+  for (std::size_t k = 0; k < d.size(); ++k) d[k] = (f1[k] - f0[k]) / per_unit;
+  return d;
+}
 }  // namespace
 
 Candidate make_candidate(const std::string& effect, const std::map<std::string, double>& setting,
@@ -33,7 +71,33 @@ Candidate make_candidate(const std::string& effect, const std::map<std::string, 
   c.setting = setting;
   c.nonlinear_params = static_cast<int>(setting.size());
   auto col = column(n);
-  if (effect == "coulomb") {
+  if (setting.count("rotor_acceleration") != 0U) {
+    // Elastic gear or backlash seen in the torque: the rotor's acceleration relative to
+    // the link, the second derivative of the measured deflection (coefficient: J_rotor).
+    if (s.deflection.size() != n) return c;
+    c.nonlinear_params = 0;
+    c.columns.push_back(derivative(derivative(s.deflection, s.dt), s.dt));
+    return c;
+  }
+  if (effect == "coulomb" && setting.count("model_curve") != 0U) {
+    // The model's Coulomb level raised alone: its static level and Stribeck curve kept.
+    if (!s.friction) return c;
+    c.nonlinear_params = 0;
+    const double eps = 0.01 * std::max(s.friction->tau_c, 1e-3);
+    col = lugre_change(s, [eps](LuGreParams<double>& p) { p.tau_c += eps; }, eps);
+  } else if (effect == "stribeck" && setting.count("model_curve") != 0U) {
+    // The model's static (breakaway) level raised alone: its Coulomb level, Stribeck
+    // velocity and bristles kept.
+    if (!s.friction) return c;
+    c.nonlinear_params = 0;
+    const double eps = 0.01 * std::max(std::fabs(s.friction->tau_s), 1e-3);
+    col = lugre_change(s, [eps](LuGreParams<double>& p) { p.tau_s += eps; }, eps);
+  } else if (effect == "presliding" && setting.count("sigma0_ratio") != 0U) {
+    // The model's bristles softer by this ratio: a longer presliding regime after reversals.
+    if (!s.friction) return c;
+    const double ratio = get("sigma0_ratio");
+    col = lugre_change(s, [ratio](LuGreParams<double>& p) { p.sigma0 *= ratio; }, 1.0);
+  } else if (effect == "coulomb") {
     for (std::size_t k = 0; k < n; ++k) col[k] = sgn(k);
   } else if (effect == "viscous") {
     col = s.dq;
@@ -76,7 +140,11 @@ Candidate make_candidate(const std::string& effect, const std::map<std::string, 
     c.columns = {s.payload_columns[0], s.payload_columns[1]};
     return c;
   } else if (effect == "inertia_error") {
-    col = s.ddq;
+    // The acceleration from the motor-encoder velocity over +/-30 ms: an inertia error
+    // acts on the motion's acceleration, and a regressor carrying the differentiation
+    // noise would fit it with a bias and a worse likelihood than shapes of the (nearly
+    // noise-free) position.
+    col = slow_derivative(s.dq, s.dt, 0.03);
   } else if (effect == "torque_constant") {
     // A scale error of current to torque scales the whole modelled torque. The model's
     // torque, not the measured one, is the regressor: the prediction must never use the
@@ -116,15 +184,38 @@ std::vector<std::vector<Candidate>> build_candidates(const JointSignals& s) {
     }
     if (!g.front().columns.empty()) all.push_back(std::move(g));
   };
+  // With the nominal friction model, friction effects are also its parameters' changes:
+  // further instances of the same group (they compete with the generic shapes by BIC).
+  auto model_instances = [&](const std::string& effect, const char* key, const std::vector<double>& grid) {
+    if (!s.friction) return;
+    auto it = std::find_if(all.begin(), all.end(), [&](const std::vector<Candidate>& g) { return g.front().effect == effect; });
+    if (it == all.end()) return;
+    for (const double v : grid) {
+      Candidate c = make_candidate(effect, {{key, v}}, s);
+      if (!c.columns.empty()) it->push_back(std::move(c));
+    }
+  };
   group("coulomb", nullptr, {});
   group("viscous", nullptr, {});
   group("stribeck", "w_s", {0.003, 0.006, 0.01, 0.02, 0.04, 0.07, 0.1, 0.15, 0.25, 0.4});
   group("presliding", "displacement_rad", {2e-5, 5e-5, 1e-4, 2e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2});
+  model_instances("coulomb", "model_curve", {1.0});
+  model_instances("stribeck", "model_curve", {1.0});
+  model_instances("presliding", "sigma0_ratio", {0.5, 0.3, 0.2, 0.1, 0.05, 0.02});
   group("asymmetric_friction", nullptr, {});
   // Once per turn, a ripple cannot be told from a gravity-model error on one joint; with
   // a rigid-body model at hand that is the payload effect's job, so ripple starts at 2.
+  // Nor can a ripple of which the motion covers less than 1.5 periods: over that range a
+  // sine is just a smooth function of the position, as the gravity torque of a payload
+  // is. With a rigid-body model, a ripple must show at least 1.5 periods over the
+  // recorded range of position.
   std::vector<double> per_rev;
-  for (int k = s.payload_columns.empty() ? 1 : 2; k <= 200; ++k) per_rev.push_back(k);
+  const auto [q_lo, q_hi] = std::minmax_element(s.q.begin(), s.q.end());
+  const double q_range = s.q.empty() ? 0.0 : *q_hi - *q_lo;
+  const int k_min = s.payload_columns.empty()
+                        ? 1
+                        : std::max(2, static_cast<int>(std::ceil(1.5 * 2.0 * M_PI / std::max(q_range, 1e-6))));
+  for (int k = k_min; k <= 200; ++k) per_rev.push_back(k);
   group("position_ripple", "periods_per_rev", per_rev);
   const double span = s.t.back() - s.t.front();
   group("temperature_drift", "time_constant_s", {0.1 * span, 0.25 * span, 0.5 * span, span, 3.0 * span});
@@ -134,7 +225,10 @@ std::vector<std::vector<Candidate>> build_candidates(const JointSignals& s) {
   group("torque_constant", nullptr, {});
   group("current_offset", nullptr, {});
   group("time_delay", nullptr, {});
-  group("backlash", "gap_rad", {0.0005, 0.001, 0.002, 0.004, 0.008, 0.016});
+  // Backlash from the torque alone (the load not driven after velocity reversals) only when
+  // there is no gear-deflection channel: with motor and link encoders, backlash is judged
+  // on the deflection itself (diagnose.cpp), far more directly.
+  if (s.deflection.size() != s.size()) group("backlash", "gap_rad", {0.0005, 0.001, 0.002, 0.004, 0.008, 0.016});
   return all;
 }
 
@@ -150,10 +244,19 @@ std::map<std::string, double> describe(const Candidate& c, const std::vector<dou
   } else if (e == "viscous") {
     p["delta_sigma2"] = b[0];
     os << "viscous friction off by " << b[0] << " N·m·s/rad";
+  } else if (e == "stribeck" && c.setting.count("model_curve") != 0U) {
+    p["delta_tau_s"] = b[0];
+    if (s.friction) p["w_s"] = s.friction->w_s;
+    os << "Stribeck effect off: static (breakaway) friction level " << b[0] << " N·m above the model's";
   } else if (e == "stribeck") {
     p["amplitude"] = b[0];
     p["w_s"] = c.setting.at("w_s");
     os << "Stribeck effect missing: " << b[0] << " N·m extra friction at low speed, w_s " << p["w_s"] << " rad/s";
+  } else if (e == "presliding" && c.setting.count("sigma0_ratio") != 0U) {
+    p["sigma0_ratio"] = c.setting.at("sigma0_ratio") * b[0] + (1.0 - b[0]);
+    p["level"] = b[0];
+    os << "presliding (bristle) dynamics off: the bristles are softer than modelled, stiffness x"
+       << c.setting.at("sigma0_ratio") << " (fit " << b[0] << " of that change)";
   } else if (e == "presliding") {
     p["level"] = -b[0];
     p["displacement_rad"] = c.setting.at("displacement_rad");
@@ -199,6 +302,9 @@ std::map<std::string, double> describe(const Candidate& c, const std::vector<dou
   } else if (e == "time_delay") {
     p["delay_s"] = -b[0];
     os << "measurement delay of " << -b[0] * 1000.0 << " ms between motion and torque";
+  } else if (c.setting.count("rotor_acceleration") != 0U) {
+    p["deflection_acceleration_gain"] = b[0];
+    os << "torque transients where the gear deflection accelerates (" << e << "): " << b[0] << " N·m per rad/s²";
   } else if (e == "backlash") {
     p["gap_rad"] = c.setting.at("gap_rad");
     p["fraction"] = b[0];

@@ -49,6 +49,18 @@ sim::JointVector column_at(const std::vector<std::vector<double>>& sig, std::siz
   return v;
 }
 
+/// Motor-side position (dq integrated) minus link position, both from their first sample.
+std::vector<double> deflection_of(const io::Recording& r, std::size_t j) {
+  const std::size_t n = r.samples();
+  std::vector<double> d(n, 0.0);
+  double theta = 0.0;
+  for (std::size_t k = 1; k < n; ++k) {
+    theta += r.dq[j][k] * (r.t[k] - r.t[k - 1]);
+    d[k] = theta - (r.q[j][k] - r.q[j][0]);
+  }
+  return d;
+}
+
 /// Fills the model-dependent signals: ddq, rigid-body load, payload columns, mismatch.
 void add_model_terms(std::vector<JointSignals>& out, const io::Recording& real, const ModelContext& m) {
   const std::size_t n = real.samples();
@@ -60,6 +72,8 @@ void add_model_terms(std::vector<JointSignals>& out, const io::Recording& real, 
     const auto dq_link = derivative(real.q[j], out[j].dt);
     out[j].velocity_mismatch.resize(n);
     for (std::size_t k = 0; k < n; ++k) out[j].velocity_mismatch[k] = real.dq[j][k] - dq_link[k];
+    out[j].deflection = deflection_of(real, j);
+    if (j < m.friction.size()) out[j].friction = m.friction[j];
   }
   if (m.arm == nullptr || m.arm->joints() != static_cast<int>(nj)) return;
   sim::ArmDynamics plus = *m.arm;
@@ -132,6 +146,12 @@ std::vector<JointSignals> signals_from_pair(const io::Recording& real, const io:
     for (std::size_t k = 0; k < s.t.size(); ++k) s.tau_model[k] = interp(simulated.t, sim_tau, s.t[k], hint);
   }
   add_model_terms(out, real, model);
+  // The deflection the simulation already has (an elastic model) is not missing.
+  for (std::size_t j = 0; j < real.joints(); ++j) {
+    const auto d_sim = deflection_of(simulated, j);
+    std::size_t hint = 0;
+    for (std::size_t k = 0; k < real.samples(); ++k) out[j].deflection[k] -= interp(simulated.t, d_sim, real.t[k], hint);
+  }
   // With a model, correct the simulated torque for the difference between the two runs'
   // motions (the same reference, tracked slightly differently): otherwise that
   // difference, not missing physics, would dominate near reversals and accelerations.

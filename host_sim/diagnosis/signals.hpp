@@ -2,8 +2,11 @@
 // predicted motor torque) and the variables that may explain it.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "jointguard/friction/lugre.hpp"
 
 namespace jg::diag {
 
@@ -22,6 +25,14 @@ struct JointSignals {
   /// of the last link; empty when no model is available.
   std::vector<std::vector<double>> payload_columns;
   std::vector<double> velocity_mismatch;  ///< dq - d/dt q (elastic deflection rate) [rad/s]
+  /// Gear deflection not in the model [rad]: motor-side position (the motor-encoder
+  /// velocity dq integrated, exact for differenced encoder counts) minus the link encoder's
+  /// q, both from their first sample; real minus simulated when a simulation is given.
+  /// Empty when unavailable.
+  std::vector<double> deflection;
+  /// The nominal model's friction of this joint, when known: friction effects are then
+  /// also offered as changes of its parameters (exact sensitivity columns).
+  std::optional<LuGreParams<double>> friction;
   [[nodiscard]] std::size_t size() const { return t.size(); }
 };
 

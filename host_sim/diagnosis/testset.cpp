@@ -1,16 +1,20 @@
 #include "diagnosis/testset.hpp"
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <random>
 #include <stdexcept>
 
 #include "diagnosis/pairing.hpp"
+#include "identification/lugre_batch.hpp"
 #include "models/paper_friction.hpp"
 #include "sim/simulation.hpp"
 
 namespace jg::diag {
 namespace {
 constexpr double kRate = 500.0;
+constexpr double kBacklashStiffness = 2e4;  ///< [N·m/rad] the gear's stiffness in the backlash cases
 
 sim::SimulationSetup nominal_setup(const TestArm& arm, unsigned long long noise_seed) {
   sim::SimulationSetup s;
@@ -30,6 +34,46 @@ sim::SimulationSetup nominal_setup(const TestArm& arm, unsigned long long noise_
                                                              sim::PaperExcitation(0.6, 0.2, 3, 2.5));
   s.control_rate_hz = kRate;
   return s;
+}
+
+/// Bristle stiffness ratio (real / nominal) whose friction differs from the nominal one by
+/// `amplitude` RMS over the reference motion: softer bristles, a longer presliding regime
+/// after each reversal. Bisection on the ratio (the RMS falls as the ratio rises to 1).
+double presliding_ratio(const sim::SimulationSetup& s, std::size_t j, double amplitude) {
+  const double dt = 1.0 / s.control_rate_hz;
+  std::vector<double> w;
+  for (double t = 0.0; t <= s.trajectory->duration(); t += dt) w.push_back(s.trajectory->at(t).dq(static_cast<Eigen::Index>(j)));
+  const auto& p = s.plant.friction[j].lugre;
+  const auto nominal = ident::lugre_predict(p, w, dt);
+  auto rms_at = [&](double ratio) {
+    auto q = p;
+    q.sigma0 *= ratio;
+    const auto f = ident::lugre_predict(q, w, dt);
+    double acc = 0.0;
+    for (std::size_t k = 0; k < f.size(); ++k) acc += (f[k] - nominal[k]) * (f[k] - nominal[k]);
+    return std::sqrt(acc / static_cast<double>(f.size()));
+  };
+  double lo = std::log(1e-3), hi = 0.0;  // rms(lo) > amplitude > rms(hi) = 0
+  for (int it = 0; it < 30; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (rms_at(std::exp(mid)) > amplitude ? lo : hi) = mid;
+  }
+  return std::exp(0.5 * (lo + hi));
+}
+
+/// Elastic joints in the plant: joint `j` with the given stiffness and backlash, the others
+/// so stiff that their deflection stays below one link-encoder count; plant rate raised so
+/// that RK4 resolves the stiff modes.
+void make_elastic(sim::SimulationSetup& s, std::size_t j, double stiffness, double backlash_rad) {
+  const std::size_t n = s.plant.links.size();
+  s.plant.elasticity.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double rotor = s.plant.links[i].rotor_inertia;
+    const double k = i == j ? stiffness : 2e6;
+    const double zeta = i == j ? 0.1 : 0.7;  // gear damping (stiff joints well damped)
+    s.plant.elasticity[i] = sim::JointElasticity{k, 2.0 * zeta * std::sqrt(k * rotor), i == j ? backlash_rad : 0.0};
+  }
+  s.plant.plant_rate_hz = 24000.0;  // 8 kHz is not enough for the stiff joints near rest
 }
 
 void apply(const std::string& effect, int joint, double a, double partial_time, sim::SimulationSetup& s,
@@ -65,6 +109,17 @@ void apply(const std::string& effect, int joint, double a, double partial_time, 
     f.lugre.tau_s += 2.0 * a;
   } else if (effect == "inertia_error") {
     s.plant.links[j].rotor_inertia += a / 2.0;  // ~2 rad/s^2 peak acceleration
+  } else if (effect == "presliding") {
+    // Softer bristles: friction builds up over a longer displacement after each reversal.
+    f.lugre.sigma0 *= presliding_ratio(s, j, a);
+  } else if (effect == "joint_elasticity") {
+    // Gear compliance: 3e4 N·m/rad at an amplitude equal to the noise (0.17 N·m), stiffer
+    // (harder to see) below it, softer above it; 1e4 N·m/rad at 3x the noise.
+    make_elastic(s, j, 5100.0 / a, 0.0);
+  } else if (effect == "backlash") {
+    // Dead zone in an elastic gear (the nominal model knows the stiffness, see run_case):
+    // 1 arcmin (2.9e-4 rad) at an amplitude equal to the noise.
+    make_elastic(s, j, kBacklashStiffness, 2.9e-4 * a / 0.17);
   } else if (effect != "none") {
     throw std::invalid_argument("the test plant cannot produce effect '" + effect + "'");
   }
@@ -74,7 +129,8 @@ void apply(const std::string& effect, int joint, double a, double partial_time, 
 const std::vector<std::string>& producible_effects() {
   static const std::vector<std::string> v = {"position_ripple", "asymmetric_friction", "temperature_drift",
                                              "load_dependent_friction", "payload", "torque_constant", "current_offset",
-                                             "time_delay", "coulomb", "viscous", "stribeck", "inertia_error"};
+                                             "time_delay", "coulomb", "viscous", "stribeck", "inertia_error",
+                                             "presliding", "backlash", "joint_elasticity"};
   return v;
 }
 
@@ -104,10 +160,43 @@ std::vector<ConcealedCase> draw_cases(int count, unsigned long long seed, double
   return out;
 }
 
-CaseOutcome run_case(const ConcealedCase& c, const TestArm& arm) {
+/// Backlash only shows when the torque the gear transmits changes sign. A user looking for
+/// it records a motion that reverses that torque: about a posture where the joint's
+/// gravity load is zero (the nearest one), so that the sinusoid crosses it.
+TestArm backlash_arm(const TestArm& arm, int joint) {
+  TestArm a = arm;
+  const sim::ArmDynamics dyn(arm.links);
+  const auto j = static_cast<Eigen::Index>(joint - 1);
+  auto g = [&](double x) {
+    sim::JointVector q = arm.posture;
+    q(j) = x;
+    return dyn.gravity_torque(q)(j);
+  };
+  const double x0 = arm.posture(j);
+  if (std::fabs(g(x0)) < 1e-9) return a;
+  double best = x0, best_dist = 1e9;
+  for (int i = -628; i < 628; ++i) {  // scan in 5 mrad steps, bisect the sign change
+    double lo = x0 + 0.005 * i, hi = lo + 0.005;
+    if ((g(lo) > 0.0) == (g(hi) > 0.0)) continue;
+    for (int it = 0; it < 40; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      ((g(mid) > 0.0) == (g(lo) > 0.0) ? lo : hi) = mid;
+    }
+    if (std::fabs(lo - x0) < best_dist) {
+      best_dist = std::fabs(lo - x0);
+      best = lo;
+    }
+  }
+  a.posture(j) = best;
+  return a;
+}
+
+CaseOutcome run_case(const ConcealedCase& c, const TestArm& arm_in) {
   std::mt19937_64 rng(c.seed);
+  const TestArm arm = c.effect == "backlash" ? backlash_arm(arm_in, c.joint) : arm_in;
   sim::SimulationSetup real = nominal_setup(arm, c.seed * 2 + 1);
   sim::SimulationSetup nominal = nominal_setup(arm, c.seed * 2 + 2);
+  if (c.effect == "backlash") make_elastic(nominal, static_cast<std::size_t>(c.joint - 1), kBacklashStiffness, 0.0);
   const double span = real.trajectory->duration();
   const double partial_time = c.concealment == "partial" ? 0.5 * span : 0.0;
   apply(c.effect, c.joint, c.amplitude_nm, partial_time, real, rng);
@@ -127,6 +216,18 @@ CaseOutcome run_case(const ConcealedCase& c, const TestArm& arm) {
   out.c = c;
   const auto r = sim::run_simulation(real).recording;
   const auto s = sim::run_simulation(nominal).recording;
+  if (std::getenv("JG_DIAG_TRACE")) {
+    for (const auto* rec : {&r, &s}) {
+      for (std::size_t j = 0; j < rec->joints(); ++j) {
+        for (std::size_t k = 0; k < rec->samples(); ++k) {
+          if (!std::isfinite(rec->q[j][k]) || !std::isfinite(rec->dq[j][k]) || !std::isfinite(rec->tau_m[j][k])) {
+            std::fprintf(stderr, "%s joint %zu non-finite at t %.3f\n", rec == &r ? "real" : "nominal", j + 1, rec->t[k]);
+            break;
+          }
+        }
+      }
+    }
+  }
   const sim::ArmDynamics model(arm.links);
   ModelContext m;
   m.arm = &model;

@@ -28,8 +28,7 @@ struct ConcealedCase {
   unsigned long long seed = 1;
 };
 
-/// The effects the plant can hide (presliding and backlash need sub-sample dynamics the
-/// 500 Hz recordings cannot resolve and are not drawn).
+/// The effects the plant can hide (all of the vocabulary but "none").
 const std::vector<std::string>& producible_effects();
 
 std::vector<ConcealedCase> draw_cases(int count, unsigned long long seed, double noise_rms_nm, int joints);
@@ -43,6 +42,13 @@ struct CaseOutcome {
 };
 
 CaseOutcome run_case(const ConcealedCase& c, const TestArm& arm);
+
+/// Issue #7's floor criterion on the effect's joint: held-out RMS after modelling within
+/// 10 % of the noise estimated from the data, or, where the effect stands well above the
+/// noise (held-out RMS before >= 3x the noise), at least 2x lower than before.
+inline bool at_noise_floor(const CaseOutcome& o) {
+  return o.heldout_after <= 1.1 * o.noise || (o.heldout_before >= 3.0 * o.noise && o.heldout_after <= 0.5 * o.heldout_before);
+}
 
 /// The project's 3-joint test arm used when no model file is given.
 TestArm default_test_arm();
