@@ -201,7 +201,7 @@ std::vector<ident::IdentificationResult> identify_recording(const io::Recording&
   const std::size_t step = std::max<std::size_t>(1, rec.samples() / 6000);
   std::vector<ident::IdentificationResult> out;
   for (std::size_t j = 0; j < rec.joints(); ++j) {
-    ident::FrictionSeries s;
+    ident::FrictionSeries s, full;
     s.dt = dt * static_cast<double>(step);
     for (std::size_t k = 0; k < rec.samples(); k += step) {
       s.velocity.push_back(rec.dq[j][k]);
@@ -209,10 +209,17 @@ std::vector<ident::IdentificationResult> identify_recording(const io::Recording&
     }
     s.skip = std::min<std::size_t>(s.velocity.size() / 10, static_cast<std::size_t>(0.5 / s.dt));
     s.observer_gain = gains.k1;
+    // The GA searches the decimated series; LM refines on every sample (decimation shifts
+    // the observer's filter and the bristle dynamics near reversals by up to a step).
+    full.dt = dt;
+    full.velocity = rec.dq[j];
+    full.friction = d[j];
+    full.skip = std::min<std::size_t>(full.velocity.size() / 10, static_cast<std::size_t>(0.5 / full.dt));
+    full.observer_gain = gains.k1;
     try {
       out.push_back(ident::identify_lugre(s, ga, {}, [&](double f) {
         if (progress) progress((static_cast<double>(j) + f) / static_cast<double>(rec.joints()));
-      }));
+      }, step > 1 ? &full : nullptr));
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument("joint " + std::to_string(rec.joint_ids[j]) + ": " + e.what());
     }
