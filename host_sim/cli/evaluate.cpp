@@ -19,7 +19,7 @@ namespace jg::cli {
 namespace {
 struct EvaluateOptions {
   std::string scenario = "paper", model = JG_DEFAULT_MODEL, json, scalar = "float", reaction = "stop";
-  double rate = 1000.0, margin = 0.5, free_run_s = 0.0, calibration_s = 1800.0;
+  double rate = 1000.0, margin = 0.5, free_run_s = 0.0, calibration_s = 3600.0;
   int count = 50, debounce = 1;
   unsigned long long seed = 1;
   ObserverOptions observer;

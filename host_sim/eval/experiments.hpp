@@ -28,7 +28,7 @@ struct ExperimentConfig {
   double current_noise_a = 0.01;
   unsigned long long seed = 1;
   /// Collision-free random motion the thresholds are calibrated on [s].
-  double calibration_s = 1800.0;
+  double calibration_s = 3600.0;
 };
 
 /// A simulation set-up on the model at the configured rate with realistic sensors and the

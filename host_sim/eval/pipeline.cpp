@@ -261,12 +261,28 @@ Thresholds BandStatistics::fit(double margin) const {
   }
   // Height needed per joint for a width: every slower bin, taken at its upper edge (the
   // Gaussian falls with speed, so the bin's fastest sample needs the most).
+  // One encoder count per sample is the smallest speed measured: up to it the joint may
+  // be dithering at rest, so those bins get the largest standstill excess of any of them.
+  std::size_t first_count = 1;
+  for (std::size_t j = 0; j < n; ++j) {
+    for (std::size_t b = 1; b < first_moving; ++b) {
+      if (max_[j][b] > 0.0) {
+        first_count = std::max(first_count, b);
+        break;
+      }
+    }
+  }
+  std::vector<double> rest(n, 0.0);
+  for (std::size_t j = 0; j < n; ++j) {
+    for (std::size_t b = 0; b <= first_count && b < first_moving; ++b) rest[j] = std::max(rest[j], max_[j][b]);
+  }
   auto heights = [&](double width, std::vector<double>& extra) {
     double area = 0.0;
     for (std::size_t j = 0; j < n; ++j) {
       extra[j] = 0.0;
       for (std::size_t b = 0; b < first_moving; ++b) {
-        const double excess = kStandstillFactor * (max_[j][b] - moving[j]);
+        const double seen = b <= first_count ? rest[j] : max_[j][b];
+        const double excess = kStandstillFactor * (seen - moving[j]);
         if (excess <= 0.0) continue;
         const double u = kBin * static_cast<double>(b + 1) / width;
         extra[j] = std::max(extra[j], excess * std::exp(std::min(u * u, 50.0)));

@@ -59,10 +59,11 @@ Thresholds calibrate_recording(const io::Recording& rec, const robot::RobotModel
 /// fitted over them: eps0 = max |mu| while moving (|w| >= kMovingSpeed) + margin; near
 /// standstill a Gaussian allowance whose height per joint and common width are the
 /// smallest (least area extra * w_band) that cover every slower sample's excess over the
-/// moving band, times kStandstillFactor, plus the margin. The factor: the standstill
-/// excess (stiction held where the arm stopped, which no velocity-driven model predicts)
-/// has a long tail; one hour at 125 Hz reached 1.36x the excess seen in 30 minutes
-/// (seed 2, chosen apart from the seed the figures are reported on).
+/// moving band, times kStandstillFactor, plus the margin; bins up to one encoder count per
+/// sample (the smallest speed measured, dither at rest) get the largest standstill excess.
+/// The factor: the standstill excess (stiction held where the arm stopped, which no
+/// velocity-driven model predicts) has a long tail; one hour at 125 Hz reached 1.36x the
+/// excess seen in 30 minutes (seed 2, chosen apart from the seed the figures are reported on).
 class BandStatistics {
  public:
   static constexpr double kStandstillFactor = 1.5;
