@@ -171,6 +171,8 @@ void identification_errors(eval::ExperimentConfig c) {
     std::printf("seed %llu rate %.0f joint %zu: tau_c %+.1f %% tau_s %+.1f %% sigma2 %+.1f %% w_s %+.1f %% (sigma0 %+.0f %%) rms %.3f ga_rms %.3f\n",
                 c.seed, c.rate_hz, j + 1, 100 * e[0], 100 * e[1], 100 * e[2], 100 * e[3], 100 * (p.sigma0 / t.sigma0 - 1),
                 prep.identification[j].rms, prep.identification[j].ga_rms);
+    std::printf("| %zu | %.3f (%.3f) %+.1f %% | %.3f (%.3f) %+.1f %% | %.3f (%.3f) %+.1f %% | %.4f (%.4f) %+.1f %% |\n", j + 1, p.tau_c,
+                t.tau_c, 100 * e[0], p.tau_s, t.tau_s, 100 * e[1], p.sigma2, t.sigma2, 100 * e[2], p.w_s, t.w_s, 100 * e[3]);
     for (const double x : e) worst = std::max(worst, std::fabs(x));
   }
   std::printf("seed %llu: worst %.1f %%\n", c.seed, 100 * worst);
