@@ -111,7 +111,7 @@ report::Plot trace_plot(const eval::RunResult& comp, const eval::RunResult& unco
 }  // namespace
 
 // Threshold margin above the calibrated collision-free band (the paper adds one too).
-constexpr double kMarginNm = 1.0;
+constexpr double kMarginNm = 0.5;
 
 int run_demo(const DemoOptions& options) {
   const auto t_start = std::chrono::steady_clock::now();

@@ -19,7 +19,7 @@ namespace jg::cli {
 namespace {
 struct EvaluateOptions {
   std::string scenario = "paper", model = JG_DEFAULT_MODEL, json, scalar = "float", reaction = "stop";
-  double rate = 1000.0, margin = 1.0, free_run_s = 0.0;
+  double rate = 1000.0, margin = 0.5, free_run_s = 0.0, calibration_s = 3600.0;
   int count = 50, debounce = 1;
   unsigned long long seed = 1;
   ObserverOptions observer;
@@ -58,6 +58,7 @@ Command add_evaluate(CLI::App& app) {
   cmd->add_option("--seed", o->seed, "Seed of noise, campaign and motion")->capture_default_str();
   cmd->add_option("--count", o->count, "Collisions in a campaign")->capture_default_str()->check(CLI::Range(1, 100000));
   cmd->add_option("--free-run", o->free_run_s, "Collision-free run for false alarms [s] (default 120 s paper, 600 s campaign)");
+  cmd->add_option("--calibration", o->calibration_s, "Collision-free run the thresholds are calibrated on [s]")->capture_default_str()->check(CLI::Range(10.0, 86400.0));
   cmd->add_option("--margin", o->margin, "Threshold margin above the observed band [N·m]")->capture_default_str();
   cmd->add_option("--debounce", o->debounce, "Cycles over threshold before a detection")->capture_default_str()->check(CLI::Range(1, 50));
   cmd->add_option("--reaction", o->reaction, "Reaction on detection")->check(CLI::IsMember({"none", "stop", "zero_gravity"}))->capture_default_str();
@@ -78,6 +79,7 @@ Command add_evaluate(CLI::App& app) {
             c.seed = o->seed;
             c.gains = o->observer.to_gains();
             c.debounce_cycles = o->debounce;
+            c.calibration_s = o->calibration_s;
             c.reaction = reaction_of(o->reaction);
             Progress bar("evaluate");
             eval::prepare(c, o->margin, [&](double f) { bar.update(0.3 * f); });
@@ -120,7 +122,8 @@ Command add_evaluate(CLI::App& app) {
                               {"detection_rate_over_1p5x_threshold", sum.detectable ? static_cast<double>(sum.detectable_found) / sum.detectable : 1.0},
                               {"delay_min", sum.delay_min}, {"delay_median", sum.delay_median}, {"delay_max", sum.delay_max},
                               {"false_alarms_per_hour", per_hour}, {"false_alarm_run_s", free_s}, {"false_alarm_times", alarm_times}, {"threshold", c.thresholds},
-                              {"threshold_low_speed_extra", c.low_speed_extra}, {"rate", c.rate_hz}, {"scalar", c.scalar},
+                              {"threshold_low_speed_extra", c.low_speed_extra}, {"threshold_low_speed_width", c.low_speed_width},
+                              {"calibration_s", c.calibration_s}, {"margin", o->margin}, {"rate", c.rate_hz}, {"scalar", c.scalar},
                               {"observer", to_string(c.gains.kind)}, {"gains", {c.gains.k1, c.gains.k2, c.gains.k3}}};
               std::ofstream(o->json) << j.dump(2) << '\n';
               std::printf("wrote %s\n", o->json.c_str());

@@ -13,7 +13,7 @@ namespace jg::cli {
 namespace {
 struct WorkflowOptions {
   std::string recording, model, json, friction, threshold, scalar = "float";
-  double rate = 0.0, margin = 1.0;
+  double rate = 0.0, margin = 0.5;
   int debounce = 1, runs = 10;
   unsigned long long seed = 1;
   ObserverOptions observer;

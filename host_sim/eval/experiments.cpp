@@ -92,6 +92,51 @@ Summary summarize(const std::vector<RunResult>& runs) {
   return s;
 }
 
+Thresholds calibrate(const ExperimentConfig& c, double margin_nm) {
+  // Collision-free motion unlike the identification run: random moves. Not recorded: the
+  // compensated and uncompensated observers run in the loop and feed the band statistics.
+  const auto home = home_of(c.model);
+  sim::JointVector lower = home, upper = home;
+  for (Eigen::Index j = 0; j < lower.size(); ++j) {
+    lower(j) -= 0.7;
+    upper(j) += 0.7;
+  }
+  auto moves = sim::make_random_moves(home, lower, upper, 0.8, c.calibration_s + 5.0, c.seed * 13 + 2);
+  sim::SimulationSetup free = base_setup(c, std::shared_ptr<const sim::Trajectory>(std::move(moves)), c.seed * 17 + 3);
+  free.meta.scenario = "calibration_free_run";
+  free.duration_s = c.calibration_s;
+  free.record = false;
+  auto with = estimator_for(c);
+  ExperimentConfig bare = c;
+  bare.friction.clear();
+  auto without = estimator_for(bare);
+  const std::size_t n = c.model.joints.size();
+  BandStatistics stats(n);
+  bool started = false;
+  sim::JointVector mu, mu0;
+  constexpr double kSettleS = 0.5;
+  const sim::ControlOverride hook = [&](const sim::CycleContext& ctx) -> std::optional<sim::JointVector> {
+    const sim::Measurement& m = *ctx.measurement;
+    const EstimatorInput in{m.q, m.dq, m.tau_m};
+    if (!started) {
+      with->reset(in);
+      without->reset(in);
+      started = true;
+    }
+    with->step(in, mu);
+    without->step(in, mu0);
+    if (ctx.t >= kSettleS) {
+      for (std::size_t j = 0; j < n; ++j) {
+        const auto i = static_cast<Eigen::Index>(j);
+        stats.add(j, m.dq(i), mu(i), mu0(i));
+      }
+    }
+    return std::nullopt;
+  };
+  (void)sim::run_simulation(free, hook);
+  return stats.fit(margin_nm);
+}
+
 Preparation prepare(ExperimentConfig& c, double margin_nm, const std::function<void(double)>& progress) {
   Preparation p;
   const std::size_t n = c.model.joints.size();
@@ -106,21 +151,7 @@ Preparation prepare(ExperimentConfig& c, double margin_nm, const std::function<v
                                         [&](double f) { if (progress) progress(0.8 * f); });
   c.friction.clear();
   for (const auto& r : p.identification) c.friction.push_back(r.params);
-  // Calibration on collision-free motion unlike the identification run: random moves.
-  sim::JointVector lower = home_of(c.model), upper = home_of(c.model);
-  for (Eigen::Index j = 0; j < lower.size(); ++j) {
-    lower(j) -= 0.7;
-    upper(j) += 0.7;
-  }
-  // Five minutes: the band's tail (stiction at standstill) needs many stops to be seen;
-  // one minute under-estimated it by a third at 125 Hz.
-  constexpr double kCalibrationRunS = 300.0;
-  auto moves = sim::make_random_moves(home_of(c.model), lower, upper, 0.8, kCalibrationRunS + 5.0, c.seed * 13 + 2);
-  sim::SimulationSetup free = base_setup(c, std::shared_ptr<const sim::Trajectory>(std::move(moves)), c.seed * 17 + 3);
-  free.meta.scenario = "calibration_free_run";
-  free.duration_s = kCalibrationRunS;
-  p.free_run = sim::run_simulation(free).recording;
-  p.thresholds = calibrate_recording(p.free_run, c.model, c.friction, c.gains, margin_nm);
+  p.thresholds = calibrate(c, margin_nm);
   c.thresholds = p.thresholds.threshold;
   c.low_speed_extra = p.thresholds.low_speed_extra;
   c.low_speed_width = p.thresholds.low_speed_width;

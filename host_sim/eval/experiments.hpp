@@ -27,6 +27,8 @@ struct ExperimentConfig {
   Reaction reaction = Reaction::stop;
   double current_noise_a = 0.01;
   unsigned long long seed = 1;
+  /// Collision-free random motion the thresholds are calibrated on [s].
+  double calibration_s = 3600.0;
 };
 
 /// A simulation set-up on the model at the configured rate with realistic sensors and the
@@ -38,8 +40,12 @@ sim::SimulationSetup base_setup(const ExperimentConfig& c, std::shared_ptr<const
 struct Preparation {
   std::vector<ident::IdentificationResult> identification;
   Thresholds thresholds;
-  io::Recording excitation, free_run;
+  io::Recording excitation;
 };
+/// Thresholds from `c.calibration_s` of collision-free random motion with the configured
+/// estimator (rate, scalar, friction): BandStatistics::fit.
+Thresholds calibrate(const ExperimentConfig& c, double margin_nm);
+
 Preparation prepare(ExperimentConfig& c, double margin_nm, const std::function<void(double)>& progress = {});
 
 /// The paper's three collisions (waist, shoulder, elbow) during the pick task.

@@ -1,5 +1,6 @@
 #include "eval/pipeline.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -201,7 +202,7 @@ std::vector<ident::IdentificationResult> identify_recording(const io::Recording&
   const std::size_t step = std::max<std::size_t>(1, rec.samples() / 6000);
   std::vector<ident::IdentificationResult> out;
   for (std::size_t j = 0; j < rec.joints(); ++j) {
-    ident::FrictionSeries s;
+    ident::FrictionSeries s, full;
     s.dt = dt * static_cast<double>(step);
     for (std::size_t k = 0; k < rec.samples(); k += step) {
       s.velocity.push_back(rec.dq[j][k]);
@@ -209,10 +210,17 @@ std::vector<ident::IdentificationResult> identify_recording(const io::Recording&
     }
     s.skip = std::min<std::size_t>(s.velocity.size() / 10, static_cast<std::size_t>(0.5 / s.dt));
     s.observer_gain = gains.k1;
+    // The GA searches the decimated series; LM refines on every sample (decimation shifts
+    // the observer's filter and the bristle dynamics near reversals by up to a step).
+    full.dt = dt;
+    full.velocity = rec.dq[j];
+    full.friction = d[j];
+    full.skip = std::min<std::size_t>(full.velocity.size() / 10, static_cast<std::size_t>(0.5 / full.dt));
+    full.observer_gain = gains.k1;
     try {
       out.push_back(ident::identify_lugre(s, ga, {}, [&](double f) {
         if (progress) progress((static_cast<double>(j) + f) / static_cast<double>(rec.joints()));
-      }));
+      }, step > 1 ? &full : nullptr));
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument("joint " + std::to_string(rec.joint_ids[j]) + ": " + e.what());
     }
@@ -220,34 +228,109 @@ std::vector<ident::IdentificationResult> identify_recording(const io::Recording&
   return out;
 }
 
+BandStatistics::BandStatistics(std::size_t joints)
+    : max_(joints, std::vector<double>(kBins, 0.0)), uncompensated_(joints, 0.0) {}
+
+void BandStatistics::add(std::size_t joint, double velocity, double mu, double mu_uncompensated) {
+  const double w = std::fabs(velocity);
+  const auto bin = w >= kBin * static_cast<double>(kBins) ? kBins - 1 : static_cast<std::size_t>(w / kBin);
+  max_[joint][bin] = std::max(max_[joint][bin], std::fabs(mu));
+  uncompensated_[joint] = std::max(uncompensated_[joint], std::fabs(mu_uncompensated));
+}
+
+double BandStatistics::max_in(std::size_t joint, double w_lo, double w_hi) const {
+  double m = 0.0;
+  for (std::size_t b = 0; b < kBins; ++b) {
+    const double lo = kBin * static_cast<double>(b);
+    if (lo >= w_lo && lo < w_hi) m = std::max(m, max_[joint][b]);
+  }
+  return m;
+}
+
+Thresholds BandStatistics::fit(double margin) const {
+  Thresholds t;
+  t.margin = margin;
+  const std::size_t n = max_.size();
+  const auto first_moving = static_cast<std::size_t>(std::lround(kMovingSpeed / kBin));
+  std::vector<double> moving(n, 0.0), all(n, 0.0);
+  for (std::size_t j = 0; j < n; ++j) {
+    for (std::size_t b = 0; b < kBins; ++b) {
+      all[j] = std::max(all[j], max_[j][b]);
+      if (b >= first_moving) moving[j] = std::max(moving[j], max_[j][b]);
+    }
+  }
+  // Height needed per joint for a width: every slower bin, taken at its upper edge (the
+  // Gaussian falls with speed, so the bin's fastest sample needs the most).
+  // One encoder count per sample is the smallest speed measured: up to it the joint may
+  // be dithering at rest, so those bins get the largest standstill excess of any of them.
+  std::size_t first_count = 1;
+  for (std::size_t j = 0; j < n; ++j) {
+    for (std::size_t b = 1; b < first_moving; ++b) {
+      if (max_[j][b] > 0.0) {
+        first_count = std::max(first_count, b);
+        break;
+      }
+    }
+  }
+  std::vector<double> rest(n, 0.0);
+  for (std::size_t j = 0; j < n; ++j) {
+    for (std::size_t b = 0; b <= first_count && b < first_moving; ++b) rest[j] = std::max(rest[j], max_[j][b]);
+  }
+  auto heights = [&](double width, std::vector<double>& extra) {
+    double area = 0.0;
+    for (std::size_t j = 0; j < n; ++j) {
+      extra[j] = 0.0;
+      for (std::size_t b = 0; b < first_moving; ++b) {
+        const double seen = b <= first_count ? rest[j] : max_[j][b];
+        const double excess = kStandstillFactor * (seen - moving[j]);
+        if (excess <= 0.0) continue;
+        const double u = kBin * static_cast<double>(b + 1) / width;
+        extra[j] = std::max(extra[j], excess * std::exp(std::min(u * u, 50.0)));
+      }
+      area += extra[j] * width;
+    }
+    return area;
+  };
+  std::vector<double> extra(n), best_extra(n);
+  double best_area = 1e300, best_width = t.low_speed_width;
+  for (int i = 0; i <= 200; ++i) {
+    const double width = 0.002 * std::pow(50.0, static_cast<double>(i) / 200.0);  // 2 mrad/s .. 0.1 rad/s
+    const double area = heights(width, extra);
+    if (area < best_area - 1e-12) {
+      best_area = area;
+      best_width = width;
+      best_extra = extra;
+    }
+  }
+  t.low_speed_width = best_width;
+  for (std::size_t j = 0; j < n; ++j) {
+    t.band.push_back(all[j]);
+    t.band_uncompensated.push_back(uncompensated_[j]);
+    t.threshold.push_back(moving[j] + margin);
+    t.low_speed_extra.push_back(best_extra[j]);
+    t.threshold_uncompensated.push_back(uncompensated_[j] + margin);
+  }
+  return t;
+}
+
 Thresholds calibrate_recording(const io::Recording& rec, const robot::RobotModel& model,
                                const std::vector<LuGreParams<double>>& friction, const ObserverGains& gains,
-                               double margin, double settle_s) {
+                               double margin, double settle_s, const std::string& scalar) {
   if (!rec.collision.empty()) {
     for (const int c : rec.collision) {
       if (c != 0) throw std::invalid_argument("calibration needs a collision-free recording (its collision column is not all 0)");
     }
   }
-  Thresholds t;
-  t.margin = margin;
-  const auto with = observer_disturbance(rec, model, gains, true, friction);
-  const auto without = observer_disturbance(rec, model, gains, false, friction);
+  const auto with = observer_disturbance(rec, model, gains, true, friction, scalar);
+  const auto without = observer_disturbance(rec, model, gains, false, friction, scalar);
+  BandStatistics stats(rec.joints());
   for (std::size_t j = 0; j < rec.joints(); ++j) {
-    double moving = 0.0, slow = 0.0, b0 = 0.0;
     for (std::size_t k = 0; k < rec.samples(); ++k) {
       if (rec.t[k] - rec.t.front() < settle_s) continue;
-      const double m = std::fabs(with[j][k]);
-      (std::fabs(rec.dq[j][k]) > 2.0 * t.low_speed_width ? moving : slow) =
-          std::max(std::fabs(rec.dq[j][k]) > 2.0 * t.low_speed_width ? moving : slow, m);
-      b0 = std::max(b0, std::fabs(without[j][k]));
+      stats.add(j, rec.dq[j][k], with[j][k], without[j][k]);
     }
-    t.band.push_back(std::max(moving, slow));
-    t.band_uncompensated.push_back(b0);
-    t.threshold.push_back(moving + margin);
-    t.low_speed_extra.push_back(std::max(0.0, slow - moving));
-    t.threshold_uncompensated.push_back(b0 + margin);
   }
-  return t;
+  return stats.fit(margin);
 }
 
 std::vector<JointThreshold<double>> threshold_bands(const Thresholds& t) {

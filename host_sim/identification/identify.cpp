@@ -158,9 +158,11 @@ LuGreParams<double> run_ga(const FrictionSeries& s, const GaSettings& g, const S
   return to_params(pop[best], r);
 }
 
-IdentificationResult identify_lugre(const FrictionSeries& s, const GaSettings& g, const SearchRanges& r,
-                                    const std::function<void(double)>& progress) {
-  check_series(s);
+IdentificationResult identify_lugre(const FrictionSeries& s_ga, const GaSettings& g, const SearchRanges& r,
+                                    const std::function<void(double)>& progress, const FrictionSeries* fine) {
+  check_series(s_ga);
+  if (fine != nullptr) check_series(*fine);
+  const FrictionSeries& s = fine != nullptr ? *fine : s_ga;
   if (g.population < 4 || g.generations < 1 || g.runs < 1 || g.threads < 1) {
     throw std::invalid_argument("GA settings: population >= 4, generations >= 1, runs >= 1, threads >= 1");
   }
@@ -171,7 +173,7 @@ IdentificationResult identify_lugre(const FrictionSeries& s, const GaSettings& g
   auto worker = [&]() {
     for (int k = next_run++; k < g.runs; k = next_run++) {
       double c = 0.0;
-      out.run_results[static_cast<std::size_t>(k)] = run_ga(s, g, r, g.seed * 7919ULL + static_cast<unsigned long long>(k), c);
+      out.run_results[static_cast<std::size_t>(k)] = run_ga(s_ga, g, r, g.seed * 7919ULL + static_cast<unsigned long long>(k), c);
       out.run_costs[static_cast<std::size_t>(k)] = c;
       ++done;
     }

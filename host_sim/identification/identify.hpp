@@ -75,7 +75,11 @@ void check_series(const FrictionSeries& s);
 LuGreParams<double> run_ga(const FrictionSeries& s, const GaSettings& g, const SearchRanges& r,
                            unsigned long long seed, double& best_cost);
 
+/// `fine`, when given, is the same data at a higher sample rate (e.g. `s` decimated for
+/// the GA): the GA searches on `s`, the LM refinement and the report use `fine`, so the
+/// result carries no error from the coarser discretisation of the LuGre and the observer.
 IdentificationResult identify_lugre(const FrictionSeries& s, const GaSettings& g = {}, const SearchRanges& r = {},
-                                    const std::function<void(double)>& progress = {});
+                                    const std::function<void(double)>& progress = {},
+                                    const FrictionSeries* fine = nullptr);
 
 }  // namespace jg::ident

@@ -5,6 +5,8 @@
 // Usage: jg_experiments_bench [all|reversed|presets|reactions]
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <string>
 
 #include "eval/experiments.hpp"
 #include "identification/lugre_batch.hpp"
@@ -122,6 +124,97 @@ void reactions(eval::ExperimentConfig c) {
   }
   std::printf("\nClamp: a stiff obstacle (25 kN/m, capped at 400 N) appears under the forearm while the arm moves down.\n");
 }
+// Traces around the paper's collisions: velocity, band, estimate and true torque of the
+// collided joint (used to find what sets the delay).
+void paper_traces(eval::ExperimentConfig c, double margin) {
+  eval::prepare(c, margin);
+  c.reaction = Reaction::none;
+  const auto runs = eval::paper_experiments(c, true);
+  for (const auto& r : runs) {
+    const std::size_t j = static_cast<std::size_t>(r.link_true - 1);
+    std::printf("\n%s: threshold %.3f + %.3f near standstill; detected %s\n", r.name.c_str(), c.thresholds[j], c.low_speed_extra[j],
+                r.t_detected ? std::to_string(1e3 * (*r.t_detected - r.t_collision)).c_str() : "missed");
+    std::printf("t_ms  mu  tau_ext  dq  band\n");
+    const auto& rec = r.recording;
+    for (std::size_t k = 0; k < r.trace.t.size(); ++k) {
+      const double dtms = 1e3 * (r.trace.t[k] - r.t_collision);
+      if (dtms < -300 || dtms > 40) continue;
+      if (dtms < -5 && std::lround(dtms) % 20 != 0) continue;
+      std::size_t kr = std::min(rec.samples() - 1, k * rec.samples() / r.trace.t.size());
+      while (kr + 1 < rec.samples() && rec.t[kr] < r.trace.t[k] - 1e-9) ++kr;
+      while (kr > 0 && rec.t[kr] > r.trace.t[k] + 1e-9) --kr;
+      const double w = rec.dq[j][kr] * 1.0 / c.low_speed_width;
+      std::printf("%6.1f %7.3f %7.3f %7.4f %6.3f\n", dtms, r.trace.mu[j][k], r.trace.tau_ext[j][k], rec.dq[j][kr],
+                  c.thresholds[j] + c.low_speed_extra[j] * std::exp(-w * w));
+    }
+  }
+}
+// The calibrated band per joint: thresholds and the standstill allowance.
+void calibration_dump(eval::ExperimentConfig c, double margin) {
+  const auto prep = eval::prepare(c, margin);
+  std::printf("low-speed width %.4f rad/s\n", c.low_speed_width);
+  for (std::size_t j = 0; j < c.thresholds.size(); ++j) {
+    const auto& p = prep.identification[j].params;
+    std::printf("joint %zu: sigma0 %.0f sigma1 %.1f sigma2 %.3f tau_c %.3f tau_s %.3f w_s %.4f threshold %.3f extra %.3f band %.3f uncomp %.3f\n",
+                j + 1, p.sigma0, p.sigma1, p.sigma2, p.tau_c, p.tau_s, p.w_s, c.thresholds[j], c.low_speed_extra[j],
+                prep.thresholds.band[j], prep.thresholds.band_uncompensated[j]);
+  }
+}
+// Identification from the observer's output (excitation run of prepare) against the truth.
+void identification_errors(eval::ExperimentConfig c) {
+  const auto prep = eval::prepare(c, 1.0);
+  double worst = 0.0;
+  for (std::size_t j = 0; j < prep.identification.size(); ++j) {
+    const auto& p = prep.identification[j].params;
+    const auto& t = sim::kPaperTable1[std::min<std::size_t>(j, 2)];
+    const double e[4] = {p.tau_c / t.tau_c - 1, p.tau_s / t.tau_s - 1, p.sigma2 / t.sigma2 - 1, p.w_s / t.w_s - 1};
+    std::printf("seed %llu rate %.0f joint %zu: tau_c %+.1f %% tau_s %+.1f %% sigma2 %+.1f %% w_s %+.1f %% (sigma0 %+.0f %%) rms %.3f ga_rms %.3f\n",
+                c.seed, c.rate_hz, j + 1, 100 * e[0], 100 * e[1], 100 * e[2], 100 * e[3], 100 * (p.sigma0 / t.sigma0 - 1),
+                prep.identification[j].rms, prep.identification[j].ga_rms);
+    std::printf("| %zu | %.3f (%.3f) %+.1f %% | %.3f (%.3f) %+.1f %% | %.3f (%.3f) %+.1f %% | %.4f (%.4f) %+.1f %% |\n", j + 1, p.tau_c,
+                t.tau_c, 100 * e[0], p.tau_s, t.tau_s, 100 * e[1], p.sigma2, t.sigma2, 100 * e[2], p.w_s, t.w_s, 100 * e[3]);
+    for (const double x : e) worst = std::max(worst, std::fabs(x));
+  }
+  std::printf("seed %llu: worst %.1f %%\n", c.seed, 100 * worst);
+}
+// The collision-free run of false_alarms_per_hour (same seeds) with every sample over the
+// band printed: joint, velocity, estimate, band.
+void alarm_study(eval::ExperimentConfig c, double margin, double seconds) {
+  eval::prepare(c, margin);
+  std::printf("thresholds");
+  for (std::size_t j = 0; j < c.thresholds.size(); ++j) std::printf(" %.3f(+%.3f)", c.thresholds[j], c.low_speed_extra[j]);
+  std::printf(" width %.4f\n", c.low_speed_width);
+  sim::JointVector home = sim::JointVector::Zero(3);
+  home << 0.0, 0.6, -0.8;
+  sim::JointVector lower = home.array() - 0.7, upper = home.array() + 0.7;
+  auto moves = sim::make_random_moves(home, lower, upper, 0.8, seconds + 5.0, c.seed * 31 + 7);
+  sim::SimulationSetup setup = eval::base_setup(c, std::shared_ptr<const sim::Trajectory>(std::move(moves)), c.seed * 37 + 11);
+  setup.duration_s = seconds;
+  setup.record = false;
+  auto est = eval::estimator_for(c);
+  bool started = false;
+  sim::JointVector mu;
+  double last = -1.0;
+  const sim::ControlOverride hook = [&](const sim::CycleContext& ctx) -> std::optional<sim::JointVector> {
+    const sim::Measurement& m = *ctx.measurement;
+    const eval::EstimatorInput in{m.q, m.dq, m.tau_m};
+    if (!started) {
+      est->reset(in);
+      started = true;
+    }
+    est->step(in, mu);
+    for (Eigen::Index j = 0; j < mu.size(); ++j) {
+      const double u = m.dq(j) / c.low_speed_width;
+      const double band = c.thresholds[static_cast<std::size_t>(j)] + c.low_speed_extra[static_cast<std::size_t>(j)] * std::exp(-u * u);
+      if (std::fabs(mu(j)) > band && ctx.t > 0.5) {
+        if (ctx.t - last > 0.05) std::printf("t %.3f joint %ld dq %.5f mu %.3f band %.3f ref dq %.4f\n", ctx.t, j + 1, m.dq(j), mu(j), band, ctx.reference->dq(j));
+        last = ctx.t;
+      }
+    }
+    return std::nullopt;
+  };
+  (void)sim::run_simulation(setup, hook);
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -131,5 +224,30 @@ int main(int argc, char** argv) {
   if (only == "all" || only == "reversed") reversed_trajectory_validation(c);
   if (only == "all" || only == "presets") presets_side_by_side(c);
   if (only == "all" || only == "reactions") reactions(c);
+  if (only == "dump") {
+    c.rate_hz = std::atof(argv[2]);
+    c.gains.k1 = std::atof(argv[3]);
+    c.scalar = argv[4];
+    c.calibration_s = std::atof(argv[5]);
+    calibration_dump(c, std::atof(argv[6]));
+  }
+  if (only == "ident") {
+    c.seed = std::strtoull(argv[2], nullptr, 10);
+    if (argc > 3) c.rate_hz = std::atof(argv[3]);
+    c.calibration_s = 20.0;
+    identification_errors(c);
+  }
+  if (only == "alarms") {
+    c.rate_hz = std::atof(argv[2]);
+    c.scalar = argv[3];
+    c.calibration_s = std::atof(argv[4]);
+    c.seed = std::strtoull(argv[6], nullptr, 10);
+    alarm_study(c, std::atof(argv[5]), std::atof(argv[7]));
+  }
+  if (only == "traces") {
+    if (argc > 2) c.rate_hz = std::atof(argv[2]);
+    if (argc > 3) c.gains.k1 = std::atof(argv[3]);
+    paper_traces(c, argc > 4 ? std::atof(argv[4]) : 1.0);
+  }
   return 0;
 }
