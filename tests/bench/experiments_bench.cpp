@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <random>
 #include <string>
 
 #include "eval/experiments.hpp"
@@ -215,6 +216,48 @@ void alarm_study(eval::ExperimentConfig c, double margin, double seconds) {
   };
   (void)sim::run_simulation(setup, hook);
 }
+// One collision of eval::campaign (same draws and seeds) with its trace: per joint the
+// velocity, the estimate, the band and the true external torque.
+void campaign_trace(eval::ExperimentConfig c, int index) {
+  eval::prepare(c, 0.5);
+  c.reaction = Reaction::none;
+  std::mt19937_64 rng(c.seed * 7919 + 5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  sim::JointVector home = sim::JointVector::Zero(3);
+  home << 0.0, 0.6, -0.8;
+  sim::JointVector lower = home.array() - 0.7, upper = home.array() + 0.7;
+  sim::CampaignSpec spec;
+  spec.links = {2, 3};
+  spec.count = index + 1;
+  spec.seed = c.seed;
+  spec.t_min = 2.5;
+  spec.t_max = 1e9;
+  spec.spacing_s = 3.0;
+  const auto events = sim::draw_campaign(spec, c.model.reaches());
+  double t0 = 0.0;
+  for (int i = 0; i <= index; ++i) t0 = 2.5 + 0.5 * unit(rng);
+  sim::CollisionEvent e = events[static_cast<std::size_t>(index)];
+  e.t_start = t0;
+  auto moves = sim::make_random_moves(home, lower, upper, 0.8, 8.0, c.seed * 1000 + static_cast<unsigned long long>(index));
+  sim::SimulationSetup setup = eval::base_setup(c, std::shared_ptr<const sim::Trajectory>(std::move(moves)), c.seed * 2000 + static_cast<unsigned long long>(index));
+  setup.collisions = {e};
+  setup.duration_s = e.t_start + std::max(1.0, e.duration_s + e.rise_s + 0.5);
+  auto est = eval::estimator_for(c);
+  const auto r = eval::run_detection(setup, *est, eval::detection_for(c), "trace", true);
+  std::printf("%s link %d peak %.0f N, detected %s\n", sim::to_string(e.profile), e.link, r.peak_force_n,
+              r.t_detected ? std::to_string(*r.t_detected - r.t_collision).c_str() : "no");
+  for (std::size_t k = 0; k < r.trace.t.size(); ++k) {
+    const double dt = r.trace.t[k] - r.t_collision;
+    if (dt < -0.01 || dt > 0.15 || (dt > 0.03 && k % 5 != 0)) continue;
+    std::printf("%6.1f", 1e3 * dt);
+    for (std::size_t j = 0; j < 3; ++j) {
+      const double u = r.recording.dq[j][k] / c.low_speed_width;
+      std::printf(" | %7.4f %6.2f %6.2f %6.2f", r.recording.dq[j][k], r.trace.mu[j][k],
+                  c.thresholds[j] + c.low_speed_extra[j] * std::exp(-u * u), r.trace.tau_ext[j][k]);
+    }
+    std::printf("\n");
+  }
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -243,6 +286,9 @@ int main(int argc, char** argv) {
     c.calibration_s = std::atof(argv[4]);
     c.seed = std::strtoull(argv[6], nullptr, 10);
     alarm_study(c, std::atof(argv[5]), std::atof(argv[7]));
+  }
+  if (only == "campaign-trace") {
+    campaign_trace(c, std::atoi(argv[2]));
   }
   if (only == "traces") {
     if (argc > 2) c.rate_hz = std::atof(argv[2]);
