@@ -24,22 +24,8 @@ std::vector<double> column(std::size_t n) { return std::vector<double>(n, 0.0); 
 /// Slope of a local linear fit over +/-half_window_s (uniform dt): a derivative with far
 /// less noise than derivative()'s +/-10 ms, for signals much slower than the window.
 std::vector<double> slow_derivative(const std::vector<double>& x, double dt, double half_window_s) {
-  const std::size_t n = x.size();
   const auto h = static_cast<std::size_t>(std::max(2.0, std::round(half_window_s / dt)));
-  std::vector<double> d(n, 0.0);
-  if (n < 2 * h + 1) return derivative(x, dt);
-  double denom = 0.0;
-  for (std::size_t i = 1; i <= h; ++i) denom += 2.0 * static_cast<double>(i * i);
-  for (std::size_t k = h; k + h < n; ++k) {
-    double acc = 0.0;
-    for (std::size_t i = 1; i <= h; ++i) acc += static_cast<double>(i) * (x[k + i] - x[k - i]);
-    d[k] = acc / (denom * dt);
-  }
-  for (std::size_t k = 0; k < h; ++k) {
-    d[k] = d[h];
-    d[n - 1 - k] = d[n - 1 - h];
-  }
-  return d;
+  return x.size() < 2 * h + 1 ? derivative(x, dt) : derivative(x, dt, half_window_s);
 }
 
 /// Change of the nominal LuGre friction over the recorded velocity when one parameter is

@@ -5,13 +5,13 @@
 
 namespace jg::diag {
 
-std::vector<double> derivative(const std::vector<double>& x, double dt) {
+std::vector<double> derivative(const std::vector<double>& x, double dt, double half_window_s) {
   // Savitzky-Golay first derivative (local quadratic = local linear fit for the slope)
-  // over +/-h samples, h covering about 10 ms: robot motion is far slower than that, the
-  // encoder and current quantisation noise is not.
+  // over +/-h samples, h covering about 10 ms by default: robot motion is far slower than
+  // that, the encoder and current quantisation noise is not.
   const std::size_t n = x.size();
   std::vector<double> d(n, 0.0);
-  const auto h = static_cast<std::size_t>(std::max(2.0, std::round(0.01 / dt)));
+  const auto h = static_cast<std::size_t>(std::max(2.0, std::round(half_window_s / dt)));
   if (n < 2 * h + 1) {
     return d;
   }

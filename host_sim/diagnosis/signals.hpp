@@ -36,8 +36,9 @@ struct JointSignals {
   [[nodiscard]] std::size_t size() const { return t.size(); }
 };
 
-/// Smoothed derivative (Savitzky-Golay slope over about +/-10 ms; uniform dt).
-std::vector<double> derivative(const std::vector<double>& x, double dt);
+/// Smoothed derivative (Savitzky-Golay slope over about +/-half_window_s; uniform dt); zero
+/// where the record is shorter than the window.
+std::vector<double> derivative(const std::vector<double>& x, double dt, double half_window_s = 0.01);
 /// Noise level of a signal from itself: 1.4826 MAD of second differences / sqrt(6), which
 /// ignores smooth structure and isolated jumps.
 double noise_level(const std::vector<double>& x);
