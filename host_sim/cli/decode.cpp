@@ -35,7 +35,8 @@ Command add_decode(CLI::App& app) {
             const can::Dbc dbc = can::read_dbc(o->dbc);
             const auto frames = can::read_candump_log(o->capture);
             std::map<std::string, std::size_t> count;
-            std::vector<std::string> problems;
+            std::vector<std::string> problems;  // the first ten, for the message
+            std::size_t undecodable = 0;
             std::size_t cycles = 0, product_frames = 0, announcements = 0;
             double product_s = 0.0, all_s = 0.0;
             nlohmann::json events = nlohmann::json::array(), last = nlohmann::json::object();
@@ -45,15 +46,16 @@ Command add_decode(CLI::App& app) {
               const auto it = dbc.messages.find(f.id);
               std::string problem;
               if (it == dbc.messages.end()) {
-                problem = "identifier 0x" + std::to_string(f.id) + " is not in the DBC";
+                char id[16];
+                std::snprintf(id, sizeof id, "0x%03X", f.id);
+                problem = std::string("identifier ") + id + " is not in the DBC";
               } else if (it->second.length != f.length) {
                 problem = it->second.name + ": " + std::to_string(f.length) + " bytes, the DBC says " + std::to_string(it->second.length);
               } else if (it->second.fd != f.fd) {
                 problem = it->second.name + (f.fd ? ": CAN FD frame, the DBC says classic" : ": classic frame, the DBC says CAN FD");
               }
               if (!problem.empty()) {
-                if (problems.size() < 10) problems.push_back("frame " + std::to_string(i + 1) + ": " + problem);
-                else problems.resize(11, "...");
+                if (++undecodable <= 10) problems.push_back("frame " + std::to_string(i + 1) + ": " + problem);
                 continue;
               }
               const can::DbcMessage& m = it->second;
@@ -78,7 +80,7 @@ Command add_decode(CLI::App& app) {
             }
             const double per_cycle_us = cycles ? 1e6 * product_s / static_cast<double>(cycles) : 0.0;
             std::printf("%zu frames, %zu cycles (CYCLE_SYNC), %zu start-up announcements; %zu frames not decodable\n", frames.size(),
-                        cycles, announcements, problems.size());
+                        cycles, announcements, undecodable);
             for (const auto& p : problems) std::printf("  %s\n", p.c_str());
             for (const auto& [name, n] : count) std::printf("  %-20s %8zu\n", name.c_str(), n);
             if (cycles) {
@@ -88,7 +90,7 @@ Command add_decode(CLI::App& app) {
                           o->data_bps / 1e3, 1e6 / per_cycle_us);
             }
             if (!o->json.empty()) {
-              nlohmann::json j{{"frames", frames.size()}, {"cycles", cycles}, {"announcements", announcements}, {"undecodable", problems.size()}, {"problems", problems},
+              nlohmann::json j{{"frames", frames.size()}, {"cycles", cycles}, {"announcements", announcements}, {"undecodable", undecodable}, {"problems", problems},
                                {"messages", count}, {"events", events}, {"last", last},
                                {"product_frames_per_cycle", cycles ? static_cast<double>(product_frames) / static_cast<double>(cycles) : 0.0},
                                {"product_wire_us_per_cycle", per_cycle_us},
@@ -96,7 +98,7 @@ Command add_decode(CLI::App& app) {
                                {"nominal_bps", o->nominal_bps}, {"data_bps", o->data_bps}};
               std::ofstream(o->json) << j.dump(2) << '\n';
             }
-            return problems.empty() ? 0 : 1;
+            return undecodable == 0 ? 0 : 1;
           }};
 }
 

@@ -68,7 +68,7 @@ int run_hil_command(const HilOptions& o) {
               static_cast<unsigned long long>(r.master.out_of_cycle), static_cast<unsigned long long>(r.master.foreign));
   if (r.bus_frames > 0) {
     std::printf("simulated bus: %zu frames, load %.1f %%, %zu incomplete cycles\n", r.bus_frames,
-                100.0 * r.bus_busy_s / std::max(1e-9, run.trace.t.empty() ? 1.0 : run.trace.t.back() + 1.0 / scenario.setup.control_rate_hz),
+                100.0 * r.bus_busy_s / std::max(1e-9, r.bus_elapsed_s),
                 r.incomplete_cycles);
   }
   if (!o.trace.empty()) hil::write_trace_csv(o.trace, run.trace);

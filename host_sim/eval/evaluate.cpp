@@ -114,7 +114,7 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
   // run needs none, and recording six hours would take gigabytes.
   sim::SimulationSetup s = setup;
   s.record = !setup.collisions.empty() || record_trace;
-  const sim::SimulationResult r = sim::run_simulation(s, hook);
+  sim::SimulationResult r = sim::run_simulation(s, hook);
   const auto& rec = r.recording;
   for (std::size_t k = 0; k < rec.samples(); ++k) {
     for (std::size_t j = 0; j < n; ++j) {
@@ -127,7 +127,7 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
   if (record_trace) {
     out.trace.tau_ext = rec.tau_ext;
     out.trace.t.resize(std::min(out.trace.t.size(), rec.t.size()));
-    out.recording = rec;
+    out.recording = std::move(r.recording);  // rec (its alias) is not used after this
   }
   return out;
 }

@@ -43,8 +43,11 @@ HilResult run_hil(const sim::Scenario& scenario, const HilConfig& c) {
     out.master = s.master;
     out.bus_frames = s.frames;
     out.bus_busy_s = s.busy_s;
+    out.bus_elapsed_s = s.elapsed_s;
     out.incomplete_cycles = s.incomplete_cycles;
-    out.bus = "simulated CAN FD 1/8 Mbit/s";
+    char bus[64];
+    std::snprintf(bus, sizeof bus, "simulated CAN FD %g/%g Mbit/s", dc.timing.nominal_bps / 1e6, dc.timing.data_bps / 1e6);
+    out.bus = bus;
   } else {
     SocketCanMasterConfig mc;
     mc.interface = c.interface;

@@ -33,6 +33,7 @@ struct HilResult {
   MasterCounters master{};
   std::size_t bus_frames = 0;                 ///< simulated bus only
   double bus_busy_s = 0.0;                    ///< simulated bus only
+  double bus_elapsed_s = 0.0;                 ///< simulated bus only
   std::size_t incomplete_cycles = 0;          ///< simulated bus only
   std::string bus;
 };

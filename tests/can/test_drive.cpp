@@ -82,8 +82,6 @@ TEST(JointDrive, RunsOnceSyncAndItsSampleAreInWhateverTheirOrder) {
   EXPECT_EQ(drive.counters().sensor_rejected, 2U) << "corrupt and short samples; joint 2's sample is filtered out";
   EXPECT_EQ(drive.counters().cycles, 2U);
   // The master saw one status per cycle, with the cycle's sequence number.
-  hil::BusMaster<can::SimPort> m(master, 1);
-  (void)m;
   std::size_t statuses = 0;
   hal::CanFrame f{};
   while (master.receive(f)) {
@@ -110,6 +108,30 @@ TEST(JointDrive, CorruptSamplesAreCountedAndNeverUsed) {
   bus.run_until(0.001);
   EXPECT_FALSE(drive.poll());
   EXPECT_EQ(drive.counters().sensor_rejected, 1U);
+}
+
+TEST(JointDrive, ARestartedMasterIsFollowedAfterARunOfStaleSyncs) {
+  can::SimBus bus({1e6, 5e6});
+  can::SimPort& master = bus.attach();
+  JointDrive<float, can::SimPort> drive(DriveConfig{NodeConfig{1, 1, 3}, true}, unit_link_params(1e4F), bus.attach(),
+                                        Vec3<float>{0.0F, 0.0F, -9.81F});
+  double t = 0.0;
+  auto cycle = [&](std::uint32_t k) {
+    (void)master.send(sensor_frame(1, static_cast<std::uint8_t>(k & 0xFFU), 0.1, 0.0, 0.0));
+    (void)master.send(sync_frame(k));
+    bus.run_until(t += 0.001);
+    return drive.poll();
+  };
+  for (std::uint32_t k = 100; k < 110; ++k) ASSERT_TRUE(cycle(k));
+  // The master restarts and counts from 0 again: stale at first, followed after
+  // fault_cycles (3) stale syncs in a row.
+  EXPECT_FALSE(cycle(0));
+  EXPECT_FALSE(cycle(1));
+  EXPECT_FALSE(cycle(2));
+  EXPECT_TRUE(cycle(3));
+  EXPECT_EQ(drive.last_cycle(), 3U);
+  EXPECT_EQ(drive.counters().stale_syncs, 3U);
+  EXPECT_TRUE(cycle(4));
 }
 
 struct PaperSetup {

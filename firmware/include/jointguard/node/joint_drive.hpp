@@ -184,7 +184,8 @@ class JointDrive {
     const bool flag = node_.cycle(sample_.position, sample_.velocity, sample_.motor_torque);
     ++counters_.cycles;
     const NodeCounters& nc = node_.counters();
-    const std::uint32_t rejected = nc.wrong_length + nc.bad_crc + nc.stale + counters_.sensor_rejected + counters_.sync_rejected;
+    const std::uint32_t rejected =
+        nc.wrong_length + nc.bad_crc + nc.stale + nc.late + counters_.sensor_rejected + counters_.sync_rejected;
     status_.external_torque = node_.state().external_torque;
     const std::uint8_t none = 0U;
     status_.flags = static_cast<std::uint8_t>((flag ? protocol::kStatusCollision : none) |

@@ -10,8 +10,9 @@
 // little-endian int32 (factor 2^-16, SI units) or bytes, then CRC-8/AUTOSAR over the bytes
 // before it; the rest of the frame zero. Lengths:
 //   momentum messages CAN FD 48 B (9 or 10 fields)   sensor sample CAN FD 16 B (3 fields)
-//   status and collision event classic 8 B: seq, external torque, flags, rejected, CRC
-//   cycle sync classic 8 B: seq, cycle counter (uint32 LE), reserved (2 B), CRC
+//   status and collision event 8 B: seq, external torque, flags, rejected, CRC
+//   cycle sync 8 B: seq, cycle counter (uint32 LE), reserved (2 B), CRC
+// (the 8-byte frames go as CAN FD with bit-rate switch on an FD bus)
 // Values are saturated into the int32 range on encoding (never wrapped); a frame with a
 // wrong identifier, length, CRC or a stale sequence never reaches the estimator.
 #pragma once
