@@ -87,15 +87,15 @@ int run_node(const NodeOptions& o) {
   const DriveCounters& c = drive.counters();
   const NodeCounters& nc = drive.node().counters();
   std::printf("joint %d: %u cycles, last cycle %u; rejected: sensor %u, sync %u, stale sync %u, length %u, crc %u, sequence %u; "
-              "foreign %u; communication fault %s\n",
+              "late %u; foreign %u; cycles without a fresh neighbour frame %u; communication fault %s\n",
               o.joint, c.cycles, drive.last_cycle(), c.sensor_rejected, c.sync_rejected, c.stale_syncs, nc.wrong_length, nc.bad_crc,
-              nc.stale, c.foreign, drive.node().communication_fault() ? "yes" : "no");
+              nc.stale, nc.late, c.foreign, nc.missed_cycles, drive.node().communication_fault() ? "yes" : "no");
   if (!o.json.empty()) {
     nlohmann::json js{{"joint", o.joint}, {"cycles", c.cycles}, {"last_cycle", drive.last_cycle()},
                       {"flagged", (drive.last_status().flags & protocol::kStatusCollision) != 0U},
                       {"rejected", {{"sensor", c.sensor_rejected}, {"sync", c.sync_rejected}, {"stale_sync", c.stale_syncs},
-                                    {"wrong_length", nc.wrong_length}, {"bad_crc", nc.bad_crc}, {"stale", nc.stale}}},
-                      {"foreign", c.foreign}, {"communication_fault", drive.node().communication_fault()}};
+                                    {"wrong_length", nc.wrong_length}, {"bad_crc", nc.bad_crc}, {"stale", nc.stale}, {"late", nc.late}}},
+                      {"foreign", c.foreign}, {"missed_cycles", nc.missed_cycles}, {"communication_fault", drive.node().communication_fault()}};
     std::ofstream(o.json) << js.dump(2) << '\n';
   }
   return 0;

@@ -110,6 +110,7 @@ TEST(JointNodeFaults, SilentNeighbourRaisesTheFaultAndARestartResynchronises) {
     (void)node.cycle(0.1F, 0.0F, 0.0F);
   }
   EXPECT_TRUE(node.communication_fault()) << "silent for more than 3 cycles";
+  EXPECT_EQ(node.counters().missed_cycles, 4U) << "each silent cycle ran on the parent's last message";
   feed(0, false, parent_id);  // the parent restarted: its counter starts again at 0
   feed_child(14);
   (void)node.cycle(0.1F, 0.0F, 0.0F);
@@ -122,6 +123,7 @@ TEST(JointNodeFaults, SilentNeighbourRaisesTheFaultAndARestartResynchronises) {
   (void)node.cycle(0.1F, 0.0F, 0.0F);
   EXPECT_EQ(node.counters().stale, 1U);
   EXPECT_EQ(node.counters().bad_crc, 1U);
+  EXPECT_EQ(node.counters().missed_cycles, 5U) << "a duplicate and a corrupt frame are not fresh";
   // The loopback port also returns the node's own two frames of the previous cycle.
   EXPECT_EQ(node.counters().foreign - foreign_before, 3U) << "someone else's frame is never decoded";
   (void)parent_port;

@@ -29,7 +29,10 @@ struct NodeConfig {
 };
 
 struct NodeCounters {
-  std::uint32_t wrong_length = 0, bad_crc = 0, stale = 0, foreign = 0, missed_cycles = 0, send_failures = 0, late = 0;
+  std::uint32_t wrong_length = 0, bad_crc = 0, stale = 0, foreign = 0, send_failures = 0, late = 0;
+  /// Cycles run on a neighbour's previous message because no fresh one arrived (counted once
+  /// that neighbour has been heard; one per cycle even when both neighbours missed).
+  std::uint32_t missed_cycles = 0;
 };
 
 template <class S, class Port>
@@ -49,6 +52,9 @@ class JointNode {
     const bool has_parent = config_.joint > 1U;
     const bool has_child = config_.joint < config_.joints;
     comm_fault_ = (has_parent && since_parent_ > config_.fault_cycles) || (has_child && since_child_ > config_.fault_cycles);
+    if ((has_parent && parent_seq_.started && since_parent_ > 1U) || (has_child && child_seq_.started && since_child_ > 1U)) {
+      ++counters_.missed_cycles;
+    }
     OutwardMessage<S> to_child{};
     (void)joint_outward(params_, state_, q, dq, from_parent_, to_child);
     InwardMessage<S> to_parent{};
