@@ -118,8 +118,12 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
   const auto& rec = r.recording;
   for (std::size_t k = 0; k < rec.samples(); ++k) {
     for (std::size_t j = 0; j < n; ++j) {
-      const double ratio = std::fabs(rec.tau_ext[j][k]) / d.threshold[j];
+      // Against the threshold in effect (the band at the velocity the detector saw), and
+      // against the moving threshold alone (stricter: counts impacts on a joint at rest).
+      const double magnitude = std::fabs(rec.tau_ext[j][k]);
+      const double ratio = magnitude / threshold_at(thresholds[j], rec.dq[j][k]);
       out.max_true_ratio = std::max(out.max_true_ratio, ratio);
+      out.max_true_ratio_moving = std::max(out.max_true_ratio_moving, magnitude / d.threshold[j]);
       if (!out.t_threshold && ratio > 1.0) out.t_threshold = rec.t[k];
     }
   }

@@ -31,11 +31,14 @@ struct Trace {
 struct RunResult {
   std::string name;
   double t_collision = 0.0;                ///< start of the first scheduled collision [s]
-  std::optional<double> t_threshold;       ///< first time the true |tau_ext| exceeds the threshold
+  std::optional<double> t_threshold;       ///< first time the true |tau_ext| exceeds the threshold in effect
   std::optional<double> t_detected;
   int link_true = 0, link_isolated = 0;
   double peak_force_n = 0.0;
-  double max_true_ratio = 0.0;             ///< max over joints of max|tau_ext| / threshold
+  /// max over joints and samples of |tau_ext| / threshold in effect (the band at the
+  /// measured velocity, standstill allowance included)
+  double max_true_ratio = 0.0;
+  double max_true_ratio_moving = 0.0;      ///< the same against the moving threshold eps0 alone
   std::vector<double> false_alarm_times;   ///< detections with no contact in the preceding 0.5 s
   std::optional<double> t_node_flagged;    ///< first cycle a drive's own detector flagged (distributed runs)
   int link_node_isolated = 0;              ///< highest joint flagged by the drives at that cycle

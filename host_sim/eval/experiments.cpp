@@ -82,6 +82,10 @@ Summary summarize(const std::vector<RunResult>& runs) {
       ++s.detectable;
       s.detectable_found += r.t_detected ? 1 : 0;
     }
+    if (r.max_true_ratio_moving > 1.5) {
+      ++s.detectable_moving;
+      s.detectable_moving_found += r.t_detected ? 1 : 0;
+    }
   }
   std::sort(delays.begin(), delays.end());
   if (!delays.empty()) {

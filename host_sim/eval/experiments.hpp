@@ -65,7 +65,10 @@ DetectionConfig detection_for(const ExperimentConfig& c);
 
 /// Campaign figures over runs.
 struct Summary {
-  int runs = 0, detected = 0, isolated = 0, detectable = 0, detectable_found = 0;
+  int runs = 0, detected = 0, isolated = 0;
+  /// Collisions whose true torque exceeds 1.5x the threshold in effect on some joint, and
+  /// how many of them were detected; the same against the moving threshold (stricter).
+  int detectable = 0, detectable_found = 0, detectable_moving = 0, detectable_moving_found = 0;
   double delay_min = 0, delay_median = 0, delay_max = 0;  ///< [s], over detected runs
 };
 Summary summarize(const std::vector<RunResult>& runs);

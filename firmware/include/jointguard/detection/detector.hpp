@@ -40,14 +40,18 @@ struct JointDetectorState {
   bool flagged = false;  ///< latched until reset_detector()
 };
 
+/// The threshold in effect at `velocity`: eps(w) above.
+template <class S>
+[[nodiscard]] constexpr S threshold_at(const JointThreshold<S>& threshold, S velocity) noexcept {
+  const S u = velocity * threshold.inv_low_speed_width;
+  return threshold.base + sum_of_products(threshold.per_speed, jg::abs(velocity), threshold.low_speed_extra, jg::exp(-(u * u)));
+}
+
 /// One joint, one cycle: updates the debounce counter and returns the (latched) flag.
 template <class S>
 [[nodiscard]] constexpr bool detector_step(const JointThreshold<S>& threshold, DebounceSettings debounce,
                                            JointDetectorState& state, S external_torque, S velocity) noexcept {
-  const S u = velocity * threshold.inv_low_speed_width;
-  const S band =
-      threshold.base + sum_of_products(threshold.per_speed, jg::abs(velocity), threshold.low_speed_extra, jg::exp(-(u * u)));
-  if (band < jg::abs(external_torque)) {
+  if (threshold_at(threshold, velocity) < jg::abs(external_torque)) {
     if (state.over_count < 255U) {
       ++state.over_count;
     }
