@@ -6,6 +6,17 @@
 #include "identification/lugre_batch.hpp"
 
 namespace jg::eval {
+namespace {
+// One cycle of the estimator on a measurement; the first measurement also starts it.
+void estimate(Estimator& estimator, const sim::Measurement& m, bool& started, sim::JointVector& mu) {
+  const EstimatorInput in{m.q, m.dq, m.tau_m};
+  if (!started) {
+    estimator.reset(in);
+    started = true;
+  }
+  estimator.step(in, mu);
+}
+}  // namespace
 
 RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator, const DetectionConfig& d,
                         const std::string& name, bool record_trace) {
@@ -36,12 +47,7 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
   const double isolation_fraction = d.isolation_fraction;
   const sim::ControlOverride hook = [&](const sim::CycleContext& ctx) -> std::optional<sim::JointVector> {
     const sim::Measurement& m = *ctx.measurement;
-    const EstimatorInput in{m.q, m.dq, m.tau_m};
-    if (!started) {
-      estimator.reset(in);
-      started = true;
-    }
-    estimator.step(in, mu);
+    estimate(estimator, m, started, mu);
     if (!out.t_comm_fault && estimator.communication_fault()) {
       // A drive lost its neighbours: its estimate is no longer trustworthy, so the arm
       // takes the safe reaction (hold) whatever the configured collision reaction is.
@@ -143,12 +149,7 @@ std::vector<double> observer_band(const sim::SimulationSetup& setup, Estimator& 
   sim::JointVector mu;
   const sim::ControlOverride hook = [&](const sim::CycleContext& ctx) -> std::optional<sim::JointVector> {
     const sim::Measurement& m = *ctx.measurement;
-    const EstimatorInput in{m.q, m.dq, m.tau_m};
-    if (!started) {
-      estimator.reset(in);
-      started = true;
-    }
-    estimator.step(in, mu);
+    estimate(estimator, m, started, mu);
     if (ctx.t >= settle_s) {
       for (std::size_t j = 0; j < n; ++j) band[j] = std::max(band[j], std::fabs(mu(static_cast<Eigen::Index>(j))));
     }
