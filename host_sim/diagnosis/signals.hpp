@@ -33,6 +33,11 @@ struct JointSignals {
   /// The nominal model's friction of this joint, when known: friction effects are then
   /// also offered as changes of its parameters (exact sensitivity columns).
   std::optional<LuGreParams<double>> friction;
+  /// The measured torque was offset by its own value at the first sample (tau_real =
+  /// f(t) - f(t0), the arm at rest at t0): every effect's column is then offset the same
+  /// way, by its value with the arm at rest at the first position (friction relaxed), and a
+  /// constant offset is not an effect.
+  bool offset_at_start = false;
   [[nodiscard]] std::size_t size() const { return t.size(); }
 };
 

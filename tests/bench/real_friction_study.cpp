@@ -9,6 +9,8 @@
 
 int main(int argc, char** argv) {
   const std::string dir = argc > 1 ? argv[1] : "../shared/data/real/franka-joint-friction";
+  // --no-start-offset: predictions not offset like the data (the study before the offset).
+  const bool offset_at_start = !(argc > 2 && std::string(argv[2]) == "--no-start-offset");
   if (!std::filesystem::exists(dir)) {
     std::printf("SKIP: %s not found (real data is evaluation-only and not shipped)\n", dir.c_str());
     return 0;
@@ -24,6 +26,7 @@ int main(int argc, char** argv) {
       sf.read.time_column = "time";
       sf.read.torque_column_pattern = "q{j}_tau_J_compensate";
       sf.read.ignore_non_numeric_extra = true;
+      sf.offset_at_start = offset_at_start;
       files.push_back(sf);
     }
     jg::ident::SearchRanges ranges;
