@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <stdexcept>
 
 #include "identification/lugre_batch.hpp"
@@ -83,16 +82,6 @@ StudyResult friction_study(const std::vector<StudyFile>& files, std::size_t trai
   out.identification = ident::identify_lugre(series, ga, ranges);
   out.lugre = out.identification.params;
   out.diagnosis = diagnose_joint(signals_for(train, out.lugre, files[train_index].offset_at_start));
-  if (files[train_index].offset_at_start && std::getenv("JG_STUDY_REFIT") != nullptr) {
-    for (const auto& m : out.diagnosis.model) {
-      if (m.effect != "current_offset") continue;
-      for (double& v : series.friction) v -= m.coefficients[0];
-      out.identification = ident::identify_lugre(series, ga, ranges);
-      out.lugre = out.identification.params;
-      out.diagnosis = diagnose_joint(signals_for(train, out.lugre, true));
-      break;
-    }
-  }
   for (std::size_t i = 0; i < recs.size(); ++i) {
     const JointSignals s = signals_for(recs[i], out.lugre, files[i].offset_at_start);
     // The training file's constant is its own friction state at t0 (offset data): it is
