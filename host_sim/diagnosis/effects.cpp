@@ -40,10 +40,33 @@ std::vector<double> lugre_change(const JointSignals& s, const std::function<void
   for (std::size_t k = 0; k < d.size(); ++k) d[k] = (f1[k] - f0[k]) / per_unit;
   return d;
 }
-}  // namespace
 
-Candidate make_candidate(const std::string& effect, const std::map<std::string, double>& setting,
-                         const JointSignals& s) {
+JointSignals at_rest_at_start(const JointSignals& s) {
+  // Long enough for every filter window (slow_derivative's +/-30 ms) to see a constant.
+  constexpr std::size_t kRest = 256;
+  JointSignals r;
+  r.joint = s.joint;
+  r.dt = s.dt;
+  r.t.resize(kRest);
+  for (std::size_t k = 0; k < kRest; ++k) r.t[k] = s.t.front() + static_cast<double>(k) * s.dt;
+  r.q.assign(kRest, s.q.front());
+  r.dq.assign(kRest, 0.0);
+  r.ddq.assign(kRest, 0.0);
+  r.tau_real.assign(kRest, 0.0);
+  // The model's torque at rest: friction relaxed (LuGre bristles z = 0 at zero velocity).
+  r.tau_model.assign(kRest, 0.0);
+  if (!s.load.empty()) r.load.assign(kRest, s.load.front());
+  r.residual.assign(kRest, 0.0);
+  for (const auto& col : s.payload_columns) r.payload_columns.emplace_back(kRest, col.front());
+  if (!s.velocity_mismatch.empty()) r.velocity_mismatch.assign(kRest, 0.0);
+  if (!s.deflection.empty()) r.deflection.assign(kRest, s.deflection.front());
+  r.friction = s.friction;
+  return r;
+}
+
+// The effect's columns as computed from the signals, without the start offset.
+Candidate raw_candidate(const std::string& effect, const std::map<std::string, double>& setting,
+                        const JointSignals& s) {
   const std::size_t n = s.size();
   const double band = velocity_band(s);
   auto sgn = [&](std::size_t k) { return soft_sign(s.dq[k], band); };
@@ -157,6 +180,28 @@ Candidate make_candidate(const std::string& effect, const std::map<std::string, 
   }
   c.columns.push_back(std::move(col));
   return c;
+}
+
+}  // namespace
+
+Candidate make_candidate(const std::string& effect, const std::map<std::string, double>& setting,
+                         const JointSignals& s) {
+  if (s.offset_at_start) {
+    // The data are f(t) - f(t0): so is every column, f(t0) taken with the arm at rest at
+    // its first position with the friction relaxed. The friction state the arm really
+    // held at t0 is unknown and differs from one recording to the next: a constant
+    // (current_offset, kept as it is) stands for it, a property of the recording only.
+    Candidate c = raw_candidate(effect, setting, s);
+    if (effect == "current_offset" || c.columns.empty()) return c;
+    const Candidate rest = raw_candidate(effect, setting, at_rest_at_start(s));
+    if (rest.columns.size() != c.columns.size()) return c;
+    for (std::size_t j = 0; j < c.columns.size(); ++j) {
+      const double ref = rest.columns[j].back();
+      for (double& v : c.columns[j]) v -= ref;
+    }
+    return c;
+  }
+  return raw_candidate(effect, setting, s);
 }
 
 std::vector<std::vector<Candidate>> build_candidates(const JointSignals& s) {

@@ -14,7 +14,7 @@ double rms_diff(const std::vector<double>& a, const std::vector<double>& b) {
   return std::sqrt(acc / static_cast<double>(a.size()));
 }
 
-JointSignals signals_for(const io::Recording& r, const LuGreParams<double>& lugre) {
+JointSignals signals_for(const io::Recording& r, const LuGreParams<double>& lugre, bool offset_at_start) {
   JointSignals s;
   s.joint = r.joint_ids.front();
   s.dt = r.t[1] - r.t[0];
@@ -23,7 +23,10 @@ JointSignals signals_for(const io::Recording& r, const LuGreParams<double>& lugr
   s.dq = r.dq[0];
   s.ddq = derivative(s.dq, s.dt);
   s.tau_real = r.tau_m[0];
+  // LuGre from rest with relaxed bristles (z = 0): its torque at the first sample is the
+  // one at rest, zero, so the start offset leaves it as it is.
   s.tau_model = ident::lugre_predict(lugre, s.dq, s.dt);
+  s.offset_at_start = offset_at_start;
   s.residual.resize(s.size());
   for (std::size_t k = 0; k < s.size(); ++k) s.residual[k] = s.tau_real[k] - s.tau_model[k];
   return s;
@@ -78,10 +81,16 @@ StudyResult friction_study(const std::vector<StudyFile>& files, std::size_t trai
   series.skip = std::min<std::size_t>(series.velocity.size() / 20, 500);
   out.identification = ident::identify_lugre(series, ga, ranges);
   out.lugre = out.identification.params;
-  out.diagnosis = diagnose_joint(signals_for(train, out.lugre));
+  out.diagnosis = diagnose_joint(signals_for(train, out.lugre, files[train_index].offset_at_start));
   for (std::size_t i = 0; i < recs.size(); ++i) {
-    const JointSignals s = signals_for(recs[i], out.lugre);
-    const auto extra = predict_effects(out.diagnosis.model, s);
+    const JointSignals s = signals_for(recs[i], out.lugre, files[i].offset_at_start);
+    // The training file's constant is its own friction state at t0 (offset data): it is
+    // not carried to the other files, whose state at t0 is unknown (relaxed assumed).
+    std::vector<FittedEffect> model;
+    for (const auto& m : out.diagnosis.model) {
+      if (!(s.offset_at_start && i != train_index && m.effect == "current_offset")) model.push_back(m);
+    }
+    const auto extra = predict_effects(model, s);
     std::vector<double> extended(s.size());
     for (std::size_t k = 0; k < s.size(); ++k) extended[k] = s.tau_model[k] + extra[k];
     StudyFileResult r;

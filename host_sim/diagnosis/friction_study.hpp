@@ -15,6 +15,12 @@ namespace jg::diag {
 struct StudyFile {
   std::string path;
   io::ReadOptions read;  ///< how to read it (time column, torque column pattern)
+  /// The torque column was offset by its own value at the first sample, the arm at rest
+  /// (e.g. the Franka data's "minus the initial offset"): every prediction is then offset
+  /// the same way, by the model's torque at rest at the first position (JointSignals), and
+  /// a constant fitted on the training file (current_offset) is taken as that file's own
+  /// state at its first sample, not carried to the other files.
+  bool offset_at_start = false;
 };
 
 struct StudyFileResult {

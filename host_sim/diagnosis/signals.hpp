@@ -33,6 +33,12 @@ struct JointSignals {
   /// The nominal model's friction of this joint, when known: friction effects are then
   /// also offered as changes of its parameters (exact sensitivity columns).
   std::optional<LuGreParams<double>> friction;
+  /// The measured torque was offset by its own value at the first sample (tau_real =
+  /// f(t) - f(t0), the arm at rest at t0): every effect's column is then offset the same
+  /// way, by its value with the arm at rest at the first position (friction relaxed); the
+  /// constant (current_offset) is left as it is, standing for the recording's own unknown
+  /// friction state at t0.
+  bool offset_at_start = false;
   [[nodiscard]] std::size_t size() const { return t.size(); }
 };
 

@@ -1,6 +1,6 @@
 // Real-data friction study: LuGre identified on one file of a joint, then diagnosis of
 // what it leaves out, evaluated on the joint's other files (held out).
-// Usage: jg_real_friction_study DATA_DIR   (../shared/data/real/franka-joint-friction)
+// Usage: jg_real_friction_study DATA_DIR [--start-offset]   (../shared/data/real/franka-joint-friction)
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -9,6 +9,9 @@
 
 int main(int argc, char** argv) {
   const std::string dir = argc > 1 ? argv[1] : "../shared/data/real/franka-joint-friction";
+  // --start-offset: predictions offset like the data (each file's torque minus its value at
+  // the first sample); the training file's constant stays with it (StudyFile).
+  const bool offset_at_start = argc > 2 && std::string(argv[2]) == "--start-offset";
   if (!std::filesystem::exists(dir)) {
     std::printf("SKIP: %s not found (real data is evaluation-only and not shipped)\n", dir.c_str());
     return 0;
@@ -24,6 +27,7 @@ int main(int argc, char** argv) {
       sf.read.time_column = "time";
       sf.read.torque_column_pattern = "q{j}_tau_J_compensate";
       sf.read.ignore_non_numeric_extra = true;
+      sf.offset_at_start = offset_at_start;
       files.push_back(sf);
     }
     jg::ident::SearchRanges ranges;

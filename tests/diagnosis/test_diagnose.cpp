@@ -1,6 +1,7 @@
 // Diagnosis on plant-made pairs: a "real" recording with one hidden effect of small
 // amplitude and a "simulated" one from the nominal model, each with its own sensor noise.
 #include <gtest/gtest.h>
+#include <cmath>
 
 #include "diagnosis/diagnose.hpp"
 #include "diagnosis/pairing.hpp"
@@ -80,3 +81,30 @@ TEST(Diagnose, FindsCurrentOffsetAndTorqueConstant) {
   EXPECT_EQ(d[2].findings[0].effect, "torque_constant");
 }
 }  // namespace
+
+// Data offset by their first sample (y = f(t) - f(t0), the arm at rest at t0): every
+// column is offset by its value at rest at the first position; the constant is kept.
+TEST(Diagnose, StartOffsetColumnsAreZeroAtRestAtTheFirstPosition) {
+  jg::diag::JointSignals s;
+  s.dt = 0.002;
+  for (int k = 0; k < 2000; ++k) {
+    const double t = k * s.dt;
+    s.t.push_back(t);
+    s.q.push_back(0.3 + 0.2 * std::sin(t) * std::sin(t));  // at rest at t = 0
+    s.dq.push_back(0.2 * std::sin(2.0 * t));
+  }
+  s.ddq = jg::diag::derivative(s.dq, s.dt);
+  s.tau_real.assign(s.t.size(), 0.0);
+  s.tau_model.assign(s.t.size(), 0.0);
+  s.residual.assign(s.t.size(), 0.0);
+  s.offset_at_start = true;
+  const auto ripple = jg::diag::make_candidate("position_ripple", {{"periods_per_rev", 3.0}}, s);
+  ASSERT_EQ(ripple.columns.size(), 2U);
+  EXPECT_NEAR(ripple.columns[0][0], 0.0, 1e-12);
+  EXPECT_NEAR(ripple.columns[1][0], 0.0, 1e-12);
+  EXPECT_NEAR(ripple.columns[0][1000], std::sin(3.0 * s.q[1000]) - std::sin(3.0 * 0.3), 1e-12);
+  const auto coulomb = jg::diag::make_candidate("coulomb", {}, s);
+  EXPECT_NEAR(coulomb.columns[0][500], 1.0, 1e-12);  // sign at rest is zero: nothing to subtract
+  const auto offset = jg::diag::make_candidate("current_offset", {}, s);
+  EXPECT_NEAR(offset.columns[0][1000], 1.0, 1e-12);
+}
