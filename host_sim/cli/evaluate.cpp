@@ -22,7 +22,6 @@ struct EvaluateOptions {
   double rate = 1000.0, margin = 0.5, free_run_s = 0.0, calibration_s = 3600.0;
   int count = 50, debounce = 1;
   unsigned long long seed = 1;
-  bool stiction_tracking = false;
   ObserverOptions observer;
 };
 
@@ -64,8 +63,6 @@ Command add_evaluate(CLI::App& app) {
   cmd->add_option("--margin", o->margin, "Threshold margin above the observed band [N·m]")->capture_default_str();
   cmd->add_option("--debounce", o->debounce, "Cycles over threshold before a detection")->capture_default_str()->check(CLI::Range(1, 50));
   cmd->add_option("--reaction", o->reaction, "Reaction on detection")->check(CLI::IsMember({"none", "stop", "zero_gravity"}))->capture_default_str();
-  cmd->add_flag("--stiction-tracking", o->stiction_tracking,
-                "At standstill take the friction as whatever holds the joint (up to its static limit)");
   cmd->add_option("--json", o->json, "Write the runs and summary here (contract format)");
   o->observer.add_to(cmd);
   return {cmd, [o]() {
@@ -81,7 +78,6 @@ Command add_evaluate(CLI::App& app) {
             c.rate_hz = scenario ? scenario->setup.control_rate_hz : o->rate;
             c.scalar = o->scalar;
             c.seed = o->seed;
-            c.stiction_tracking = o->stiction_tracking;
             c.gains = o->observer.to_gains();
             c.debounce_cycles = o->debounce;
             c.calibration_s = o->calibration_s;
@@ -132,7 +128,7 @@ Command add_evaluate(CLI::App& app) {
                               {"delay_min", sum.delay_min}, {"delay_median", sum.delay_median}, {"delay_max", sum.delay_max},
                               {"false_alarms_per_hour", per_hour}, {"false_alarm_run_s", free_s}, {"false_alarm_times", alarm_times}, {"threshold", c.thresholds},
                               {"threshold_low_speed_extra", c.low_speed_extra}, {"threshold_low_speed_width", c.low_speed_width},
-                              {"calibration_s", c.calibration_s}, {"margin", o->margin}, {"stiction_tracking", c.stiction_tracking}, {"rate", c.rate_hz}, {"scalar", c.scalar},
+                              {"calibration_s", c.calibration_s}, {"margin", o->margin}, {"rate", c.rate_hz}, {"scalar", c.scalar},
                               {"observer", to_string(c.gains.kind)}, {"gains", {c.gains.k1, c.gains.k2, c.gains.k3}}};
               std::ofstream(o->json) << j.dump(2) << '\n';
               std::printf("wrote %s\n", o->json.c_str());

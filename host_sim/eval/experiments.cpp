@@ -54,18 +54,7 @@ std::unique_ptr<Estimator> estimator_for(const ExperimentConfig& c) {
   f.observer = c.gains;
   f.compensate_friction = !c.friction.empty();
   f.friction = c.friction;
-  if (c.stiction_tracking) f.standstill_speed = standstill_speeds(c);
   return make_firmware_estimator(f, c.scalar);
-}
-
-std::vector<double> standstill_speeds(const ExperimentConfig& c) {
-  std::vector<double> out;
-  const double counts_per_rev = sim::SensorConfig{}.motor_encoder_counts_per_rev;  // base_setup's sensors
-  for (const auto& d : c.model.drives()) {
-    const double count_rad = 2.0 * std::acos(-1.0) / (counts_per_rev * d.gear_ratio);
-    out.push_back(1.5 * count_rad * c.rate_hz);
-  }
-  return out;
 }
 
 DetectionConfig detection_for(const ExperimentConfig& c) {

@@ -29,14 +29,7 @@ struct ExperimentConfig {
   unsigned long long seed = 1;
   /// Collision-free random motion the thresholds are calibrated on [s].
   double calibration_s = 3600.0;
-  /// At standstill (up to 1.5 motor-encoder counts per sample) the friction prediction is
-  /// what holds the joint (JointEstimatorParams::standstill_speed).
-  bool stiction_tracking = false;
 };
-
-/// Standstill speed per joint [rad/s]: 1.5 motor-encoder counts per sample at the link (a
-/// joint at rest reads 0 or one count).
-std::vector<double> standstill_speeds(const ExperimentConfig& c);
 
 /// A simulation set-up on the model at the configured rate with realistic sensors and the
 /// paper's friction as truth.

@@ -14,9 +14,6 @@ struct FirmwareEstimatorConfig {
   ObserverGains observer{};
   bool compensate_friction = true;
   std::vector<LuGreParams<double>> friction;
-  /// Stiction tracking per joint (JointEstimatorParams::standstill_speed) [rad/s]; empty
-  /// or 0: off. The holding limit is the static level of the friction model, s(0) = tau_s.
-  std::vector<double> standstill_speed;
 };
 
 /// scalar: "float" or "q". Throws when a parameter does not fit the scalar (range check).

@@ -3,7 +3,6 @@
 // the centralised chain, the distributed nodes and the `jointguard node` process.
 #pragma once
 
-#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -24,15 +23,6 @@ JointEstimatorParams<S> joint_params(const FirmwareEstimatorConfig& c, std::size
   p.compensate_friction = c.compensate_friction && j < c.friction.size();
   if (p.compensate_friction && discretize(c.friction[j], c.dt, p.friction) != Error::ok) {
     throw std::invalid_argument(joint + "LuGre parameters do not fit the scalar");
-  }
-  if (p.compensate_friction && j < c.standstill_speed.size() && c.standstill_speed[j] > 0.0) {
-    NumericStatus st;
-    p.standstill_speed = convert<S>(c.standstill_speed[j], st);
-    p.holding_limit = convert<S>(c.friction[j].tau_s, st);  // LuGre holds s(0) = tau_s at rest
-    if (!st.ok() || !(S{} < p.standstill_speed)) {
-      throw std::invalid_argument(joint + "standstill speed " + std::to_string(c.standstill_speed[j]) +
-                                  " rad/s does not fit the scalar");
-    }
   }
   if (discretize(c.observer, c.dt, p.observer) != Error::ok) {
     throw std::invalid_argument("observer gains do not fit the scalar at this sample time");

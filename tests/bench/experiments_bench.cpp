@@ -271,8 +271,6 @@ void campaign_trace(eval::ExperimentConfig c, int index) {
 int main(int argc, char** argv) {
   eval::ExperimentConfig c;
   c.model = robot::load_robot(JG_SOURCE_DIR "/models/ref3.yaml");
-  // JG_STICTION=0/1 overrides the estimator's standstill mode (ExperimentConfig default).
-  if (const char* st = std::getenv("JG_STICTION"); st != nullptr) c.stiction_tracking = std::string(st) == "1";
   const std::string only = argc > 1 ? argv[1] : "all";
   if (only == "all" || only == "reversed") reversed_trajectory_validation(c);
   if (only == "all" || only == "presets") presets_side_by_side(c);

@@ -19,13 +19,6 @@ struct JointEstimatorParams {
   JointThreshold<S> threshold{};
   DebounceSettings debounce{};
   bool compensate_friction = true;
-  /// Standstill (stiction tracking; 0 = off): at |dq| <= standstill_speed [rad/s] the joint
-  /// is taken as held by static friction, whose value no velocity-driven model predicts;
-  /// the friction prediction becomes whatever balances the joint, up to holding_limit
-  /// [N·m] (the largest friction the joint can hold), and the bristle state follows it so
-  /// that the LuGre model starts from it when the joint moves again.
-  S standstill_speed{};
-  S holding_limit{};
 };
 
 template <class S>
@@ -113,22 +106,9 @@ constexpr bool joint_inward_and_estimate(const JointEstimatorParams<S>& p, Joint
   }
   inward_step(p.link, dq, s.outward, from_child, to_parent, s.momentum);
   s.last_to_parent = to_parent;
-  const bool held = p.compensate_friction && jg::abs(dq) <= p.standstill_speed && S{} < p.standstill_speed;
-  if (held) {
-    s.friction_torque = s.friction.bristle_torque;  // a count of dither must not slide the bristles
-  } else {
-    s.friction_torque = p.compensate_friction ? lugre_step(p.friction, s.friction, dq) : S{};
-  }
-  S r = observer_step(p.observer, s.observer, s.momentum.momentum, motor_torque, s.momentum.beta, s.friction_torque,
-                      status);
-  if (held) {
-    // r estimates (friction - contact) - prediction: the residual moves into the held
-    // friction up to the holding limit; only what exceeds it stays an external torque.
-    const S holding = jg::clamp(s.friction_torque + r, -p.holding_limit, p.holding_limit);
-    r = observer_shift(p.observer, s.observer, holding - s.friction_torque);
-    s.friction.bristle_torque = holding;
-    s.friction_torque = holding;
-  }
+  s.friction_torque = p.compensate_friction ? lugre_step(p.friction, s.friction, dq) : S{};
+  const S r = observer_step(p.observer, s.observer, s.momentum.momentum, motor_torque, s.momentum.beta, s.friction_torque,
+                            status);
   s.external_torque = -r;
   s.flagged = detector_step(p.threshold, p.debounce, s.detector, s.external_torque, dq);
   return s.flagged;

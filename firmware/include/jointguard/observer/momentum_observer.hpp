@@ -70,7 +70,6 @@ struct ObserverCoeffs {
   precise_coefficient_t<S> decay[2]{};  ///< exp(-K_i dT) (Q2.30 when S is fixed point)
   precise_coefficient_t<S> input_gain[2]{};  ///< (A_i / K_i)(1 - exp(-K_i dT)), |.| < 2
   S inv_dt{};         ///< 1 / dT [1/s]
-  S dc_share[2]{};    ///< A_i / K_i: section i's part of the DC gain (first order: 1)
 };
 
 template <class S>
@@ -109,7 +108,6 @@ template <class S>
     const double a = std::exp(-poles[i] * dt);
     c.decay[i] = convert<precise_coefficient_t<S>>(a, st);
     c.input_gain[i] = convert<precise_coefficient_t<S>>(residues[i] / poles[i] * (1.0 - a), st);
-    c.dc_share[i] = convert<S>(residues[i] / poles[i], st);
   }
   c.inv_dt = convert<S>(1.0 / dt, st);
   if (!st.ok()) {
@@ -152,22 +150,6 @@ template <class S>
   S out{};
   for (std::uint8_t i = 0; i < c.sections && i < 2U; ++i) {
     st.section[i] = scale_sum(c.decay[i], st.section[i], c.input_gain[i], disturbance);
-    out = out + st.section[i];
-  }
-  st.last_output = out;
-  return out;
-}
-
-/// Moves `amount` [N·m] of the estimate into the friction prediction: the sections take the
-/// state they would hold had the prediction been larger by `amount` for ever (section i
-/// shifts by its DC share), and the output drops by the observer's DC gain times `amount`.
-/// Used at standstill, where the friction is whatever holds the joint (joint_estimator.hpp).
-/// Q16.16: one rounded product per section, saturating.
-template <class S>
-constexpr S observer_shift(const ObserverCoeffs<S>& c, ObserverState<S>& st, S amount) noexcept {
-  S out{};
-  for (std::uint8_t i = 0; i < c.sections && i < 2U; ++i) {
-    st.section[i] = st.section[i] - c.dc_share[i] * amount;
     out = out + st.section[i];
   }
   st.last_output = out;
