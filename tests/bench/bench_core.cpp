@@ -2,6 +2,7 @@
 // in float and Q16.16. Run: ./build/host/tests/bench/jg_bench_core (not part of ctest).
 #include <benchmark/benchmark.h>
 
+#include "../common/shoulder_link.hpp"
 #include "jointguard/node/joint_estimator.hpp"
 
 namespace {
@@ -12,14 +13,7 @@ struct Fixture {
   jg::OutwardMessage<S> parent{}, to_child{};
   jg::InwardMessage<S> child{}, to_parent{};
   Fixture() {
-    jg::LinkDescription d;
-    d.alpha_prev = 1.5707963267948966;
-    d.mass = 3.5;
-    d.com[0] = 0.2;
-    d.inertia_com[0] = 0.01;
-    d.inertia_com[1] = 0.06;
-    d.inertia_com[2] = 0.06;
-    d.rotor_inertia = 0.4;
+    const jg::LinkDescription d = jg::test::shoulder_link();
     (void)jg::convert_link(d, p.link);
     (void)jg::discretize(jg::LuGreParams<double>{95487.8562, 499.4331, 6.1838, 8.1855, 4.5407, 0.0996}, 0.001, p.friction);
     (void)jg::discretize(jg::ObserverGains{jg::ObserverKind::first_order, 150.0, 0.0, 0.0}, 0.001, p.observer);

@@ -2,6 +2,7 @@
 // (outward step, inward step, LuGre, observer, detector) in float and Q16.16. qemu has no
 // cycle model: `jointguard bench` runs this under qemu -singlestep with execution tracing
 // and counts the instructions executed between the markers.
+#include "../common/shoulder_link.hpp"
 #include "jointguard/node/joint_estimator.hpp"
 #include "semihosting.hpp"
 
@@ -16,17 +17,7 @@ constexpr int kCycles = 20;
 template <class S>
 void run(int id) {
   // The reference arm's shoulder (joint 2) with the paper's joint-2 friction at 1 kHz.
-  jg::LinkDescription d;
-  d.alpha_prev = 1.5707963267948966;
-  d.mass = 3.5;
-  d.com[0] = 0.2;
-  d.com[2] = 0.02;
-  d.inertia_com[0] = 0.01;
-  d.inertia_com[1] = 0.06;
-  d.inertia_com[2] = 0.06;
-  d.rotor_inertia = 0.4;
-  d.torque_constant = 12.0;
-  d.current_limit = 15.0;
+  const jg::LinkDescription d = jg::test::shoulder_link();
   static jg::JointEstimatorParams<S> p{};
   static jg::JointEstimatorState<S> s{};
   (void)jg::convert_link(d, p.link);
