@@ -2,16 +2,21 @@
 
 #include <stdexcept>
 
+#include "tuning/observer_tuning.hpp"
+
 namespace jg::cli {
 
 void ObserverOptions::add_to(CLI::App* cmd) {
   cmd->add_option("--observer", preset, "Observer preset")
       ->check(CLI::IsMember({"first_order", "lowpass2", "paper_bandpass", "paper_improved"}))
       ->capture_default_str();
-  cmd->add_option("--gains", gains, "Observer gains K1[,K2[,K3]] [1/s]")->delimiter(',')->capture_default_str();
+  cmd->add_option("--gains", gains,
+                  "Observer gains K1[,K2[,K3]] [1/s] (first_order default: 150 at 500 Hz and above, 250 below)")
+      ->delimiter(',');
 }
 
-ObserverGains ObserverOptions::to_gains() const {
+ObserverGains ObserverOptions::to_gains(double rate_hz) const {
+  if (gains.empty() && preset == "first_order") return tuning::default_gains(rate_hz);
   ObserverGains g;
   if (preset == "first_order") g.kind = ObserverKind::first_order;
   else if (preset == "lowpass2") g.kind = ObserverKind::lowpass2;

@@ -9,11 +9,13 @@
 namespace jg::cli {
 
 /// --observer first_order|lowpass2|paper_bandpass|paper_improved and --gains K1[,K2[,K3]].
+/// Without --gains the first-order observer takes the default for the loop rate
+/// (tuning::default_gains); the other presets need their gains.
 struct ObserverOptions {
   std::string preset = "first_order";
-  std::vector<double> gains{150.0};
+  std::vector<double> gains;
   void add_to(CLI::App* cmd);
-  [[nodiscard]] ObserverGains to_gains() const;
+  [[nodiscard]] ObserverGains to_gains(double rate_hz) const;
 };
 
 void check_scalar(const std::string& scalar);

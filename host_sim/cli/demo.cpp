@@ -20,6 +20,7 @@
 #include "eval/experiments.hpp"
 #include "report/svg_plot.hpp"
 #include "robot/robot_model.hpp"
+#include "tuning/observer_tuning.hpp"
 
 #include "jointguard/friction/lugre.hpp"
 #include "models/paper_friction.hpp"
@@ -162,6 +163,7 @@ int run_demo(const DemoOptions& options) {
   std::vector<PaperRow> rows;
   eval::ExperimentConfig c125 = c;
   c125.rate_hz = 125.0;
+  c125.gains = tuning::default_gains(c125.rate_hz);
   eval::prepare(c125, kMarginNm);
   for (const auto* cfg : {&c, &c125}) {
     for (const char* scalar : {"float", "q"}) {
@@ -214,8 +216,8 @@ int run_demo(const DemoOptions& options) {
        << (sum.detected == 0 ? std::string("-") : fmt("%.0f", 1e3 * sum.delay_min) + " / " + fmt("%.0f", 1e3 * sum.delay_median) + " / " + fmt("%.0f", 1e3 * sum.delay_max))
        << "</td><td>" << alarms << " in " << fmt("%.0f", free_s) << " s</td></tr></table>\n"
        << "<p class=\"note\">Paper: 50 random collisions on links 2-3, 100 % detected, delays 64-96 ms. Campaign collisions include clamps "
-          "the arm moves away from (no force builds up) and forces through a joint axis; the third column counts those a detector can see: the threshold in effect includes the standstill allowance, "
-          "since below break-away a joint at rest does not move and its current does not change; the fourth column counts against "
+          "the arm moves away from (no force builds up) and forces through a joint axis; the third column counts those whose torque clears the threshold in effect (the band at the joint's velocity, "
+          "with the standstill allowance at rest, where the friction held is not predicted); the fourth column counts against "
           "the moving threshold alone. "
           "Isolation names the highest joint over threshold at the detection cycle (paper's signature).</p>\n";
 

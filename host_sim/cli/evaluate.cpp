@@ -78,7 +78,7 @@ Command add_evaluate(CLI::App& app) {
             c.rate_hz = scenario ? scenario->setup.control_rate_hz : o->rate;
             c.scalar = o->scalar;
             c.seed = o->seed;
-            c.gains = o->observer.to_gains();
+            c.gains = o->observer.to_gains(c.rate_hz);
             c.debounce_cycles = o->debounce;
             c.calibration_s = o->calibration_s;
             c.reaction = reaction_of(o->reaction);

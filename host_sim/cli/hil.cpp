@@ -43,7 +43,7 @@ int run_node(const NodeOptions& o) {
   eval::FirmwareEstimatorConfig fc;
   fc.model = model;
   fc.dt = 1.0 / o.rate;
-  fc.observer = o.observer.to_gains();
+  fc.observer = o.observer.to_gains(o.rate);
   if (!o.friction.empty()) fc.friction = eval::read_friction_json(o.friction);
   fc.compensate_friction = !fc.friction.empty();
   std::vector<JointThreshold<double>> bands;

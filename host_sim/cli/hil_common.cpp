@@ -43,7 +43,7 @@ int run_hil_command(const HilOptions& o) {
   c.model = robot::load_robot(model_path);
   if (!o.friction.empty()) c.friction = eval::read_friction_json(o.friction);
   c.thresholds = eval::read_threshold_json(o.threshold);
-  c.gains = o.observer.to_gains();
+  c.gains = o.observer.to_gains(scenario.setup.control_rate_hz);
   c.scalar = o.scalar;
   c.debounce_cycles = o.debounce;
   c.reaction = o.reaction == "none" ? Reaction::none : (o.reaction == "zero_gravity" ? Reaction::zero_gravity : Reaction::stop);

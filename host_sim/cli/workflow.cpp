@@ -81,7 +81,7 @@ Command add_calibrate(CLI::App& app) {
             const auto model = robot::load_robot(o->model);
             const auto rec = load_recording(*o);
             const auto friction = eval::read_friction_json(o->friction);
-            const auto t = eval::calibrate_recording(rec, model, friction, o->observer.to_gains(), o->margin);
+            const auto t = eval::calibrate_recording(rec, model, friction, o->observer.to_gains(eval::sample_rate(rec)), o->margin);
             std::printf("joint  band without / with compensation [N·m]  shrink  threshold (moving)  + at standstill\n");
             for (std::size_t j = 0; j < t.threshold.size(); ++j) {
               std::printf("%5d  %12.3f / %-12.3f              %5.1fx  %10.3f          %+.3f\n", rec.joint_ids[j], t.band_uncompensated[j],
@@ -115,7 +115,8 @@ Command add_replay(CLI::App& app) {
             const auto rec = load_recording(*o);
             const auto friction = eval::read_friction_json(o->friction);
             const auto thresholds = eval::read_threshold_json(o->threshold);
-            const auto r = eval::replay_recording(rec, model, friction, thresholds, o->observer.to_gains(), o->scalar, o->debounce);
+            const auto r = eval::replay_recording(rec, model, friction, thresholds, o->observer.to_gains(eval::sample_rate(rec)), o->scalar,
+                                                o->debounce);
             std::printf("%zu detection(s)\n", r.events.size());
             nlohmann::json j;
             j["events"] = nlohmann::json::array();

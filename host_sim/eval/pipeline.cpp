@@ -16,6 +16,11 @@ double sample_time(const io::Recording& r) {
   return (r.t.back() - r.t.front()) / static_cast<double>(r.samples() - 1);
 }
 
+}  // namespace
+
+double sample_rate(const io::Recording& rec) { return 1.0 / sample_time(rec); }
+
+namespace {
 nlohmann::json read_json(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw io::FormatError(path + ": cannot open");

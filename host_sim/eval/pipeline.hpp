@@ -35,6 +35,9 @@ Thresholds read_threshold_json(const std::string& path);
 /// Motor torque per joint from a recording (tau_m columns, or currents x K_I of the model).
 std::vector<std::vector<double>> motor_torque(const io::Recording& rec, const robot::RobotModel& model);
 
+/// Mean sample rate of a recording [Hz]; throws when it has fewer than 3 samples.
+double sample_rate(const io::Recording& rec);
+
 /// Resamples a recording to `rate_hz` (linear interpolation); returns it unchanged when
 /// the rate already matches within 0.1 %.
 io::Recording resample(const io::Recording& rec, double rate_hz);

@@ -23,4 +23,12 @@ ObserverFigures analyse(const ObserverGains& g, double dt);
 /// `target_noise_rms` for white motor-torque noise of `torque_noise_rms` (bisection).
 ObserverGains gains_for_noise(const ObserverGains& shape, double dt, double torque_noise_rms, double target_noise_rms);
 
+/// The default observer for a loop rate: first order, K = 150 1/s from 500 Hz up and
+/// K = 250 1/s below. At 125 Hz one sample's momentum balance already averages the
+/// disturbance over 8 ms, and K = 150 adds about one more sample of lag; the sweep in
+/// docs/observers.md (paper collisions, false alarms) picked 250 there.
+[[nodiscard]] constexpr ObserverGains default_gains(double rate_hz) noexcept {
+  return {ObserverKind::first_order, rate_hz < 500.0 ? 250.0 : 150.0, 0.0, 0.0};
+}
+
 }  // namespace jg::tuning

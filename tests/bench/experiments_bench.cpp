@@ -285,11 +285,13 @@ int main(int argc, char** argv) {
   if (only == "ident") {
     c.seed = std::strtoull(argv[2], nullptr, 10);
     if (argc > 3) c.rate_hz = std::atof(argv[3]);
+    c.gains = tuning::default_gains(c.rate_hz);
     c.calibration_s = 20.0;
     identification_errors(c);
   }
   if (only == "alarms") {
     c.rate_hz = std::atof(argv[2]);
+    c.gains = tuning::default_gains(c.rate_hz);
     c.scalar = argv[3];
     c.calibration_s = std::atof(argv[4]);
     c.seed = std::strtoull(argv[6], nullptr, 10);
