@@ -115,6 +115,10 @@ Command add_evaluate(CLI::App& app) {
                         1e3 * sum.delay_median, 1e3 * sum.delay_max, alarms, free_s, per_hour);
             for (const double t : alarm_times) std::printf(" %.3f", t);
             std::printf("\n");
+            std::printf("after the true torque crosses the threshold in effect: %d of %d detections within 10 ms; "
+                        "median/95th percentile/max %.1f/%.1f/%.1f ms\n",
+                        sum.after_crossing_within_10ms, sum.after_crossing, 1e3 * sum.after_crossing_median,
+                        1e3 * sum.after_crossing_p95, 1e3 * sum.after_crossing_max);
             if (!o->json.empty()) {
               nlohmann::json j;
               j["runs"] = nlohmann::json::array();
@@ -126,6 +130,11 @@ Command add_evaluate(CLI::App& app) {
                               {"over_1p5x_threshold", {{"collisions", sum.detectable}, {"detected", sum.detectable_found}}},
                               {"over_1p5x_moving_threshold", {{"collisions", sum.detectable_moving}, {"detected", sum.detectable_moving_found}}},
                               {"delay_min", sum.delay_min}, {"delay_median", sum.delay_median}, {"delay_max", sum.delay_max},
+                              {"after_threshold_crossed", {{"detections", sum.after_crossing},
+                                                           {"within_10ms", sum.after_crossing_within_10ms},
+                                                           {"median", sum.after_crossing_median},
+                                                           {"p95", sum.after_crossing_p95},
+                                                           {"max", sum.after_crossing_max}}},
                               {"false_alarms_per_hour", per_hour}, {"false_alarm_run_s", free_s}, {"false_alarm_times", alarm_times}, {"threshold", c.thresholds},
                               {"threshold_low_speed_extra", c.low_speed_extra}, {"threshold_low_speed_width", c.low_speed_width},
                               {"calibration_s", c.calibration_s}, {"margin", o->margin}, {"rate", c.rate_hz}, {"scalar", c.scalar},

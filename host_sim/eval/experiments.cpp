@@ -71,11 +71,12 @@ DetectionConfig detection_for(const ExperimentConfig& c) {
 Summary summarize(const std::vector<RunResult>& runs) {
   Summary s;
   s.runs = static_cast<int>(runs.size());
-  std::vector<double> delays;
+  std::vector<double> delays, after;
   for (const auto& r : runs) {
     if (r.t_detected) {
       ++s.detected;
       delays.push_back(*r.t_detected - r.t_collision);
+      if (r.t_threshold) after.push_back(*r.t_detected - *r.t_threshold);
     }
     s.isolated += r.link_isolated == r.link_true ? 1 : 0;
     if (r.max_true_ratio > 1.5) {
@@ -92,6 +93,14 @@ Summary summarize(const std::vector<RunResult>& runs) {
     s.delay_min = delays.front();
     s.delay_median = delays[delays.size() / 2];
     s.delay_max = delays.back();
+  }
+  std::sort(after.begin(), after.end());
+  s.after_crossing = static_cast<int>(after.size());
+  if (!after.empty()) {
+    for (const double a : after) s.after_crossing_within_10ms += a <= 0.010 + 1e-9 ? 1 : 0;
+    s.after_crossing_median = after[after.size() / 2];
+    s.after_crossing_p95 = after[std::min(after.size() - 1, after.size() * 95 / 100)];
+    s.after_crossing_max = after.back();
   }
   return s;
 }

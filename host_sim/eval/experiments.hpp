@@ -70,6 +70,10 @@ struct Summary {
   /// how many of them were detected; the same against the moving threshold (stricter).
   int detectable = 0, detectable_found = 0, detectable_moving = 0, detectable_moving_found = 0;
   double delay_min = 0, delay_median = 0, delay_max = 0;  ///< [s], over detected runs
+  /// Detected runs whose true torque crossed the threshold in effect, and their delay after
+  /// that crossing [s]: how many within 10 ms, median, 95th percentile, max.
+  int after_crossing = 0, after_crossing_within_10ms = 0;
+  double after_crossing_median = 0, after_crossing_p95 = 0, after_crossing_max = 0;
 };
 Summary summarize(const std::vector<RunResult>& runs);
 

@@ -2,6 +2,7 @@
 // functions composed in-process) on the paper's collisions; and the node's fault handling.
 #include <gtest/gtest.h>
 
+#include "../common/unit_link.hpp"
 #include "eval/distributed_estimator.hpp"
 #include "eval/firmware_estimator.hpp"
 #include "jointguard/hal/loopback_can.hpp"
@@ -72,12 +73,7 @@ TEST(DistributedNodes, AgreeWithTheCentralisedChainOnThePaperCollisions) {
 TEST(JointNodeFaults, SilentNeighbourRaisesTheFaultAndARestartResynchronises) {
   using Port = hal::LoopbackCan<16>;
   Port parent_port, child_port;
-  JointEstimatorParams<float> p{};
-  LinkDescription d;
-  d.mass = 1.0;
-  ASSERT_EQ(convert_link(d, p.link), Error::ok);
-  ASSERT_EQ(discretize(ObserverGains{}, 0.001, p.observer), Error::ok);
-  p.compensate_friction = false;
+  const JointEstimatorParams<float> p = test::unit_link_params(1e4F);  // never flags: the bus is under test
   // Joint 2 of 3 listens on child_port; we play its neighbours by hand.
   JointNode<float, Port> node(NodeConfig{2, 3, 3}, p, child_port, Vec3<float>{0.0F, 0.0F, -9.81F});
   auto feed = [&](std::uint8_t seq, bool corrupt, std::uint32_t id) {

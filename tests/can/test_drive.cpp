@@ -4,6 +4,7 @@
 // paper's collisions; every bus fault of issue 5 ending in its documented state.
 #include <gtest/gtest.h>
 
+#include "../common/unit_link.hpp"
 #include "can/sim_bus.hpp"
 #include "eval/distributed_estimator.hpp"
 #include "eval/experiments.hpp"
@@ -18,16 +19,7 @@
 namespace {
 using namespace jg;
 
-JointEstimatorParams<float> unit_link_params(float threshold) {
-  JointEstimatorParams<float> p{};
-  LinkDescription d;
-  d.mass = 1.0;
-  EXPECT_EQ(convert_link(d, p.link), Error::ok);
-  EXPECT_EQ(discretize(ObserverGains{}, 0.001, p.observer), Error::ok);
-  p.compensate_friction = false;
-  p.threshold = {threshold, 0.0F};
-  return p;
-}
+using test::unit_link_params;
 
 hal::CanFrame sensor_frame(std::uint8_t joint, std::uint8_t seq, double q, double dq, double tau) {
   hal::CanFrame f{};

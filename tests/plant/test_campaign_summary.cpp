@@ -9,6 +9,7 @@ jg::eval::RunResult run(double ratio_in_effect, double ratio_moving, bool detect
   jg::eval::RunResult r;
   r.t_collision = 1.0;
   if (detected) r.t_detected = 1.0 + 0.001 * ratio_moving;
+  if (ratio_in_effect > 1.0) r.t_threshold = 1.0 + 0.0001;
   r.max_true_ratio = ratio_in_effect;
   r.max_true_ratio_moving = ratio_moving;
   r.link_true = link_true;
@@ -33,5 +34,9 @@ TEST(CampaignSummary, CountsVisibleCollisionsAgainstBothThresholds) {
   EXPECT_EQ(s.detectable_moving_found, 1);
   EXPECT_NEAR(s.delay_min, 0.0012, 1e-12);
   EXPECT_NEAR(s.delay_max, 0.003, 1e-12);
+  // Detected runs whose true torque crossed the threshold in effect: the first and third.
+  EXPECT_EQ(s.after_crossing, 2);
+  EXPECT_EQ(s.after_crossing_within_10ms, 2);
+  EXPECT_NEAR(s.after_crossing_max, 0.0029, 1e-12);
 }
 }  // namespace
