@@ -8,7 +8,7 @@
 #include "diagnosis/signals.hpp"
 #include "io/recording.hpp"
 #include "jointguard/friction/lugre.hpp"
-#include "plant/rigid_body.hpp"
+#include "dynamics/rigid_body.hpp"
 
 namespace jg::diag {
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "diagnosis/diagnose.hpp"
-#include "plant/rigid_body.hpp"
+#include "dynamics/rigid_body.hpp"
 #include "plant/sensors.hpp"
 
 namespace jg::diag {

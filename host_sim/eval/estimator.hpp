@@ -9,7 +9,7 @@
 
 #include "jointguard/detection/detector.hpp"
 #include "jointguard/friction/lugre.hpp"
-#include "plant/rigid_body.hpp"
+#include "dynamics/rigid_body.hpp"
 
 namespace jg::eval {
 

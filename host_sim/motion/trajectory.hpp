@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "motion/excitation.hpp"
-#include "plant/rigid_body.hpp"
+#include "dynamics/rigid_body.hpp"
 
 namespace jg::sim {
 

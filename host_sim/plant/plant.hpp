@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "plant/friction_truth.hpp"
-#include "plant/rigid_body.hpp"
+#include "dynamics/rigid_body.hpp"
 
 namespace jg::sim {
 

@@ -12,7 +12,7 @@
 #include <random>
 #include <vector>
 
-#include "plant/rigid_body.hpp"
+#include "dynamics/rigid_body.hpp"
 
 namespace jg::sim {
 

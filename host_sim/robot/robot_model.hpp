@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "jointguard/dynamics/link.hpp"
-#include "plant/rigid_body.hpp"
+#include "dynamics/rigid_body.hpp"
 #include "plant/sensors.hpp"
 
 namespace jg::robot {

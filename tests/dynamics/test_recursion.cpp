@@ -7,7 +7,7 @@
 
 #include "diagnosis/testset.hpp"
 #include "jointguard/dynamics/momentum_recursion.hpp"
-#include "plant/rigid_body.hpp"
+#include "dynamics/rigid_body.hpp"
 
 namespace {
 using jg::sim::JointVector;

@@ -1,4 +1,4 @@
-#include "plant/rigid_body.hpp"
+#include "dynamics/rigid_body.hpp"
 
 #include <cmath>
 #include <stdexcept>

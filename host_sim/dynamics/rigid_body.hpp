@@ -1,4 +1,5 @@
-// Rigid-body dynamics of a serial revolute arm for the plant (host only, double).
+// Rigid-body dynamics of a serial revolute arm (host only, double), shared by the plant,
+// detection and diagnosis, and the base of whole-arm identification (host_sim/dynamics/).
 // Independent of the firmware's momentum recursion on purpose: the plant is the truth
 // the firmware is tested against. Inverse dynamics by recursive Newton-Euler, the mass
 // matrix by the composite-rigid-body algorithm, forward dynamics by Cholesky.
