@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
+#include "diagnosis/arm.hpp"
 #include "diagnosis/diagnose.hpp"
 #include "diagnosis/pairing.hpp"
 #include "eval/pipeline.hpp"
@@ -41,7 +42,8 @@ Command add_diagnose(CLI::App& app) {
               throw std::invalid_argument(o->real + ": " + std::to_string(real.joints()) + " joints, the model has " +
                                           std::to_string(model.joints.size()));
             }
-            const sim::ArmDynamics arm(model.plant_links());
+            // With the robot file's gravity (gravity_m_s2), as calibrate and replay use it.
+            const sim::ArmDynamics arm = model.dynamics();
             diag::ModelContext ctx;
             ctx.arm = &arm;
             for (const auto& j : model.joints) ctx.torque_constant.push_back(j.link.torque_constant);
@@ -53,7 +55,17 @@ Command add_diagnose(CLI::App& app) {
             } else {
               signals = diag::signals_from_model(real, ctx);
             }
+            // Causes that are one thing in the world (a payload) first, once for the arm.
+            const diag::ArmDiagnosis arm_diag = diag::diagnose_arm(signals);
+            signals = diag::without_arm_causes(signals, arm_diag);
             nlohmann::json j;
+            j["arm"] = {{"findings", nlohmann::json::array()}, {"notes", arm_diag.notes}};
+            for (const auto& f : arm_diag.findings) {
+              j["arm"]["findings"].push_back({{"effect", f.effect}, {"params", f.params}, {"confidence", f.confidence},
+                                              {"delta_bic", f.delta_bic}, {"description", f.text}});
+              std::printf("arm: %s: %s\n", f.effect.c_str(), f.text.c_str());
+            }
+            if (arm_diag.findings.empty()) std::printf("arm: no arm-level cause (payload) found\n");
             j["joints"] = nlohmann::json::array();
             if (!o->out.empty()) std::filesystem::create_directories(o->out);
             for (const auto& s : signals) {

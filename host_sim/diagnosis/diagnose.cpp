@@ -21,11 +21,8 @@ struct Split {
 
 Split make_split(std::size_t n, const DiagnoseOptions& o) {
   Split s;
-  for (std::size_t k = 0; k < n; ++k) {
-    const int block = static_cast<int>(k * static_cast<std::size_t>(o.blocks) / n);
-    const bool held = std::find(o.heldout.begin(), o.heldout.end(), block) != o.heldout.end();
-    (held ? s.test : s.train).push_back(k);
-  }
+  const auto held = heldout_mask(n, o);
+  for (std::size_t k = 0; k < n; ++k) (held[k] ? s.test : s.train).push_back(k);
   return s;
 }
 
@@ -316,6 +313,15 @@ void deflection_channel(const JointSignals& s, const Split& split, const Diagnos
 }
 }  // namespace
 
+std::vector<bool> heldout_mask(std::size_t n, const DiagnoseOptions& o) {
+  std::vector<bool> held(n, false);
+  for (std::size_t k = 0; k < n; ++k) {
+    const int block = static_cast<int>(k * static_cast<std::size_t>(o.blocks) / n);
+    held[k] = std::find(o.heldout.begin(), o.heldout.end(), block) != o.heldout.end();
+  }
+  return held;
+}
+
 JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
   const std::size_t n = s.size();
   if (n < 200) throw std::invalid_argument("joint " + std::to_string(s.joint) + ": too few samples to diagnose (" + std::to_string(n) + ", need 200)");
@@ -383,7 +389,8 @@ JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
         Q = qr.householderQ() * MatrixXd::Identity(Xs.rows(), Xs.cols());
       }
       const VectorXd r_s = Xs.cols() > 0 ? VectorXd(y_train - Q * (Q.transpose() * y_train)) : y_train;
-      double best_delta = 0.0;
+      double best_delta = 0.0, implausible_delta = 0.0;
+      std::string implausible_note;
       std::size_t best_group = all_candidates.size();
       const Candidate* best_cand = nullptr;
       for (std::size_t g = 0; g < all_candidates.size(); ++g) {
@@ -398,15 +405,31 @@ JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
           // cannot be told apart from them on these data: it is not a candidate.
           if (Xc.norm() < 1e-9 || Xc.norm() < o.min_independence * raw_norm) continue;
           const VectorXd b = Xc.colPivHouseholderQr().solve(r_s);
+          // These are the candidate's coefficients in the joint fit (Frisch-Waugh):
+          // physically implausible values are not a candidate.
+          const std::string why = implausible(cand, std::vector<double>(b.data(), b.data() + b.size()), s);
           const double rss = (r_s - Xc * b).squaredNorm();
           const int k = param_count(chosen) + static_cast<int>(cand.columns.size()) + cand.nonlinear_params;
           const double delta = bic(rss, split.train.size(), k) + prior_cost(cand.effect) - current_bic;
+          if (!why.empty()) {
+            if (trace) std::fprintf(stderr, "  j%d %s implausible: %s\n", s.joint, cand.effect.c_str(), why.c_str());
+            if (delta < implausible_delta) {
+              implausible_delta = delta;
+              implausible_note = cand.effect + " would fit (BIC " + std::to_string(static_cast<int>(delta)) +
+                                 ") but is not physically plausible: " + why + "; not claimed";
+            }
+            continue;
+          }
           if (delta < best_delta) {
             best_delta = delta;
             best_group = g;
             best_cand = &cand;
           }
         }
+      }
+      if (implausible_delta < std::min(best_delta, -o.min_delta_bic) &&
+          std::find(sel.notes.begin(), sel.notes.end(), implausible_note) == sel.notes.end()) {
+        sel.notes.push_back(implausible_note);
       }
       if (best_cand == nullptr || best_delta > -o.min_delta_bic) break;
       std::vector<const Candidate*> trial = chosen;

@@ -73,6 +73,9 @@ struct DiagnoseOptions {
   double min_deflection_snr = 3.0;
 };
 
+/// Per sample: true where it lies in a held-out block.
+std::vector<bool> heldout_mask(std::size_t n, const DiagnoseOptions& o);
+
 JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o = {});
 
 /// The torque the fitted effects add over other signals of the same joint.

@@ -125,7 +125,16 @@ Candidate raw_candidate(const std::string& effect, const std::map<std::string, d
       col[k] = zeta - sgn(k);
     }
   } else if (effect == "asymmetric_friction") {
-    for (std::size_t k = 0; k < n; ++k) col[k] = std::fabs(sgn(k));
+    // Friction levels that differ by direction: a Coulomb level (|sgn w|, constant while
+    // moving, zero at rest: that tells it from an offset) and a viscous slope (|w|: the
+    // difference grows with speed) of their own in each direction.
+    auto slope = column(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      col[k] = std::fabs(sgn(k));
+      slope[k] = std::fabs(s.dq[k]);
+    }
+    c.columns = {std::move(col), std::move(slope)};
+    return c;
   } else if (effect == "position_ripple") {
     const double per_rev = get("periods_per_rev");
     auto cs = column(n);
@@ -251,9 +260,9 @@ std::vector<std::vector<Candidate>> build_candidates(const JointSignals& s) {
   const double span = s.t.back() - s.t.front();
   group("temperature_drift", "time_constant_s", {0.1 * span, 0.25 * span, 0.5 * span, span, 3.0 * span});
   group("load_dependent_friction", nullptr, {});
-  group("payload", nullptr, {});
+  if (!s.arm_level_fitted) group("payload", nullptr, {});  // else fitted once for the arm (arm.hpp)
   group("inertia_error", nullptr, {});
-  group("torque_constant", nullptr, {});
+  if (!s.joint_torque_sensor) group("torque_constant", nullptr, {});
   group("current_offset", nullptr, {});
   group("time_delay", nullptr, {});
   // Backlash from the torque alone (the load not driven after velocity reversals) only when
@@ -261,6 +270,50 @@ std::vector<std::vector<Candidate>> build_candidates(const JointSignals& s) {
   // on the deflection itself (diagnose.cpp), far more directly.
   if (s.deflection.size() != s.size()) group("backlash", "gap_rad", {0.0005, 0.001, 0.002, 0.004, 0.008, 0.016});
   return all;
+}
+
+std::string implausible(const Candidate& c, const std::vector<double>& b, const JointSignals& s) {
+  if (b.empty()) return {};
+  std::ostringstream os;
+  os.precision(3);
+  const std::string& e = c.effect;
+  const bool model_curve = c.setting.count("model_curve") != 0U;
+  const double span = s.t.empty() ? 0.0 : s.t.back() - s.t.front();
+  // Friction levels stay non-negative: the model's level (0 without a friction model) plus
+  // the change.
+  if (e == "coulomb") {
+    const double level = (s.friction ? s.friction->tau_c : 0.0) + b[0];
+    if (level < 0.0) os << "Coulomb level would be negative (" << level << " N·m)";
+  } else if (e == "viscous") {
+    const double level = (s.friction ? s.friction->sigma2 : 0.0) + b[0];
+    if (level < 0.0) os << "viscous coefficient would be negative (" << level << " N·m·s/rad)";
+  } else if (e == "stribeck") {
+    const double level = model_curve ? (s.friction ? s.friction->tau_s : 0.0) + b[0] : b[0];
+    if (level < 0.0) os << "static friction excess would be negative (" << level << " N·m)";
+  } else if (e == "temperature_drift") {
+    // A thermal time constant between the sample time (x50) and three times the recording.
+    const double tc = c.setting.at("time_constant_s");
+    if (tc < std::max(50.0 * s.dt, 1.0) || tc > 3.0 * span) os << "drift time constant " << tc << " s outside [max(50 dt, 1 s), 3 x recording]";
+  } else if (e == "load_dependent_friction") {
+    if (b[0] < 0.0 || b[0] > 0.5) os << "load coefficient " << b[0] << " outside [0, 0.5] N·m per N·m";
+  } else if (e == "torque_constant") {
+    // A drive's current-to-torque constant is known to +/-30 % (datasheet tolerance plus
+    // magnet temperature); beyond that the drive or the model is wrong, not the constant.
+    if (std::fabs(b[0]) > 0.3) os << "torque constant error " << 100.0 * b[0] << " % beyond +/-30 %";
+  } else if (e == "time_delay") {
+    // Causal and short: the torque lags the motion by half a sample to 50 ms.
+    const double delay = -b[0];
+    if (delay < 0.5 * s.dt || delay > 0.05) os << "delay " << 1000.0 * delay << " ms outside [dt/2, 50 ms]";
+  } else if (e == "backlash") {
+    if (b[0] < 0.0 || b[0] > 1.5) os << "backlash fraction " << b[0] << " outside [0, 1.5]";
+  } else if (e == "presliding" && c.setting.count("sigma0_ratio") != 0U) {
+    const double ratio = c.setting.at("sigma0_ratio") * b[0] + (1.0 - b[0]);
+    if (!(ratio > 0.0)) os << "bristle stiffness ratio " << ratio << " not positive";
+  } else if (e == "payload" && b.size() >= 2) {
+    if (!(b[0] > 0.0)) os << "payload mass " << b[0] << " kg not positive";
+    else if (std::fabs(b[1] / b[0]) > 0.5) os << "payload centre of mass " << b[1] / b[0] << " m from the last link's origin";
+  }
+  return os.str();
 }
 
 std::map<std::string, double> describe(const Candidate& c, const std::vector<double>& b, const JointSignals& s,
@@ -296,7 +349,9 @@ std::map<std::string, double> describe(const Candidate& c, const std::vector<dou
        << " rad after each reversal (stiffness ~" << p["sigma0"] << " N·m/rad)";
   } else if (e == "asymmetric_friction") {
     p["tau_c_positive_minus_negative"] = 2.0 * b[0];
+    if (b.size() > 1) p["viscous_positive_minus_negative"] = 2.0 * b[1];
     os << "friction differs with direction: positive minus negative Coulomb level " << 2.0 * b[0] << " N·m";
+    if (b.size() > 1) os << ", viscous " << 2.0 * b[1] << " N·m·s/rad";
   } else if (e == "position_ripple") {
     const double k = c.setting.at("periods_per_rev");
     p["periods_per_rev"] = k;

@@ -38,6 +38,10 @@ Candidate make_candidate(const std::string& effect, const std::map<std::string, 
 /// model, e.g. payload, is skipped when the model's columns are absent).
 std::vector<std::vector<Candidate>> build_candidates(const JointSignals& s);
 
+/// Why the fitted coefficients of an effect are not physically plausible (empty when they
+/// are): the ranges per effect are listed in docs/diagnosis.md ("Plausible parameters").
+std::string implausible(const Candidate& c, const std::vector<double>& coefficients, const JointSignals& s);
+
 /// Physical parameters of an effect from its fitted coefficients, in words a robotics
 /// engineer uses, plus a one-line description.
 std::map<std::string, double> describe(const Candidate& c, const std::vector<double>& coefficients,

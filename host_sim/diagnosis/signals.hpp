@@ -39,6 +39,12 @@ struct JointSignals {
   /// constant (current_offset) is left as it is, standing for the recording's own unknown
   /// friction state at t0.
   bool offset_at_start = false;
+  /// Arm-level causes (payload) were fitted across the joints already (diagnosis/arm.hpp):
+  /// they are not offered again per joint.
+  bool arm_level_fitted = false;
+  /// The measured torque is a link-side joint-torque sensor's (tau_j): no current-to-torque
+  /// conversion in it, so no torque-constant error can be claimed.
+  bool joint_torque_sensor = false;
   [[nodiscard]] std::size_t size() const { return t.size(); }
 };
 

@@ -232,14 +232,15 @@ CaseOutcome run_case(const ConcealedCase& c, const TestArm& arm_in) {
   ModelContext m;
   m.arm = &model;
   for (const auto& f : nominal.plant.friction) m.friction.push_back(f.lugre);
-  for (const auto& sig : signals_from_pair(r, s, m)) out.joints.push_back(diagnose_joint(sig));
+  const auto signals = signals_from_pair(r, s, m);
+  out.arm = diagnose_arm(signals);
+  for (const auto& sig : without_arm_causes(signals, out.arm)) out.joints.push_back(diagnose_joint(sig));
+  if (c.effect == "none" && !out.arm.findings.empty()) out.false_claim = true;
+  // A payload belongs to the last link but shows on every joint it loads: it is named
+  // once, at the arm level. Every other effect must be named on its joint.
+  for (const auto& f : out.arm.findings) out.named = out.named || f.effect == c.effect;
   for (const auto& j : out.joints) {
     if (c.effect == "none" && !j.findings.empty()) out.false_claim = true;
-    // A payload belongs to the last link but shows on every joint it loads; naming it on
-    // any of them names the right cause. Every other effect must be named on its joint.
-    if (c.effect == "payload") {
-      for (const auto& f : j.findings) out.named = out.named || f.effect == c.effect;
-    }
     if (j.joint == c.joint) {
       for (const auto& f : j.findings) out.named = out.named || f.effect == c.effect;
       out.heldout_before = j.heldout_rms_before;

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "diagnosis/arm.hpp"
 #include "diagnosis/diagnose.hpp"
 #include "dynamics/rigid_body.hpp"
 #include "plant/sensors.hpp"
@@ -36,6 +37,7 @@ std::vector<ConcealedCase> draw_cases(int count, unsigned long long seed, double
 struct CaseOutcome {
   ConcealedCase c;
   std::vector<JointDiagnosis> joints;
+  ArmDiagnosis arm;          ///< arm-level causes (payload), fitted once across the joints
   bool named = false;        ///< the effect named on its joint
   bool false_claim = false;  ///< (matched pairs) anything claimed
   double heldout_before = 0, heldout_after = 0, noise = 0;  ///< on the effect's joint

@@ -66,6 +66,10 @@ RobotModel load_yaml(const std::string& path) {
 
 }  // namespace
 
+sim::ArmDynamics RobotModel::dynamics() const {
+  return sim::ArmDynamics(plant_links(), Eigen::Vector3d(gravity[0], gravity[1], gravity[2]));
+}
+
 std::vector<sim::PlantLink> RobotModel::plant_links() const {
   std::vector<sim::PlantLink> out;
   for (const auto& j : joints) {

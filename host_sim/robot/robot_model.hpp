@@ -27,6 +27,8 @@ struct RobotModel {
   std::vector<JointDescription> joints;
 
   [[nodiscard]] std::vector<sim::PlantLink> plant_links() const;
+  /// The arm's rigid-body dynamics with this model's gravity (gravity_m_s2).
+  [[nodiscard]] sim::ArmDynamics dynamics() const;
   [[nodiscard]] std::vector<sim::JointDriveConfig> drives() const;
   [[nodiscard]] std::vector<double> reaches() const;
 };

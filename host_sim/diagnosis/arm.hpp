@@ -1,0 +1,42 @@
+// Arm-level diagnosis: causes that are one thing in the world (a payload on the last link,
+// picked up at some time or carried throughout) are fitted once, across every joint they
+// load, before the per-joint diagnosis. Their parameters are shared by all joints; each
+// joint's residual is weighted by its own noise level, and friction-like nuisance terms
+// per joint (offset, Coulomb sign, viscous) are fitted beside them so that a per-joint
+// friction error is not taken for a payload. A cause is claimed only with the same
+// evidence the per-joint selection asks for (BIC on the training blocks, held-out gain),
+// when it does not make any joint's held-out fit worse, and when its parameters are
+// physically plausible (mass > 0, centre of mass within the last link's reach).
+#pragma once
+
+#include <vector>
+
+#include "diagnosis/diagnose.hpp"
+#include "diagnosis/signals.hpp"
+
+namespace jg::diag {
+
+struct ArmDiagnosisOptions {
+  DiagnoseOptions joint;          ///< blocks, held-out blocks, evidence thresholds
+  double com_bound_m = 0.5;       ///< |centre of mass| of a payload, last link frame, at most this
+  double min_mass_kg = 0.0;       ///< a payload lighter than this is not claimed
+};
+
+struct ArmDiagnosis {
+  std::vector<Finding> findings;             ///< arm-level causes, strongest first
+  std::vector<FittedEffect> model;           ///< for prediction (shared coefficients)
+  /// Torque each joint carries from the arm-level causes, over the recording [joint][sample].
+  std::vector<std::vector<double>> explained;
+  std::vector<double> explained_rms;         ///< per joint [N·m]
+  std::vector<std::string> notes;
+};
+
+/// Fits the arm-level causes over all joints' signals (payload_columns must be present;
+/// otherwise nothing is fitted and a note says so).
+ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& joints, const ArmDiagnosisOptions& o = {});
+
+/// The signals with the arm-level causes' torque moved from the residual into the model's
+/// torque, and the per-joint payload candidates withdrawn (the cause is fitted once).
+std::vector<JointSignals> without_arm_causes(const std::vector<JointSignals>& joints, const ArmDiagnosis& arm);
+
+}  // namespace jg::diag
