@@ -56,7 +56,7 @@ Command add_diagnose(CLI::App& app) {
               signals = diag::signals_from_model(real, ctx);
             }
             // Causes that are one thing in the world (a payload) first, once for the arm.
-            const diag::ArmDiagnosis arm_diag = diag::diagnose_arm(signals);
+            const diag::ArmDiagnosis arm_diag = diag::diagnose_arm(signals, {}, &arm);
             signals = diag::without_arm_causes(signals, arm_diag);
             nlohmann::json j;
             j["arm"] = {{"findings", nlohmann::json::array()}, {"notes", arm_diag.notes}};

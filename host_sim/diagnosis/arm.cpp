@@ -3,7 +3,11 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <sstream>
+
+#include "dynamics/sensitivity.hpp"
 
 namespace jg::diag {
 namespace {
@@ -15,6 +19,7 @@ using Eigen::VectorXd;
 struct ArmCandidate {
   std::string effect;
   std::vector<std::vector<std::vector<double>>> columns;
+  int link = 0;            ///< 1-based link the cause belongs to
   double pickup_s = -1.0;  ///< step time of a payload picked up during the recording (< 0: throughout)
   int nonlinear_params = 0;
 };
@@ -25,6 +30,24 @@ struct Stack {
   std::size_t joints = 0;
   std::vector<double> weight;  ///< per joint
 };
+
+/// Least squares with the columns scaled to unit norm and directions the data cannot
+/// resolve (singular values below 1e-6 of the largest) left at zero: a parameter the motion
+/// does not excite (a first moment along a horizontal joint axis) stays at its model value
+/// instead of fitting noise with a huge coefficient.
+VectorXd lsq(const MatrixXd& X, const VectorXd& y) {
+  if (X.cols() == 0) return VectorXd();
+  // A column that is zero but for rounding (a link's mass at a point on its own and its
+  // parents' axes, a first moment along a horizontal axis) is no column at all.
+  VectorXd scale = X.colwise().norm().transpose();
+  const double largest = scale.maxCoeff();
+  for (Eigen::Index i = 0; i < scale.size(); ++i) scale(i) = scale(i) > 1e-9 * largest ? 1.0 / scale(i) : 0.0;
+  const MatrixXd Xs = X * scale.asDiagonal();
+  Eigen::CompleteOrthogonalDecomposition<MatrixXd> cod;
+  cod.setThreshold(1e-6);
+  cod.compute(Xs);
+  return scale.asDiagonal() * cod.solve(y);
+}
 
 double soft_sign(double w, double band) { return std::fabs(w) >= band ? (w > 0.0 ? 1.0 : -1.0) : w / band; }
 
@@ -86,15 +109,17 @@ std::vector<double> joint_rms(const VectorXd& e, const Stack& st) {
   return out;
 }
 
+/// Payload: carried throughout, or picked up during the recording (a step at pickup_s,
+/// on a 5 % grid of the recording): the model's sensitivities to the last link's mass
+/// and first moment.
 std::vector<ArmCandidate> payload_candidates(const std::vector<JointSignals>& js) {
   std::vector<ArmCandidate> out;
   const auto& t = js.front().t;
   const double t0 = t.front(), span = t.back() - t.front();
-  // Carried throughout, or picked up during the recording (a step at pickup_s): the
-  // columns are the model's sensitivities to the last link's mass and first moment.
   for (int i = 0; i <= 17; ++i) {
     ArmCandidate c;
     c.effect = "payload";
+    c.link = static_cast<int>(js.size());
     if (i > 0) {
       c.pickup_s = t0 + span * (0.05 + 0.05 * i);
       c.nonlinear_params = 1;
@@ -113,9 +138,44 @@ std::vector<ArmCandidate> payload_candidates(const std::vector<JointSignals>& js
   }
   return out;
 }
+
+/// A link's mass and first moment off (links before the last: the last one's error is a
+/// payload), from the nominal model's sensitivities over the recorded motion.
+ArmCandidate link_candidate(const std::vector<JointSignals>& js, const sim::ArmDynamics& arm, int link) {
+  ArmCandidate c;
+  c.effect = "link_inertial_error";
+  c.link = link + 1;
+  const std::size_t n = js.front().size(), nj = js.size();
+  c.columns.assign(4, std::vector<std::vector<double>>(nj, std::vector<double>(n, 0.0)));
+  sim::JointVector q(static_cast<Eigen::Index>(nj)), dq(static_cast<Eigen::Index>(nj)), ddq(static_cast<Eigen::Index>(nj));
+  for (std::size_t k = 0; k < n; ++k) {
+    for (std::size_t j = 0; j < nj; ++j) {
+      q(static_cast<Eigen::Index>(j)) = js[j].q[k];
+      dq(static_cast<Eigen::Index>(j)) = js[j].dq[k];
+      ddq(static_cast<Eigen::Index>(j)) = js[j].ddq[k];
+    }
+    const auto cols = sim::mass_first_moment_sensitivity(arm, link, q, dq, ddq);
+    for (std::size_t p = 0; p < 4; ++p) {
+      for (std::size_t j = 0; j < nj; ++j) c.columns[p][j][k] = cols[p](static_cast<Eigen::Index>(j));
+    }
+  }
+  return c;
+}
+
+MatrixXd hstack(const std::vector<MatrixXd>& parts) {
+  Eigen::Index cols = 0;
+  for (const auto& p : parts) cols += p.cols();
+  MatrixXd X(parts.front().rows(), cols);
+  Eigen::Index at = 0;
+  for (const auto& p : parts) {
+    X.middleCols(at, p.cols()) = p;
+    at += p.cols();
+  }
+  return X;
+}
 }  // namespace
 
-ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosisOptions& o) {
+ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosisOptions& o, const sim::ArmDynamics* arm) {
   ArmDiagnosis d;
   d.explained.assign(js.size(), {});
   d.explained_rms.assign(js.size(), 0.0);
@@ -139,125 +199,211 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
   {
     const MatrixXd N = nuisance(js, train);
     const VectorXd y = target(js, train);
-    const VectorXd e = y - N * N.colPivHouseholderQr().solve(y);
+    const VectorXd e = y - N * lsq(N, y);
     const auto r = joint_rms(e, train);
     for (std::size_t j = 0; j < js.size(); ++j) train.weight[j] = 1.0 / std::max(r[j], 1e-9);
   }
   test.weight = train.weight;
-  const MatrixXd N_train = nuisance(js, train), N_test = nuisance(js, test);
   const VectorXd y_train = target(js, train), y_test = target(js, test);
-  const VectorXd b0 = N_train.colPivHouseholderQr().solve(y_train);
-  const double rss0 = (y_train - N_train * b0).squaredNorm();
-  const auto k0 = static_cast<int>(N_train.cols());
   const std::size_t n_train = static_cast<std::size_t>(y_train.size());
-  const double bic0 = bic(rss0, n_train, k0);
-  const VectorXd e0_test = y_test - N_test * b0;
-  const double held0 = e0_test.norm();
-  const auto held0_joint = joint_rms(e0_test, test);
 
-  const auto candidates = payload_candidates(js);
-  const ArmCandidate* best = nullptr;
-  double best_delta = 0.0;
-  VectorXd best_b;
-  for (const auto& c : candidates) {
-    MatrixXd X(N_train.rows(), N_train.cols() + static_cast<Eigen::Index>(c.columns.size()));
-    X << shared(c, train), N_train;
-    const VectorXd b = X.colPivHouseholderQr().solve(y_train);
-    const double delta = bic((y_train - X * b).squaredNorm(), n_train, k0 + static_cast<int>(c.columns.size()) + c.nonlinear_params) - bic0;
-    if (delta < best_delta) {
-      best_delta = delta;
-      best = &c;
-      best_b = b;
-    }
+  // Candidate groups: the payload (its pick-up time on a grid), each inner link's error.
+  std::vector<std::vector<ArmCandidate>> groups{payload_candidates(js)};
+  if (arm != nullptr && arm->joints() == static_cast<int>(js.size())) {
+    for (int l = 0; l + 1 < arm->joints(); ++l) groups.push_back({link_candidate(js, *arm, l)});
   }
-  if (best == nullptr || best_delta > -o.joint.min_delta_bic) {
-    d.notes.push_back("payload: no evidence on the training blocks");
-    return d;
-  }
-  const auto p = static_cast<Eigen::Index>(best->columns.size());
-  MatrixXd Xt(N_test.rows(), N_test.cols() + p);
-  Xt << shared(*best, test), N_test;
-  const VectorXd e_test = y_test - Xt * best_b;
-  const auto held_joint = joint_rms(e_test, test);
-  std::ostringstream why;
-  why.precision(3);
-  const double mass = best_b(0);
-  const Eigen::Vector3d first(best_b(1), best_b(2), best_b(3));
-  const Eigen::Vector3d com = mass != 0.0 ? Eigen::Vector3d(first / mass) : Eigen::Vector3d::Zero();
-  bool claim = true;
-  if (e_test.norm() > held0 * (1.0 - o.joint.min_heldout_gain)) {
-    why << "payload improved the training fit but not the held-out blocks: not claimed";
-    claim = false;
-  } else if (!(mass > o.min_mass_kg)) {
-    why << "payload fit gives a mass of " << mass << " kg (must be positive): not claimed";
-    claim = false;
-  } else if (com.norm() > o.com_bound_m) {
-    why << "payload fit puts its centre of mass " << com.norm() << " m from the last link's origin (bound "
-        << o.com_bound_m << " m): not claimed";
-    claim = false;
-  } else {
-    for (std::size_t j = 0; j < js.size() && claim; ++j) {
-      // One cause explains every joint it loads: it must not make any joint worse.
-      if (held_joint[j] > held0_joint[j] * (1.0 + o.joint.min_heldout_gain)) {
-        why << "payload would worsen joint " << js[j].joint << "'s held-out fit (" << held0_joint[j] << " -> "
-            << held_joint[j] << " N·m): not one cause, not claimed";
-        claim = false;
+  auto design = [&](const std::vector<const ArmCandidate*>& cs, const Stack& st) {
+    std::vector<MatrixXd> parts;
+    for (const auto* c : cs) parts.push_back(shared(*c, st));
+    parts.push_back(nuisance(js, st));
+    return hstack(parts);
+  };
+  auto param_count = [&](const std::vector<const ArmCandidate*>& cs) {
+    int k = static_cast<int>(3 * js.size());
+    for (const auto* c : cs) k += static_cast<int>(c->columns.size()) + c->nonlinear_params;
+    return k;
+  };
+  // Every subset of at most max_causes causes (one instance per group), scored by BIC on
+  // the training blocks: a greedy choice would let one cause imitating two (a payload at
+  // the next joint's axis for a link's mass) lock out the right pair.
+  struct Subset {
+    std::vector<const ArmCandidate*> cs;
+    std::vector<std::size_t> groups;
+    double bic = 0.0;
+    VectorXd b;
+  };
+  auto fit = [&](Subset& sub) {
+    const MatrixXd X = design(sub.cs, train);
+    sub.b = lsq(X, y_train);
+    sub.bic = bic((y_train - X * sub.b).squaredNorm(), n_train, param_count(sub.cs));
+  };
+  Subset none;
+  fit(none);
+  std::vector<Subset> subsets;
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    for (const auto& c : groups[g]) {
+      Subset one{{&c}, {g}, 0.0, {}};
+      fit(one);
+      subsets.push_back(one);
+      for (std::size_t g2 = g + 1; g2 < groups.size() && o.max_causes >= 2; ++g2) {
+        for (const auto& c2 : groups[g2]) {
+          Subset two{{&c, &c2}, {g, g2}, 0.0, {}};
+          fit(two);
+          subsets.push_back(two);
+        }
       }
     }
   }
-  if (!claim) {
-    d.notes.push_back(why.str());
-    return d;
+  std::sort(subsets.begin(), subsets.end(), [](const Subset& a, const Subset& b) { return a.bic < b.bic; });
+  auto heldout = [&](const Subset& sub) { return VectorXd(y_test - design(sub.cs, test) * sub.b); };
+  auto best_single = [&](const ArmCandidate* c) -> const Subset* {
+    for (const auto& sub : subsets) {
+      if (sub.cs.size() == 1 && sub.cs.front() == c) return &sub;
+    }
+    return &none;
+  };
+  auto name_of = [](const ArmCandidate& c) {
+    return c.effect == "payload" ? std::string("payload") : "link " + std::to_string(c.link) + " mass error";
+  };
+  // Why a subset cannot be claimed (empty: it can).
+  auto reject = [&](const Subset& sub) -> std::string {
+    std::ostringstream why;
+    why.precision(3);
+    const VectorXd e = heldout(sub), e0 = heldout(none);
+    if (none.bic - sub.bic < o.joint.min_delta_bic) return "no arm-level cause (payload, link mass) with evidence on the training blocks";
+    if (e.norm() > e0.norm() * (1.0 - o.joint.min_heldout_gain)) {
+      why << "the arm-level causes improved the training fit but not the held-out blocks: not claimed";
+      return why.str();
+    }
+    Eigen::Index at = 0;
+    for (std::size_t i = 0; i < sub.cs.size(); ++i) {
+      const ArmCandidate& c = *sub.cs[i];
+      const double mass = sub.b(at);
+      const Eigen::Vector3d first(sub.b(at + 1), sub.b(at + 2), sub.b(at + 3));
+      at += static_cast<Eigen::Index>(c.columns.size());
+      if (c.effect == "payload" && !(mass > o.min_mass_kg)) {
+        why << "payload fit gives a mass of " << mass << " kg (must be positive): not claimed";
+      } else if (c.effect == "payload" && first.norm() > o.com_bound_m * mass) {
+        why << "payload fit puts its centre of mass " << first.norm() / mass << " m from the last link's origin (bound "
+            << o.com_bound_m << " m): not claimed";
+      } else if (c.effect != "payload" && arm != nullptr) {
+        const double m0 = arm->link(c.link - 1).mass;
+        if (std::fabs(mass) > o.max_link_mass_share * m0 || first.norm() > o.max_link_mass_share * m0 * o.com_bound_m) {
+          why << name_of(c) << " of " << mass << " kg (first moment " << first.norm() << " kg·m) beyond "
+              << 100.0 * o.max_link_mass_share << " % of the link's " << m0 << " kg: not claimed";
+        }
+      }
+      if (!why.str().empty()) return why.str();
+      if (sub.cs.size() == 2) {  // each of a pair must bring its own evidence
+        const Subset* rest = best_single(sub.cs[1 - i]);
+        if (rest->bic - sub.bic < o.joint.min_delta_bic ||
+            e.norm() > heldout(*rest).norm() * (1.0 - o.joint.min_heldout_gain)) {
+          return name_of(c) + " adds no evidence beside " + name_of(*sub.cs[1 - i]);
+        }
+      }
+    }
+    const auto before_joint = joint_rms(e0, test), after_joint = joint_rms(e, test);
+    for (std::size_t j = 0; j < js.size(); ++j) {
+      // One cause explains every joint it loads: it must not make any joint worse.
+      if (after_joint[j] > before_joint[j] * (1.0 + o.joint.min_heldout_gain)) {
+        why << "the arm-level fit would worsen joint " << js[j].joint << "'s held-out fit (" << before_joint[j] << " -> "
+            << after_joint[j] << " N·m): not one cause, not claimed";
+        return why.str();
+      }
+    }
+    return {};
+  };
+  const bool trace = std::getenv("JG_DIAG_TRACE") != nullptr;
+  std::vector<const ArmCandidate*> chosen;
+  for (const auto& sub : subsets) {
+    if (none.bic - sub.bic < o.joint.min_delta_bic) break;
+    const std::string why = reject(sub);
+    if (trace) {
+      std::fprintf(stderr, "  arm subset:");
+      for (const auto* c : sub.cs) std::fprintf(stderr, " %s(link %d, pickup %.2f)", c->effect.c_str(), c->link, c->pickup_s);
+      std::fprintf(stderr, " dBIC %.1f %s\n", sub.bic - none.bic, why.c_str());
+    }
+    if (why.empty()) {
+      chosen = sub.cs;
+      break;
+    }
+    if (std::find(d.notes.begin(), d.notes.end(), why) == d.notes.end() && d.notes.size() < 5) d.notes.push_back(why);
   }
+  if (chosen.empty() && d.notes.empty()) d.notes.push_back("no arm-level cause (payload, link mass) with evidence on the training blocks");
+  if (chosen.empty()) return d;
   // Final shared coefficients on all samples (nuisance alongside, not kept).
   Stack all;
   all.joints = js.size();
   all.weight = train.weight;
   for (std::size_t k = 0; k < n; ++k) all.rows.push_back(k);
-  const MatrixXd Na = nuisance(js, all);
-  MatrixXd Xa(Na.rows(), Na.cols() + p);
-  Xa << shared(*best, all), Na;
-  const VectorXd ya = target(js, all);
-  const VectorXd ba = Xa.colPivHouseholderQr().solve(ya);
-  Finding f;
-  f.effect = "payload";
-  f.delta_bic = -best_delta;
-  f.confidence = 1.0 / (1.0 + std::exp(-(f.delta_bic - o.joint.min_delta_bic) / 10.0));
-  const double m_all = ba(0);
-  const Eigen::Vector3d c_all = m_all != 0.0 ? Eigen::Vector3d(Eigen::Vector3d(ba(1), ba(2), ba(3)) / m_all) : Eigen::Vector3d::Zero();
-  f.params["mass_kg"] = m_all;
-  f.params["com_x_m"] = c_all.x();
-  f.params["com_y_m"] = c_all.y();
-  f.params["com_z_m"] = c_all.z();
-  if (best->pickup_s >= 0.0) f.params["picked_up_at_s"] = best->pickup_s;
-  f.params["heldout_weighted_rms_before"] = held0 / std::sqrt(static_cast<double>(y_test.size()));
-  f.params["heldout_weighted_rms_after"] = e_test.norm() / std::sqrt(static_cast<double>(y_test.size()));
-  FittedEffect fe;
-  fe.effect = "payload";
-  if (best->pickup_s >= 0.0) fe.setting["picked_up_at_s"] = best->pickup_s;
-  for (Eigen::Index i = 0; i < p; ++i) fe.coefficients.push_back(ba(i));
-  std::ostringstream text;
-  text.precision(3);
-  text << "payload on the last link: " << m_all << " kg, centre of mass (" << c_all.x() << ", " << c_all.y() << ", "
-       << c_all.z() << ") m in its frame";
-  if (best->pickup_s >= 0.0) text << ", picked up at t = " << best->pickup_s << " s";
-  text << "; torque it explains per joint (RMS):";
+  const VectorXd ba = lsq(design(chosen, all), target(js, all));
+  Eigen::Index at = 0;
+  for (std::size_t ci = 0; ci < chosen.size(); ++ci) {
+    const ArmCandidate& c = *chosen[ci];
+    const auto p = static_cast<Eigen::Index>(c.columns.size());
+    Finding f;
+    f.effect = c.effect;
+    // Evidence: BIC increase on all samples when this cause is left out.
+    auto without = chosen;
+    without.erase(without.begin() + static_cast<std::ptrdiff_t>(ci));
+    const VectorXd ya = target(js, all);
+    const MatrixXd Xa = design(chosen, all), Xw = design(without, all);
+    f.delta_bic = bic((ya - Xw * lsq(Xw, ya)).squaredNorm(), ya.size(), param_count(without)) -
+                  bic((ya - Xa * ba).squaredNorm(), ya.size(), param_count(chosen));
+    f.confidence = 1.0 / (1.0 + std::exp(-(f.delta_bic - o.joint.min_delta_bic) / 10.0));
+    const double m = ba(at);
+    const Eigen::Vector3d h(ba(at + 1), ba(at + 2), ba(at + 3));
+    FittedEffect fe;
+    fe.effect = c.effect;
+    fe.setting["link"] = c.link;
+    if (c.pickup_s >= 0.0) fe.setting["picked_up_at_s"] = c.pickup_s;
+    for (Eigen::Index i = 0; i < p; ++i) fe.coefficients.push_back(ba(at + i));
+    std::ostringstream text;
+    text.precision(3);
+    f.params["link"] = c.link;
+    if (c.effect == "payload") {
+      const Eigen::Vector3d com = h / m;
+      f.params["mass_kg"] = m;
+      f.params["com_x_m"] = com.x();
+      f.params["com_y_m"] = com.y();
+      f.params["com_z_m"] = com.z();
+      if (c.pickup_s >= 0.0) f.params["picked_up_at_s"] = c.pickup_s;
+      text << "payload on the last link: " << m << " kg, centre of mass (" << com.x() << ", " << com.y() << ", " << com.z()
+           << ") m in its frame";
+      if (c.pickup_s >= 0.0) text << ", picked up at t = " << c.pickup_s << " s";
+    } else {
+      f.params["delta_mass_kg"] = m;
+      f.params["delta_first_moment_x_kg_m"] = h.x();
+      f.params["delta_first_moment_y_kg_m"] = h.y();
+      f.params["delta_first_moment_z_kg_m"] = h.z();
+      text << "link " << c.link << "'s mass off by " << m << " kg, its first moment by (" << h.x() << ", " << h.y() << ", "
+           << h.z() << ") kg·m";
+    }
+    text << "; torque it explains per joint (RMS):";
+    for (std::size_t j = 0; j < js.size(); ++j) {
+      double acc = 0.0;
+      for (std::size_t k = 0; k < n; ++k) {
+        double v = 0.0;
+        for (Eigen::Index i = 0; i < p; ++i) v += ba(at + i) * c.columns[static_cast<std::size_t>(i)][j][k];
+        d.explained[j][k] += v;
+        acc += v * v;
+      }
+      const double r = std::sqrt(acc / static_cast<double>(n));
+      f.params["torque_rms_joint" + std::to_string(js[j].joint)] = r;
+      text << ' ' << r;
+    }
+    text << " N·m";
+    f.text = text.str();
+    d.findings.push_back(f);
+    d.model.push_back(fe);
+    at += p;
+  }
   for (std::size_t j = 0; j < js.size(); ++j) {
     double acc = 0.0;
-    for (std::size_t k = 0; k < n; ++k) {
-      double v = 0.0;
-      for (Eigen::Index i = 0; i < p; ++i) v += ba(i) * best->columns[static_cast<std::size_t>(i)][j][k];
-      d.explained[j][k] = v;
-      acc += v * v;
-    }
+    for (const double v : d.explained[j]) acc += v * v;
     d.explained_rms[j] = std::sqrt(acc / static_cast<double>(n));
-    f.params["torque_rms_joint" + std::to_string(js[j].joint)] = d.explained_rms[j];
-    text << ' ' << d.explained_rms[j];
   }
-  text << " N·m";
-  f.text = text.str();
-  d.findings.push_back(f);
-  d.model.push_back(fe);
+  std::sort(d.findings.begin(), d.findings.end(), [](const Finding& a, const Finding& b) { return a.delta_bic > b.delta_bic; });
   return d;
 }
 

@@ -13,13 +13,18 @@
 
 #include "diagnosis/diagnose.hpp"
 #include "diagnosis/signals.hpp"
+#include "dynamics/rigid_body.hpp"
 
 namespace jg::diag {
 
 struct ArmDiagnosisOptions {
   DiagnoseOptions joint;          ///< blocks, held-out blocks, evidence thresholds
-  double com_bound_m = 0.5;       ///< |centre of mass| of a payload, last link frame, at most this
+  double com_bound_m = 1.0;       ///< |centre of mass| of a payload, last link frame, at most this
   double min_mass_kg = 0.0;       ///< a payload lighter than this is not claimed
+  /// A link's mass error within this share of its nominal mass, its first-moment change
+  /// within this share of (nominal mass x com_bound_m).
+  double max_link_mass_share = 0.5;
+  int max_causes = 2;
 };
 
 struct ArmDiagnosis {
@@ -32,8 +37,11 @@ struct ArmDiagnosis {
 };
 
 /// Fits the arm-level causes over all joints' signals (payload_columns must be present;
-/// otherwise nothing is fitted and a note says so).
-ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& joints, const ArmDiagnosisOptions& o = {});
+/// otherwise nothing is fitted and a note says so). With the nominal rigid-body model
+/// (`arm`), a link's mass and first-moment error (`link_inertial_error`, links other than
+/// the last, whose error is a payload) is offered too.
+ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& joints, const ArmDiagnosisOptions& o = {},
+                          const sim::ArmDynamics* arm = nullptr);
 
 /// The signals with the arm-level causes' torque moved from the residual into the model's
 /// torque, and the per-joint payload candidates withdrawn (the cause is fitted once).

@@ -16,7 +16,8 @@ inline const std::vector<std::string>& effect_vocabulary() {
   static const std::vector<std::string> v = {
       "coulomb",      "viscous",         "stribeck",       "presliding", "asymmetric_friction",
       "position_ripple", "temperature_drift", "load_dependent_friction", "payload", "inertia_error",
-      "torque_constant", "current_offset", "time_delay",     "backlash",   "joint_elasticity", "none"};
+      "torque_constant", "current_offset", "time_delay",     "backlash",   "joint_elasticity", "link_inertial_error",
+      "none"};
   return v;
 }
 

@@ -31,7 +31,7 @@ sim::SimulationSetup nominal_setup(const TestArm& arm, unsigned long long noise_
     s.controller.kd.push_back(inertia * 80.0);
   }
   s.trajectory = std::make_shared<sim::ExcitationTrajectory>(arm.posture, std::vector<bool>(n, true),
-                                                             sim::PaperExcitation(0.6, 0.2, 3, 2.5));
+                                                             sim::PaperExcitation(arm.excitation_amplitude_rad, 0.2, 3, 2.5));
   s.control_rate_hz = kRate;
   return s;
 }
@@ -95,6 +95,17 @@ void apply(const std::string& effect, int joint, double a, double partial_time, 
     f.effects.load_coefficient = a / 15.0;
   } else if (effect == "payload") {
     s.plant.payload = sim::PayloadChange{partial_time, a / 3.0, Eigen::Vector3d(0.25, 0.0, 0.0)};
+  } else if (effect == "link_inertial_error") {
+    // The link heavier than modelled and its centre of mass off sideways (link y), each
+    // about half the amplitude in gravity torque on its own joint. A pure mass change with
+    // the centre kept would be a mass at the next joint's axis, the same torques as a
+    // payload there: not the same cause, but not one the torques can tell apart.
+    auto& link = s.plant.links[j];
+    const double lever = std::max(std::hypot(link.com.x(), link.com.y()), 0.05);
+    const double dm = 0.5 * a / (9.81 * lever);
+    link.inertia_com *= (link.mass + dm) / link.mass;  // the same body, denser: its inertia scales too
+    link.mass += dm;
+    link.com.y() += 0.5 * a / (9.81 * link.mass);
   } else if (effect == "torque_constant") {
     d.torque_constant_error = a / 15.0;
   } else if (effect == "current_offset") {
@@ -130,7 +141,7 @@ const std::vector<std::string>& producible_effects() {
   static const std::vector<std::string> v = {"position_ripple", "asymmetric_friction", "temperature_drift",
                                              "load_dependent_friction", "payload", "torque_constant", "current_offset",
                                              "time_delay", "coulomb", "viscous", "stribeck", "inertia_error",
-                                             "presliding", "backlash", "joint_elasticity"};
+                                             "presliding", "backlash", "joint_elasticity", "link_inertial_error"};
   return v;
 }
 
@@ -152,6 +163,9 @@ std::vector<ConcealedCase> draw_cases(int count, unsigned long long seed, double
     c.effect = effects[static_cast<std::size_t>(unit(rng) * static_cast<double>(effects.size())) % effects.size()];
     c.joint = 1 + static_cast<int>(unit(rng) * joints) % joints;
     if (c.effect == "payload") c.joint = joints;  // carried by the last link
+    // A link's mass error on an inner link that carries gravity (not the first, whose
+    // axis is vertical in the test arm, nor the last, whose error is a payload).
+    if (c.effect == "link_inertial_error") c.joint = joints > 2 ? 2 + static_cast<int>(unit(rng) * (joints - 2)) % (joints - 2) : joints;
     c.concealment = concealments[static_cast<std::size_t>(unit(rng) * 4.0) % 4];
     // At or below the noise for low_amplitude; otherwise up to three times the noise.
     c.amplitude_nm = noise_rms_nm * (c.concealment == std::string("low_amplitude") ? 0.5 + 0.5 * unit(rng) : 1.0 + 2.0 * unit(rng));
@@ -193,7 +207,11 @@ TestArm backlash_arm(const TestArm& arm, int joint) {
 
 CaseOutcome run_case(const ConcealedCase& c, const TestArm& arm_in) {
   std::mt19937_64 rng(c.seed);
-  const TestArm arm = c.effect == "backlash" ? backlash_arm(arm_in, c.joint) : arm_in;
+  TestArm arm = c.effect == "backlash" ? backlash_arm(arm_in, c.joint) : arm_in;
+  // A link's mass error shows as a gravity torque a cos(q + phi) on the joints it loads;
+  // over the default +/-0.6 rad that is a payload at the next joint's axis plus a constant.
+  // A user identifying link masses records a wide motion: +/-1.5 rad.
+  if (c.effect == "link_inertial_error") arm.excitation_amplitude_rad = 1.5;
   sim::SimulationSetup real = nominal_setup(arm, c.seed * 2 + 1);
   sim::SimulationSetup nominal = nominal_setup(arm, c.seed * 2 + 2);
   if (c.effect == "backlash") make_elastic(nominal, static_cast<std::size_t>(c.joint - 1), kBacklashStiffness, 0.0);
@@ -233,12 +251,16 @@ CaseOutcome run_case(const ConcealedCase& c, const TestArm& arm_in) {
   m.arm = &model;
   for (const auto& f : nominal.plant.friction) m.friction.push_back(f.lugre);
   const auto signals = signals_from_pair(r, s, m);
-  out.arm = diagnose_arm(signals);
+  out.arm = diagnose_arm(signals, {}, &model);
   for (const auto& sig : without_arm_causes(signals, out.arm)) out.joints.push_back(diagnose_joint(sig));
   if (c.effect == "none" && !out.arm.findings.empty()) out.false_claim = true;
   // A payload belongs to the last link but shows on every joint it loads: it is named
   // once, at the arm level. Every other effect must be named on its joint.
-  for (const auto& f : out.arm.findings) out.named = out.named || f.effect == c.effect;
+  for (const auto& f : out.arm.findings) {
+    const auto link = f.params.find("link");
+    const bool on_link = c.effect != "link_inertial_error" || (link != f.params.end() && link->second == c.joint);
+    out.named = out.named || (f.effect == c.effect && on_link);
+  }
   for (const auto& j : out.joints) {
     if (c.effect == "none" && !j.findings.empty()) out.false_claim = true;
     if (j.joint == c.joint) {
@@ -248,7 +270,33 @@ CaseOutcome run_case(const ConcealedCase& c, const TestArm& arm_in) {
       out.noise = j.noise_rms;
     }
   }
+  // The loop closed: the findings written into the nominal simulation, re-run with fresh
+  // sensor noise, against the real recording on the effect's joint.
+  sim::SimulationSetup resim = nominal;
+  resim.sensors.seed = c.seed * 2 + 3;
+  const auto report = apply_findings(out.arm, out.joints, 1.0 / resim.control_rate_hz, resim);
+  out.resim_applied = report.applied;
+  out.resim_not_modelled = report.not_modelled;
+  const auto again = sim::run_simulation(resim).recording;
+  const auto sig2 = signals_from_pair(r, again, m);
+  const auto& sj = sig2[static_cast<std::size_t>(std::max(1, c.joint) - 1)];
+  const auto held = heldout_mask(sj.size(), DiagnoseOptions{});
+  double acc = 0.0;
+  std::size_t cnt = 0;
+  for (std::size_t k = 0; k < sj.size(); ++k) {
+    if (held[k]) {
+      acc += sj.residual[k] * sj.residual[k];
+      ++cnt;
+    }
+  }
+  out.resim_heldout = cnt ? std::sqrt(acc / static_cast<double>(cnt)) : 0.0;
+  out.resim_noise = noise_level(sj.residual);
   return out;
+}
+
+bool resim_at_noise_floor(const CaseOutcome& o) {
+  return o.resim_heldout <= 1.1 * o.resim_noise ||
+         (o.heldout_before >= 3.0 * o.noise && o.resim_heldout <= 0.5 * o.heldout_before);
 }
 
 TestArm default_test_arm() {

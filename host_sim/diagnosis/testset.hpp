@@ -9,6 +9,7 @@
 
 #include "diagnosis/arm.hpp"
 #include "diagnosis/diagnose.hpp"
+#include "diagnosis/model_out.hpp"
 #include "dynamics/rigid_body.hpp"
 #include "plant/sensors.hpp"
 
@@ -19,6 +20,7 @@ struct TestArm {
   std::vector<sim::PlantLink> links;
   std::vector<sim::JointDriveConfig> drives;
   sim::JointVector posture;  ///< the excitation's centre [rad]
+  double excitation_amplitude_rad = 0.6;  ///< of the paper's excitation, every joint
 };
 
 struct ConcealedCase {
@@ -41,7 +43,15 @@ struct CaseOutcome {
   bool named = false;        ///< the effect named on its joint
   bool false_claim = false;  ///< (matched pairs) anything claimed
   double heldout_before = 0, heldout_after = 0, noise = 0;  ///< on the effect's joint
+  /// The loop closed: the nominal simulation re-run with the findings applied
+  /// (model_out.hpp, fresh sensor noise) against the "real" recording, on the effect's joint.
+  double resim_heldout = 0, resim_noise = 0;
+  std::vector<std::string> resim_applied, resim_not_modelled;
 };
+
+/// The re-simulated model against the real recording at the noise floor (the same
+/// criterion as at_noise_floor, with the residual before the diagnosis as "before").
+bool resim_at_noise_floor(const CaseOutcome& o);
 
 CaseOutcome run_case(const ConcealedCase& c, const TestArm& arm);
 

@@ -22,6 +22,7 @@ double friction_truth_step(const JointFrictionTruth& truth, LuGreTruthState& sta
   }
   const double zdot = w - rate * state.z;
   double tau = p.sigma0 * state.z + p.sigma1 * zdot + p.sigma2 * drift_scale * w;
+  tau += e.viscous_asymmetry * std::fabs(w);
   if (e.ripple_amplitude != 0.0) {
     tau += e.ripple_amplitude * std::sin(e.ripple_periods_per_rev * q + e.ripple_phase);
   }

@@ -14,6 +14,8 @@ struct FrictionEffects {
   double ripple_phase = 0.0;            ///< [rad]
   // asymmetric_friction: Coulomb/static levels scaled by (1 + a) for w > 0, (1 - a) for w < 0
   double asymmetry = 0.0;
+  // ... and a viscous slope that differs by direction: tau += viscous_asymmetry |w|
+  double viscous_asymmetry = 0.0;  ///< [N·m·s/rad]
   // temperature_drift: all friction levels scaled by 1 + drift (1 - exp(-t / tau))
   double drift = 0.0;
   double drift_time_constant_s = 600.0;

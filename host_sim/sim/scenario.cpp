@@ -56,7 +56,7 @@ std::shared_ptr<const Trajectory> parse_trajectory(const YamlFields& t, std::siz
 
 JointFrictionTruth parse_friction(const YamlFields& f, const JointFrictionTruth& base) {
   f.allow_only({"joint", "sigma0", "sigma1", "sigma2", "tau_c", "tau_s", "w_s", "ripple_amplitude_nm",
-                "ripple_periods_per_rev", "ripple_phase_rad", "asymmetry", "drift", "drift_time_constant_s",
+                "ripple_periods_per_rev", "ripple_phase_rad", "asymmetry", "viscous_asymmetry", "drift", "drift_time_constant_s",
                 "load_coefficient"});
   JointFrictionTruth t = base;
   t.lugre.sigma0 = f.number("sigma0", t.lugre.sigma0);
@@ -72,6 +72,7 @@ JointFrictionTruth parse_friction(const YamlFields& f, const JointFrictionTruth&
   e.ripple_phase = f.number("ripple_phase_rad", e.ripple_phase);
   e.asymmetry = f.number("asymmetry", e.asymmetry);
   if (std::fabs(e.asymmetry) >= 1.0) f.fail("asymmetry", "expected |asymmetry| < 1");
+  e.viscous_asymmetry = f.number("viscous_asymmetry", e.viscous_asymmetry);
   e.drift = f.number("drift", e.drift);
   e.drift_time_constant_s = f.number("drift_time_constant_s", e.drift_time_constant_s);
   if (!(e.drift_time_constant_s > 0.0)) f.fail("drift_time_constant_s", "expected > 0");

@@ -20,16 +20,23 @@ int main(int argc, char** argv) {
   for (const auto& c : drawn) {
     if (only.empty() || only.find("," + c.effect + ",") != std::string::npos) cases.push_back(c);
   }
-  int effect_cases = 0, named = 0, matched = 0, false_claims = 0, floor_ok = 0, floor_n = 0;
+  int effect_cases = 0, named = 0, matched = 0, false_claims = 0, floor_ok = 0, floor_n = 0, resim_ok = 0;
   std::map<std::string, std::pair<int, int>> per_effect;
   for (const auto& c : cases) {
     if (std::getenv("JG_DIAG_TRACE")) std::fprintf(stderr, "running %s joint %d %s A=%.3f seed %llu\n", c.effect.c_str(), c.joint, c.concealment.c_str(), c.amplitude_nm, c.seed);
     const auto o = jg::diag::run_case(c, arm);
     std::string found;
+    for (const auto& f : o.arm.findings) found += "arm:" + f.effect + " ";
+    if (std::getenv("JG_DIAG_TRACE")) {
+      for (const auto& note : o.arm.notes) std::fprintf(stderr, "  arm note: %s\n", note.c_str());
+      for (const auto& a : o.resim_applied) std::fprintf(stderr, "  model-out: %s\n", a.c_str());
+      for (const auto& a : o.resim_not_modelled) std::fprintf(stderr, "  model-out, not modelled: %s\n", a.c_str());
+    }
     for (const auto& j : o.joints)
       for (const auto& f : j.findings) found += "j" + std::to_string(j.joint) + ":" + f.effect + " ";
-    std::printf("%-24s joint %d %-13s A=%.3f held-out %.3f -> %.3f (noise %.3f) -> %s%s\n", c.effect.c_str(), c.joint,
-                c.concealment.c_str(), c.amplitude_nm, o.heldout_before, o.heldout_after, o.noise,
+    std::printf("%-24s joint %d %-13s A=%.3f held-out %.3f -> %.3f (noise %.3f), re-simulated %.3f (noise %.3f)%s -> %s%s\n",
+                c.effect.c_str(), c.joint, c.concealment.c_str(), c.amplitude_nm, o.heldout_before, o.heldout_after, o.noise,
+                o.resim_heldout, o.resim_noise, jg::diag::resim_at_noise_floor(o) ? "" : " NOT AT FLOOR",
                 found.empty() ? "none" : found.c_str(), c.effect == "none" ? (o.false_claim ? "  FALSE CLAIM" : "  ok") : (o.named ? "  ok" : "  MISSED"));
     if (c.effect == "none") {
       ++matched;
@@ -42,10 +49,13 @@ int main(int argc, char** argv) {
       pe.first += o.named ? 1 : 0;
       ++floor_n;
       floor_ok += jg::diag::at_noise_floor(o) ? 1 : 0;
+      resim_ok += jg::diag::resim_at_noise_floor(o) ? 1 : 0;
     }
   }
   std::printf("\nnamed correctly: %d / %d (%.0f %%); matched pairs with a claim: %d / %d; held-out RMS at the noise floor (within 10 %% of the noise, or >= 2x lower where the effect is >= 3x the noise): %d / %d\n",
               named, effect_cases, 100.0 * named / std::max(1, effect_cases), false_claims, matched, floor_ok, floor_n);
+  std::printf("re-simulated with the findings written back (model_out.hpp): held-out RMS against the real recording at the noise floor: %d / %d (%.0f %%)\n",
+              resim_ok, floor_n, 100.0 * resim_ok / std::max(1, floor_n));
   for (const auto& [e, v] : per_effect) std::printf("  %-24s %d / %d\n", e.c_str(), v.first, v.second);
   return 0;
 }

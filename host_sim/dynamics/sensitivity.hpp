@@ -1,0 +1,19 @@
+// Sensitivity of the joint torques to one link's mass and first moment (m, m c_x, m c_y,
+// m c_z), its rotational inertia about the link origin held fixed. The dynamics are linear
+// in (m, m c, I_origin), so a finite step divided by its size is the exact column. Used by
+// the diagnosis to fit a payload or a link's mass error once for the whole arm.
+#pragma once
+
+#include <array>
+
+#include "dynamics/rigid_body.hpp"
+
+namespace jg::sim {
+
+/// d tau / d (m, m c_x, m c_y, m c_z) of link `link` (0-based) at one state; `tau0` (the
+/// unperturbed torque) is returned too since every caller needs it.
+std::array<JointVector, 4> mass_first_moment_sensitivity(const ArmDynamics& arm, int link, const JointVector& q,
+                                                          const JointVector& qd, const JointVector& qdd,
+                                                          JointVector* tau0 = nullptr);
+
+}  // namespace jg::sim
