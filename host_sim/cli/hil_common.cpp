@@ -19,7 +19,8 @@ void HilOptions::add_to(CLI::App* cmd, bool plant) {
     i->excludes(b);
     cmd->add_option("--out", out, "Also write the recording (CSV + JSON side file)");
   }
-  cmd->add_option("--model", model, "Robot file for the drives (default: the scenario's model)")->check(CLI::ExistingFile);
+  cmd->add_option("--model", model, "Robot file for the drives (default: the scenario's model); without --bus, the plant's robot file, "
+                   "with the plant_effects `diagnose --model-out` wrote")->check(CLI::ExistingFile);
   cmd->add_option("--friction", friction, "Identified LuGre (identify's JSON); none: no compensation")->check(CLI::ExistingFile);
   cmd->add_option("--threshold", threshold, "Calibrated thresholds (calibrate's JSON; required with a bus)")->check(CLI::ExistingFile);
   cmd->add_option("--scalar", scalar, "Drives' scalar on the in-process bus")->check(CLI::IsMember({"float", "q"}))->capture_default_str();

@@ -11,7 +11,7 @@ namespace {
 
 RobotModel load_yaml(const std::string& path) {
   const io::YamlFields root = io::YamlFields::load_file(path);
-  root.allow_only({"name", "description", "gravity_m_s2", "joints", "sources"});
+  root.allow_only({"name", "description", "gravity_m_s2", "joints", "sources", "plant_effects"});
   RobotModel m;
   m.source = path;
   m.name = root.text("name");
@@ -61,6 +61,7 @@ RobotModel load_yaml(const std::string& path) {
     d.reach_m = j.number("reach_m", 0.3);
     m.joints.push_back(d);
   }
+  m.plant_effects = read_plant_effects(root, m.joints.size());
   return m;
 }
 

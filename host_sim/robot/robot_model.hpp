@@ -9,6 +9,7 @@
 #include "jointguard/dynamics/link.hpp"
 #include "dynamics/rigid_body.hpp"
 #include "plant/sensors.hpp"
+#include "robot/plant_effects.hpp"
 
 namespace jg::robot {
 
@@ -25,6 +26,9 @@ struct RobotModel {
   std::string source;  ///< file it was read from
   double gravity[3] = {0.0, 0.0, -9.81};
   std::vector<JointDescription> joints;
+  /// Effects found by `diagnose` and written back (`--model-out`): the plant's truth on top
+  /// of the scenario's nominal setting when this file is simulated.
+  std::vector<PlantEffect> plant_effects;
 
   [[nodiscard]] std::vector<sim::PlantLink> plant_links() const;
   /// The arm's rigid-body dynamics with this model's gravity (gravity_m_s2).

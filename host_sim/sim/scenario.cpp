@@ -5,6 +5,7 @@
 #include "io/yaml_fields.hpp"
 #include "models/paper_friction.hpp"
 #include "robot/robot_model.hpp"
+#include "sim/apply_effects.hpp"
 
 namespace jg::sim {
 namespace {
@@ -106,7 +107,8 @@ CollisionEvent parse_collision(const YamlFields& c, std::size_t n) {
 }
 }  // namespace
 
-Scenario load_scenario(const std::string& path, unsigned long long seed_override, bool has_seed_override) {
+Scenario load_scenario(const std::string& path, unsigned long long seed_override, bool has_seed_override,
+                       const std::string& model_override) {
   const YamlFields root = YamlFields::load_file(path);
   root.allow_only({"name", "model", "duration_s", "control_rate_hz", "plant_rate_hz", "seed", "trajectory",
                    "friction", "friction_enabled", "sensors", "controller", "collisions", "campaign", "elasticity",
@@ -114,7 +116,8 @@ Scenario load_scenario(const std::string& path, unsigned long long seed_override
   Scenario s;
   s.file = path;
   const std::filesystem::path model_path =
-      std::filesystem::path(path).parent_path() / std::filesystem::path(root.text("model"));
+      model_override.empty() ? std::filesystem::path(path).parent_path() / std::filesystem::path(root.text("model"))
+                             : std::filesystem::path(model_override);
   try {
     s.model = load_plant_model(model_path.string());
   } catch (const io::FormatError&) {
@@ -230,6 +233,10 @@ Scenario load_scenario(const std::string& path, unsigned long long seed_override
     const auto drawn = draw_campaign(spec, s.model.link_lengths);
     st.collisions.insert(st.collisions.end(), drawn.begin(), drawn.end());
   }
+  if (!s.model.plant_effects.empty()) {
+    // What `diagnose --model-out` found in the real arm, on top of the scenario's setting.
+    s.effects = apply_plant_effects(s.model.plant_effects, 1.0 / st.control_rate_hz, st);
+  }
   return s;
 }
 
@@ -244,6 +251,7 @@ PlantModel load_plant_model(const std::string& path) {
   m.links = r.plant_links();
   m.drives = r.drives();
   m.link_lengths = r.reaches();
+  m.plant_effects = r.plant_effects;
   return m;
 }
 

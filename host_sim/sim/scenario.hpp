@@ -4,6 +4,8 @@
 
 #include <string>
 
+#include "robot/plant_effects.hpp"
+#include "sim/apply_effects.hpp"
 #include "sim/simulation.hpp"
 
 namespace jg::sim {
@@ -14,6 +16,8 @@ struct PlantModel {
   std::vector<PlantLink> links;
   std::vector<JointDriveConfig> drives;
   std::vector<double> link_lengths;  ///< reach of each link (for placing contacts) [m]
+  /// Effects found by `diagnose` and written into the robot file: applied to the plant.
+  std::vector<robot::PlantEffect> plant_effects;
 };
 
 /// Loads a robot file (the project's YAML or a URDF) for the plant.
@@ -23,9 +27,13 @@ struct Scenario {
   std::string file;
   PlantModel model;
   SimulationSetup setup;
+  EffectsReport effects;  ///< what the model's plant_effects changed in the setup
 };
 
 /// Parses a scenario; `model` paths are relative to the scenario file's folder.
-Scenario load_scenario(const std::string& path, unsigned long long seed_override = 0, bool has_seed_override = false);
+/// `model_override`: a robot file used instead of the scenario's `model` (e.g. the one
+/// `diagnose --model-out` wrote); its plant_effects are applied to the plant last.
+Scenario load_scenario(const std::string& path, unsigned long long seed_override = 0, bool has_seed_override = false,
+                       const std::string& model_override = "");
 
 }  // namespace jg::sim

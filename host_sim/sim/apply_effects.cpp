@@ -1,0 +1,209 @@
+#include "sim/apply_effects.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace jg::sim {
+namespace {
+
+std::string joint_text(int joint, const std::string& what) { return "joint " + std::to_string(joint) + ": " + what; }
+
+/// Keeps a LuGre level physical (the friction truth refuses non-positive levels).
+double positive(double v) { return std::max(v, 1e-6); }
+
+/// One torque-channel effect of joint j (0-based) into the setup.
+void apply_effect(const robot::PlantEffect& e, std::size_t j, int joint, SimulationSetup& s, std::vector<double>& delays,
+                  EffectsReport& r) {
+  auto& f = s.plant.friction[j];
+  auto& lugre = f.lugre;
+  auto& drive = s.sensors.drives[j];
+  const auto& b = e.coefficients;
+  const bool model_curve = e.setting.count("model_curve") != 0U;
+  // A file may be edited by hand: the coefficients and settings each effect needs.
+  const std::size_t need = e.effect == "position_ripple" ? 2 : 1;
+  const char* key = e.effect == "position_ripple"     ? "periods_per_rev"
+                    : e.effect == "temperature_drift" ? "time_constant_s"
+                    : e.effect == "stribeck" && !model_curve ? "w_s"
+                    : e.effect == "presliding" && e.setting.count("sigma0_ratio") == 0U ? "displacement_rad"
+                                                                                         : nullptr;
+  if (b.size() < need || (key != nullptr && e.setting.count(key) == 0U)) {
+    r.not_modelled.push_back(joint_text(joint, e.effect + ": needs " + std::to_string(need) + " coefficient(s)" +
+                                                   (key != nullptr ? std::string(" and setting '") + key + "'" : "")));
+    return;
+  }
+  std::ostringstream os;
+  os.precision(4);
+  if (e.effect == "coulomb") {
+    // The model's Coulomb level alone, or (the generic sign shape) the whole level curve.
+    os << "coulomb: tau_c " << lugre.tau_c;
+    lugre.tau_c = positive(lugre.tau_c + b[0]);
+    if (!model_curve) lugre.tau_s = positive(lugre.tau_s + b[0]);
+    os << " -> " << lugre.tau_c << " N·m";
+  } else if (e.effect == "viscous") {
+    os << "viscous: sigma2 " << lugre.sigma2;
+    lugre.sigma2 = std::max(0.0, lugre.sigma2 + b[0]);
+    os << " -> " << lugre.sigma2 << " N·m·s/rad";
+  } else if (e.effect == "stribeck") {
+    os << "stribeck: tau_s " << lugre.tau_s;
+    lugre.tau_s = positive(lugre.tau_s + b[0]);
+    if (!model_curve) lugre.w_s = e.setting.at("w_s");  // the fitted shape's Stribeck velocity
+    os << " -> " << lugre.tau_s << " N·m, w_s " << lugre.w_s << " rad/s";
+  } else if (e.effect == "presliding") {
+    os << "presliding: sigma0 " << lugre.sigma0;
+    if (e.setting.count("sigma0_ratio") != 0U) {
+      const double ratio = e.setting.at("sigma0_ratio") * b[0] + (1.0 - b[0]);
+      lugre.sigma0 = positive(lugre.sigma0 * ratio);
+    } else {  // Dahl displacement delta: bristle stiffness = level / delta
+      lugre.sigma0 = positive(std::max(std::fabs(b[0]), lugre.tau_c) / e.setting.at("displacement_rad"));
+    }
+    os << " -> " << lugre.sigma0 << " N·m/rad";
+  } else if (e.effect == "asymmetric_friction") {
+    // The plant scales the Coulomb/static levels by 1 +/- a: a level difference b0 is a = b0 / tau_c.
+    f.effects.asymmetry = std::clamp(f.effects.asymmetry + b[0] / lugre.tau_c, -0.95, 0.95);
+    if (b.size() > 1) f.effects.viscous_asymmetry += b[1];
+    os << "asymmetric_friction: asymmetry " << f.effects.asymmetry << ", viscous " << f.effects.viscous_asymmetry
+       << " N·m·s/rad";
+  } else if (e.effect == "position_ripple") {
+    f.effects.ripple_periods_per_rev = e.setting.at("periods_per_rev");
+    f.effects.ripple_amplitude = std::hypot(b[0], b[1]);
+    f.effects.ripple_phase = std::atan2(b[1], b[0]);
+    os << "position_ripple: " << f.effects.ripple_amplitude << " N·m, " << f.effects.ripple_periods_per_rev << " per turn";
+  } else if (e.effect == "temperature_drift") {
+    f.effects.drift = b[0] / lugre.tau_c;
+    f.effects.drift_time_constant_s = e.setting.at("time_constant_s");
+    os << "temperature_drift: levels x(1 + " << f.effects.drift << " (1 - exp(-t / " << f.effects.drift_time_constant_s << " s)))";
+  } else if (e.effect == "load_dependent_friction") {
+    f.effects.load_coefficient += b[0];
+    os << "load_dependent_friction: " << f.effects.load_coefficient << " N·m per N·m";
+  } else if (e.effect == "inertia_error") {
+    auto& link = s.plant.links[j];
+    os << "inertia_error: rotor inertia " << link.rotor_inertia;
+    link.rotor_inertia = std::max(0.0, link.rotor_inertia + b[0]);
+    os << " -> " << link.rotor_inertia << " kg·m²";
+  } else if (e.effect == "torque_constant") {
+    // Measured = (1 + b) x true torque; the drive's true K_I = nominal (1 + error) and the
+    // measurement is true / (1 + error).
+    drive.torque_constant_error = (1.0 + drive.torque_constant_error) / (1.0 + b[0]) - 1.0;
+    os << "torque_constant: true K_I = nominal x " << 1.0 + drive.torque_constant_error;
+  } else if (e.effect == "current_offset") {
+    drive.current_offset_a += b[0] / drive.torque_constant_nominal;
+    os << "current_offset: " << drive.current_offset_a << " A";
+  } else if (e.effect == "time_delay") {
+    delays.push_back(-b[0]);
+    return;  // one delay for all drives' current channels, set below
+  } else if (e.effect == "backlash" || e.effect == "joint_elasticity") {
+    return;  // from the deflection channel's findings (apply_findings)
+  } else {
+    r.not_modelled.push_back(joint_text(joint, e.effect + ": the plant has no setting for it"));
+    return;
+  }
+  r.applied.push_back(joint_text(joint, os.str()));
+}
+
+/// Elastic gear of joint j (0-based) from the deflection channel's findings. Without an
+/// elastic model in the setup, the other joints get a stiff gear (deflection below one
+/// link-encoder count) and the plant rate is raised so that RK4 resolves the stiff modes.
+void apply_gear(const robot::PlantEffect& e, std::size_t j, SimulationSetup& s, EffectsReport& r) {
+  const bool has_k = e.params.count("stiffness_nm_per_rad") != 0U;
+  const bool has_gap = e.params.count("gap_rad") != 0U;
+  if (!has_k && !has_gap) return;
+  const std::size_t n = s.plant.links.size();
+  if (s.plant.elasticity.empty()) {
+    if (!has_k) {
+      r.not_modelled.push_back(joint_text(e.joint, "backlash: a dead zone needs the gear's stiffness, which was not found"));
+      return;
+    }
+    s.plant.elasticity.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double k = 2e6;
+      s.plant.elasticity[i] = {k, 2.0 * 0.7 * std::sqrt(k * std::max(s.plant.links[i].rotor_inertia, 1e-6)), 0.0};
+    }
+    s.plant.plant_rate_hz = std::max(s.plant.plant_rate_hz, 24000.0);
+  }
+  auto& g = s.plant.elasticity[j];
+  std::ostringstream os;
+  os.precision(4);
+  if (has_k) {
+    g.stiffness = e.params.at("stiffness_nm_per_rad");
+    // Damping is not identified from the deflection: a lightly damped gear (ratio 0.1).
+    g.damping = 2.0 * 0.1 * std::sqrt(g.stiffness * std::max(s.plant.links[j].rotor_inertia, 1e-6));
+    os << "joint_elasticity: stiffness " << g.stiffness << " N·m/rad (damping ratio 0.1 assumed)";
+  } else {
+    g.backlash_rad = std::max(0.0, e.params.at("gap_rad"));
+    os << "backlash: " << g.backlash_rad << " rad";
+  }
+  r.applied.push_back(joint_text(e.joint, os.str()));
+}
+
+/// A payload or a link's mass error (arm level).
+void apply_arm_effect(const robot::PlantEffect& e, SimulationSetup& s, EffectsReport& r) {
+  std::ostringstream os;
+  os.precision(4);
+  if (e.effect == "link_inertial_error" && e.coefficients.size() >= 4 && e.setting.count("link") != 0U) {
+    // Mass and first moment changed, the rotational inertia about the link origin kept.
+    const auto l = static_cast<std::size_t>(e.setting.at("link")) - 1;
+    if (l >= s.plant.links.size()) {
+      r.not_modelled.push_back("arm: link_inertial_error on a link the simulation does not have");
+      return;
+    }
+    auto& link = s.plant.links[l];
+    const Eigen::Matrix3d eye = Eigen::Matrix3d::Identity();
+    const Eigen::Matrix3d inertia_origin =
+        link.inertia_com + link.mass * (link.com.squaredNorm() * eye - link.com * link.com.transpose());
+    const double m = std::max(1e-6, link.mass + e.coefficients[0]);
+    const Eigen::Vector3d h = link.mass * link.com + Eigen::Vector3d(e.coefficients[1], e.coefficients[2], e.coefficients[3]);
+    os << "arm: link " << l + 1 << " mass " << link.mass << " -> " << m << " kg";
+    link.mass = m;
+    link.com = h / m;
+    link.inertia_com = inertia_origin - m * (link.com.squaredNorm() * eye - link.com * link.com.transpose());
+  } else if (e.effect == "payload" && e.coefficients.size() >= 4 && e.coefficients[0] > 0.0) {
+    const double m = e.coefficients[0];
+    const auto it = e.setting.find("picked_up_at_s");
+    const double t_s = it != e.setting.end() ? it->second : 0.0;
+    s.plant.payload = PayloadChange{t_s, m, Eigen::Vector3d(e.coefficients[1], e.coefficients[2], e.coefficients[3]) / m};
+    os << "arm: payload " << m << " kg from t = " << t_s << " s";
+  } else {
+    r.not_modelled.push_back("arm: " + e.effect + ": the plant has no setting for it");
+    return;
+  }
+  r.applied.push_back(os.str());
+}
+}  // namespace
+
+
+EffectsReport apply_plant_effects(const std::vector<robot::PlantEffect>& effects, double dt, SimulationSetup& s) {
+  EffectsReport r;
+  // The controller keeps the nominal model: what the diagnosis found is the plant's truth.
+  if (s.nominal_links.empty()) s.nominal_links = s.plant.links;
+  std::vector<double> delays;
+  for (const auto& e : effects) {
+    if (e.joint == 0) {
+      apply_arm_effect(e, s, r);
+      continue;
+    }
+    const auto j = static_cast<std::size_t>(e.joint - 1);
+    if (j >= s.plant.links.size() || j >= s.plant.friction.size() || j >= s.sensors.drives.size()) {
+      r.not_modelled.push_back(joint_text(e.joint, e.effect + ": no such joint (or no friction model) in the simulation"));
+      continue;
+    }
+    if (e.effect == "joint_elasticity" || e.effect == "backlash") {
+      apply_gear(e, j, s, r);
+    } else {
+      apply_effect(e, j, e.joint, s, delays, r);
+    }
+  }
+  if (!delays.empty()) {
+    // One delay of the current channel for all drives (one clock): the median of the joints'.
+    std::nth_element(delays.begin(), delays.begin() + static_cast<std::ptrdiff_t>(delays.size() / 2), delays.end());
+    const double delay = delays[delays.size() / 2];
+    s.sensors.current_delay_samples = std::max(0, static_cast<int>(std::lround(delay / dt)));
+    std::ostringstream os;
+    os.precision(4);
+    os << "time_delay: current channel " << s.sensors.current_delay_samples << " samples (" << 1000.0 * delay << " ms fitted)";
+    r.applied.push_back(os.str());
+  }
+  return r;
+}
+
+}  // namespace jg::sim
