@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
+#include "cli/common.hpp"
 #include "diagnosis/diagnose.hpp"
 #include "diagnosis/pairing.hpp"
 #include "eval/pipeline.hpp"

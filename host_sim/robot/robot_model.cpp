@@ -1,5 +1,6 @@
 #include "robot/robot_model.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 

@@ -5,6 +5,7 @@
 // must equal the robot controller's. Bad files are refused with the field named.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <kdl/chainidsolver_recursive_newton_euler.hpp>
@@ -77,9 +78,13 @@ Agreement compare(const std::string& urdf, const jg::robot::LoadOptions& opt, bo
   const KdlReference ref(urdf, model);
   const jg::sim::ArmDynamics arm(model.plant_links(), Eigen::Vector3d(model.gravity[0], model.gravity[1], model.gravity[2]) * (kG / 9.81));
   KDL::Chain chain;
-  if (chain_solver) EXPECT_TRUE(ref.tree().getChain(ref.tree().getRootSegment()->first, chain_tip, chain));
+  if (chain_solver) {
+    EXPECT_TRUE(ref.tree().getChain(ref.tree().getRootSegment()->first, chain_tip, chain));
+  }
   std::vector<jg::LinkConstants<double>> links(static_cast<std::size_t>(n));
-  for (Eigen::Index i = 0; i < n; ++i) EXPECT_EQ(jg::convert_link(model.joints[static_cast<std::size_t>(i)].link, links[static_cast<std::size_t>(i)]), jg::Error::ok);
+  for (std::size_t i = 0; i < links.size(); ++i) {
+    EXPECT_EQ(jg::convert_link(model.joints[i].link, links[i]), jg::Error::ok);
+  }
   std::mt19937 rng(29);
   std::uniform_real_distribution<double> u(-2.0, 2.0);
   Agreement worst;
@@ -146,7 +151,9 @@ TEST(UrdfImport, Ur10eGravityMatchesTheController) {
   const auto model = jg::robot::load_robot(kUr10e);
   ASSERT_EQ(model.joints.size(), 6U);
   const char* names[] = {"shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint", "wrist_2_joint", "wrist_3_joint"};
-  for (int i = 0; i < 6; ++i) EXPECT_EQ(model.joints[static_cast<std::size_t>(i)].name, names[i]);
+  for (std::size_t i = 0; i < 6; ++i) {
+    EXPECT_EQ(model.joints[i].name, names[i]);
+  }
   const jg::sim::ArmDynamics arm(model.plant_links(), Eigen::Vector3d(model.gravity[0], model.gravity[1], model.gravity[2]) * (9.82 / 9.81));
   JointVector q(6);
   q << 0.030610, -1.096005, 2.333313, -1.245859, -1.046087, -0.517483;
@@ -154,7 +161,9 @@ TEST(UrdfImport, Ur10eGravityMatchesTheController) {
   // The robot controller's tau_des at rest (../shared/data/real/ur10e-static/README.md).
   const double expected[] = {0.0, -49.649, -12.129, 0.748, 0.004, 0.0};
   std::printf("UR10e gravity at the static posture, g = 9.82: %.3f %.3f %.3f %.3f %.3f %.3f N·m\n", g(0), g(1), g(2), g(3), g(4), g(5));
-  for (int i = 0; i < 6; ++i) EXPECT_NEAR(g(i), expected[i], 0.005) << "joint " << i + 1;
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_NEAR(g(i), expected[i], 0.005) << "joint " << i + 1;
+  }
 }
 
 TEST(UrdfImport, Ur10eEqualsKdl) {
@@ -189,6 +198,12 @@ TEST(UrdfImport, BaseAndTipSelectASubChain) {
   ASSERT_EQ(model.joints.size(), 3U);
   EXPECT_EQ(model.joints.front().name, "j2");
   EXPECT_EQ(model.joints.back().name, "j4");
+  // The first axis (j2) is tilted: its tilt becomes alpha_0, gravity stays along -z. What
+  // lies beyond the tip (j5, j6, the tool) is carried locked at zero.
+  const Agreement a = compare(f, o, false, "");
+  EXPECT_LT(a.id, 1e-9);
+  EXPECT_LT(a.momentum, 1e-9);
+  EXPECT_LT(a.beta, 1e-8);
   o.tip_link = "fan";
   EXPECT_EQ(jg::robot::load_robot(f, o).joints.back().name, "fan_joint");
   o.tip_link = "camera_mount";
