@@ -279,7 +279,7 @@ RobotModel import_urdf(const std::string& path, const std::string& base_link, co
   }
   std::vector<dh::Frame> frames;
   try {
-    frames = dh::place_frames(axes, Eigen::Vector3d::UnitZ());
+    frames = dh::place_frames(axes, Eigen::Vector3d::UnitZ(), pose.at(base).translation());
   } catch (const std::domain_error& e) {
     refuse(path, e.what());
   }

@@ -48,7 +48,7 @@ bool parallel(const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return a.cro
 
 }  // namespace
 
-std::vector<Frame> place_frames(const std::vector<AxisLine>& axes, const Eigen::Vector3d& up) {
+std::vector<Frame> place_frames(const std::vector<AxisLine>& axes, const Eigen::Vector3d& up, const Eigen::Vector3d& base_origin) {
   const std::size_t n = axes.size();
   std::vector<Eigen::Vector3d> z(n), x(n), origin(n);
   for (std::size_t i = 0; i < n; ++i) z[i] = axes[i].direction.normalized();
@@ -88,8 +88,13 @@ std::vector<Frame> place_frames(const std::vector<AxisLine>& axes, const Eigen::
   frames.reserve(n + 1);
   const Eigen::Vector3d u = up.normalized();
   // Base: z up; x along up x z_1 so that RotX(alpha_0) carries z up onto the first axis.
-  frames.push_back(make_frame(n > 0 && !parallel(u, z[0]) ? u.cross(z[0]) : (n > 0 ? x[0] : Eigen::Vector3d::UnitX()), u,
-                              n > 0 ? origin[0] : Eigen::Vector3d::Zero()));
+  Frame base = make_frame(n > 0 && !parallel(u, z[0]) ? u.cross(z[0]) : (n > 0 ? x[0] : Eigen::Vector3d::UnitX()), u,
+                          n > 0 ? origin[0] : base_origin);
+  if (n > 0) {  // slide along x_0 and z_1 towards the base link's origin (gravity does not care)
+    const Eigen::Vector3d xb = base.rotation.col(0), offset = origin[0] - base_origin;
+    base.origin = origin[0] - offset.dot(xb) * xb - offset.dot(z[0]) * z[0];
+  }
+  frames.push_back(base);
   for (std::size_t i = 0; i < n; ++i) frames.push_back(make_frame(x[i], z[i], origin[i]));
   return frames;
 }

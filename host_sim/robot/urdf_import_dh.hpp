@@ -49,7 +49,11 @@ struct Inertial {
 
 /// Frame 0 (base) followed by one frame per joint; throws std::domain_error naming the
 /// joints when two axes are so nearly parallel that their common normal lies far away.
-std::vector<Frame> place_frames(const std::vector<AxisLine>& axes, const Eigen::Vector3d& up);
+/// The base frame's origin is the point nearest `base_origin` (the base link's) from which
+/// frame 1 is reached by TransX(a_0) TransZ(d_1), so chains already written in D-H keep
+/// their parameters.
+std::vector<Frame> place_frames(const std::vector<AxisLine>& axes, const Eigen::Vector3d& up,
+                                const Eigen::Vector3d& base_origin = Eigen::Vector3d::Zero());
 
 /// D-H parameters from frame i-1 to frame i; throws std::domain_error when the pair is not
 /// RotX(alpha) TransX(a) RotZ(theta) TransZ(d) (only when place_frames was bypassed).
