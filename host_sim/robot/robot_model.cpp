@@ -121,8 +121,8 @@ void check_simulatable(const RobotModel& model) {
       if (!(M(i, i) > 1e-12 * scale)) {
         throw io::FormatError(model.source + ": joint '" + model.joints[static_cast<std::size_t>(i)].name +
                               "': the mass matrix is singular (nothing with mass or inertia moves about this joint, "
-                              "and no rotor inertia): cannot simulate; give the link an <inertial> or the drive a "
-                              "rotor inertia (--drive)");
+                              "and no rotor inertia): cannot simulate; give the link a mass or inertia (URDF "
+                              "<inertial>) or the joint a rotor inertia");
       }
       M(i, i) = std::sqrt(M(i, i));
       for (Eigen::Index r = i + 1; r < n; ++r) {

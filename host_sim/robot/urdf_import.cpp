@@ -77,12 +77,13 @@ urdf::ModelInterfaceSharedPtr parse(const std::string& path) {
   // (a mass "heavy", a vector "1 2") and goes on with zeros.
   CaptureErrors capture;
   guard.capture(&capture);
-  const bool copy_parsed = urdf::parseURDF(without_format_characters(text)) != nullptr;
+  const std::string harmless = without_format_characters(text);
+  const bool copy_parsed = urdf::parseURDF(harmless) != nullptr;
   guard.silence();
   if (!capture.errors.empty()) {
     std::string all;
     for (const auto& e : capture.errors) all += (all.empty() ? "" : "; ") + e;
-    refuse(path, "not a valid URDF: " + all);
+    refuse(path, "not a valid URDF: " + all + (harmless != text ? " (the file's '%' shown as '?')" : ""));
   }
   urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(text);
   if (!model || !copy_parsed) refuse(path, "not a valid URDF (urdfdom could not read it)");

@@ -18,6 +18,7 @@
 #include "io/recording.hpp"
 #include "jointguard/dynamics/momentum_recursion.hpp"
 #include "robot/robot_model.hpp"
+#include "robot/urdf_import_dh.hpp"
 
 namespace {
 
@@ -267,6 +268,42 @@ TEST(UrdfImport, NonPhysicalInertiaIsRefused) {
   const std::string e = refusal("bad_inertia.urdf");
   EXPECT_NE(e.find("link1"), std::string::npos) << e;
   EXPECT_NE(e.find("<inertia>"), std::string::npos) << e;
+}
+
+TEST(DhFrames, CoincidentAxesAndNearlyParallelAxes) {
+  namespace dh = jg::robot::dh;
+  // Two joints on one axis: no offset, no length; a third parallel one 0.2 m away.
+  const std::vector<dh::AxisLine> axes = {{"a", {0, 0, 0}, {0, 0, 1}}, {"b", {0, 0, 0.5}, {0, 0, 1}}, {"c", {0.2, 0, 0.7}, {0, 0, 1}}};
+  const auto f = dh::place_frames(axes, Eigen::Vector3d::UnitZ());
+  const dh::DhParameters b = dh::dh_between(f[1], f[2]), c = dh::dh_between(f[2], f[3]);
+  EXPECT_NEAR(b.alpha_prev, 0.0, 1e-12);
+  EXPECT_NEAR(b.a_prev, 0.0, 1e-12);
+  EXPECT_NEAR(b.d, 0.0, 1e-12);
+  EXPECT_NEAR(c.a_prev, 0.2, 1e-12);
+  // Tilted by 1e-6 rad towards a 0.1 m offset: the axes meet 1e5 m away.
+  const std::vector<dh::AxisLine> skew = {{"p", {0, 0, 0}, {0, 0, 1}}, {"q", {0.1, 0, 0}, Eigen::Vector3d(-1e-6, 0, 1).normalized()}};
+  try {
+    (void)dh::place_frames(skew, Eigen::Vector3d::UnitZ());
+    FAIL() << "nearly parallel axes accepted";
+  } catch (const std::domain_error& e) {
+    EXPECT_NE(std::string(e.what()).find("'p' and 'q'"), std::string::npos) << e.what();
+  }
+}
+
+TEST(DhFrames, LumpingTwoPointMassesGivesTheirInertia) {
+  namespace dh = jg::robot::dh;
+  dh::Inertial a, b;
+  a.mass = 1.0;
+  a.com = {1.0, 0.0, 0.0};
+  b.mass = 3.0;
+  b.com = {-1.0, 0.0, 0.0};
+  const dh::Inertial s = dh::lump(a, b);
+  EXPECT_DOUBLE_EQ(s.mass, 4.0);
+  EXPECT_DOUBLE_EQ(s.com.x(), -0.5);
+  // About the common CoM: 1 kg at 1.5 m and 3 kg at 0.5 m -> 3 kg m^2 about y and z.
+  EXPECT_NEAR(s.inertia_com(1, 1), 3.0, 1e-12);
+  EXPECT_NEAR(s.inertia_com(2, 2), 3.0, 1e-12);
+  EXPECT_NEAR(s.inertia_com(0, 0), 0.0, 1e-12);
 }
 
 TEST(DriveFile, GivesDriveParametersByJointName) {
