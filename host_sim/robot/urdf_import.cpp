@@ -9,6 +9,7 @@
 #include <limits>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 
 #include "io/recording.hpp"
 #include "robot/urdf_import_dh.hpp"
@@ -78,14 +79,24 @@ urdf::ModelInterfaceSharedPtr parse(const std::string& path) {
   CaptureErrors capture;
   guard.capture(&capture);
   const std::string harmless = without_format_characters(text);
-  const bool copy_parsed = urdf::parseURDF(harmless) != nullptr;
+  bool copy_parsed = false;
+  try {
+    copy_parsed = urdf::parseURDF(harmless) != nullptr;
+  } catch (const std::exception& e) {  // urdfdom mostly logs, but may throw (version attribute)
+    capture.errors.emplace_back(e.what());
+  }
   guard.silence();
   if (!capture.errors.empty()) {
     std::string all;
     for (const auto& e : capture.errors) all += (all.empty() ? "" : "; ") + e;
     refuse(path, "not a valid URDF: " + all + (harmless != text ? " (the file's '%' shown as '?')" : ""));
   }
-  urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(text);
+  urdf::ModelInterfaceSharedPtr model;
+  try {
+    model = urdf::parseURDF(text);
+  } catch (const std::exception& e) {
+    refuse(path, std::string("not a valid URDF: ") + e.what());
+  }
   if (!model || !copy_parsed) refuse(path, "not a valid URDF (urdfdom could not read it)");
   return model;
 }
