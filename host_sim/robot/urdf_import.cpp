@@ -277,7 +277,7 @@ RobotModel import_urdf(const std::string& path, const std::string& base_link, co
   }
   for (const auto& j : chain) {
     if (j->type != urdf::Joint::REVOLUTE && j->type != urdf::Joint::CONTINUOUS) {
-      refuse(path, "joint '" + j->name + "' is " + type_name(j->type) + ": only revolute and continuous joints are supported on the chain");
+      refuse(path, "joint '" + j->name + "' is " + type_name(j->type) + ": only revolute and continuous joints are supported on the chain (choose another with --base/--tip)");
     }
     if (std::hypot(j->axis.x, j->axis.y, j->axis.z) < 1e-9) refuse(path, "joint '" + j->name + "': <axis xyz> is zero");
   }
