@@ -126,9 +126,10 @@ void check_inertial(const std::string& path, const urdf::Link& link) {
   const Eigen::Vector3d l = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(I).eigenvalues();
   const double tol = 1e-6 * std::max(l.cwiseAbs().maxCoeff(), 1e-12);
   if (l(0) < -tol || l(0) + l(1) < l(2) - tol) {
-    refuse(path, where + "<inertia> is not a physical inertia (principal moments " + std::to_string(l(0)) + ", " +
-                     std::to_string(l(1)) + ", " + std::to_string(l(2)) +
-                     " kg m^2: must be >= 0 and each at most the sum of the other two)");
+    std::ostringstream s;
+    s << where << "<inertia> is not a physical inertia (principal moments " << l(0) << ", " << l(1) << ", " << l(2)
+      << " kg m^2: must be >= 0 and each at most the sum of the other two)";
+    refuse(path, s.str());
   }
 }
 
