@@ -5,6 +5,7 @@
 // must equal the robot controller's. Bad files are refused with the field named.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -62,6 +63,32 @@ class KdlReference {
   std::vector<unsigned> index_;
 };
 
+/// A segment and everything below it in the tree, held at zero, in the segment's tip frame.
+KDL::RigidBodyInertia subtree_inertia(const KDL::SegmentMap::const_iterator& e) {
+  KDL::RigidBodyInertia I = e->second.segment.getInertia();
+  for (const auto& c : e->second.children) I = I + c->second.segment.pose(0.0) * subtree_inertia(c);
+  return I;
+}
+
+/// kdl_parser's chain from the root to `tip` (Tree::getChain), with the side branches the
+/// arm carries added to their chain segment with KDL's own inertia algebra: getChain alone
+/// drops them.
+KDL::Chain carried_chain(const KDL::Tree& tree, const std::string& tip) {
+  KDL::Chain chain;
+  EXPECT_TRUE(tree.getChain(tree.getRootSegment()->first, tip, chain));
+  std::vector<std::string> on_chain;
+  for (const auto& s : chain.segments) on_chain.push_back(s.getName());
+  for (auto& s : chain.segments) {
+    const auto e = tree.getSegments().find(s.getName());
+    KDL::RigidBodyInertia I = s.getInertia();
+    for (const auto& c : e->second.children) {
+      if (std::find(on_chain.begin(), on_chain.end(), c->first) == on_chain.end()) I = I + c->second.segment.pose(0.0) * subtree_inertia(c);
+    }
+    s.setInertia(I);
+  }
+  return chain;
+}
+
 double rel(const JointVector& a, const JointVector& b) {
   return (a - b).cwiseAbs().maxCoeff() / std::max(1.0, b.cwiseAbs().maxCoeff());
 }
@@ -71,18 +98,17 @@ struct Agreement {
   double q16_abs = 0.0;  ///< the drives' Q16.16 recursion against double [N·m·s, N·m]
 };
 
-/// Random states: ArmDynamics against KDL's tree RNE (and against KDL's chain RNE when the
-/// chain carries no side branch), the firmware recursion's p and beta against M dq and
-/// g - C^T dq from KDL (C^T dq = M' dq - C dq, M' by central differences as in test_kdl).
-Agreement compare(const std::string& urdf, const jg::robot::LoadOptions& opt, bool chain_solver, const std::string& chain_tip) {
+/// Random states: ArmDynamics against KDL's tree RNE and (with a chain tip, from the root)
+/// KDL's chain RNE, the firmware recursion's p and beta against M dq and g - C^T dq from
+/// KDL (C^T dq = M' dq - C dq, M' by central differences as in test_kdl), and the drives'
+/// Q16.16 recursion against double.
+Agreement compare(const std::string& urdf, const jg::robot::LoadOptions& opt, const std::string& chain_tip) {
+  const bool chain_solver = !chain_tip.empty();
   const auto model = jg::robot::load_robot(urdf, opt);
   const auto n = static_cast<Eigen::Index>(model.joints.size());
   const KdlReference ref(urdf, model);
   const jg::sim::ArmDynamics arm(model.plant_links(), Eigen::Vector3d(model.gravity[0], model.gravity[1], model.gravity[2]) * (kG / 9.81));
-  KDL::Chain chain;
-  if (chain_solver) {
-    EXPECT_TRUE(ref.tree().getChain(ref.tree().getRootSegment()->first, chain_tip, chain));
-  }
+  const KDL::Chain chain = chain_solver ? carried_chain(ref.tree(), chain_tip) : KDL::Chain();
   std::vector<jg::LinkConstants<double>> links(static_cast<std::size_t>(n));
   std::vector<jg::LinkConstants<jg::q16>> links_q(static_cast<std::size_t>(n));
   for (std::size_t i = 0; i < links.size(); ++i) {
@@ -160,9 +186,12 @@ Agreement compare(const std::string& urdf, const jg::robot::LoadOptions& opt, bo
                                 std::fabs(out_q[i].beta.to_double() - out[i].beta)});
     }
   }
-  std::printf("%s: worst relative difference to KDL over 300 states: tree RNE %.2e, chain RNE %.2e, firmware p %.2e, beta %.2e; "
+  char chain_figure[32] = "n/a";
+  if (chain_solver) std::snprintf(chain_figure, sizeof chain_figure, "%.2e", worst.chain_id);
+  std::printf("%s%s%s: worst relative difference to KDL over 300 states: tree RNE %.2e, chain RNE %s, firmware p %.2e, beta %.2e; "
               "Q16.16 recursion vs double: %.2e absolute\n",
-              std::filesystem::path(urdf).filename().c_str(), worst.id, worst.chain_id, worst.momentum, worst.beta, worst.q16_abs);
+              std::filesystem::path(urdf).filename().c_str(), opt.base_link.empty() ? "" : " --base ", opt.base_link.c_str(),
+              worst.id, chain_figure, worst.momentum, worst.beta, worst.q16_abs);
   EXPECT_TRUE(status.ok());
   EXPECT_LT(worst.q16_abs, 0.01);  // N·m and N·m·s; ref3 and Panda: 4e-4 and 1.4e-3 (test_kdl)
   return worst;
@@ -190,7 +219,7 @@ TEST(UrdfImport, Ur10eGravityMatchesTheController) {
 
 TEST(UrdfImport, Ur10eEqualsKdl) {
   if (!std::filesystem::exists(kUr10e)) GTEST_SKIP() << "real data folder absent: " << kUr10e;
-  const Agreement a = compare(kUr10e, {}, true, "tool0");
+  const Agreement a = compare(kUr10e, {}, "tool0");
   EXPECT_LT(a.id, 1e-9);
   EXPECT_LT(a.chain_id, 1e-9);
   EXPECT_LT(a.momentum, 1e-9);
@@ -205,8 +234,9 @@ TEST(UrdfImport, SkewAxesFixedLinksAndBranchesEqualKdl) {
   EXPECT_TRUE(std::isinf(model.joints[4].upper_rad));  // continuous: no limits
   // Base side (world joint, base_link, camera_mount) carries no dynamics; the tool and the
   // sensor are lumped into their links.
-  const Agreement a = compare(f, {}, false, "");
+  const Agreement a = compare(f, {}, "tool0");
   EXPECT_LT(a.id, 1e-9);
+  EXPECT_LT(a.chain_id, 1e-9);
   EXPECT_LT(a.momentum, 1e-9);
   EXPECT_LT(a.beta, 1e-8);
 }
@@ -222,7 +252,7 @@ TEST(UrdfImport, BaseAndTipSelectASubChain) {
   EXPECT_EQ(model.joints.back().name, "j4");
   // The first axis (j2) is tilted: its tilt becomes alpha_0, gravity stays along -z. What
   // lies beyond the tip (j5, j6, the tool) is carried locked at zero.
-  const Agreement a = compare(f, o, false, "");
+  const Agreement a = compare(f, o, "");
   EXPECT_LT(a.id, 1e-9);
   EXPECT_LT(a.momentum, 1e-9);
   EXPECT_LT(a.beta, 1e-8);
