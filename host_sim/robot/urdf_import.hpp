@@ -8,8 +8,7 @@
 // - Arbitrary axes and origins are written in modified D-H (urdf_import_dh.hpp) with gravity
 //   along -z of the root link.
 // - Prismatic, floating and planar joints on the chain are refused naming the joint.
-// - urdfdom's own logging is never given the file's text as a format (console_bridge
-//   formats its messages with printf); any error it reports refuses the file.
+// - Reading and the checks of bad values: urdf_read.hpp.
 #pragma once
 
 #include <string>
