@@ -4,7 +4,7 @@ set -euo pipefail
 packages=(
   cmake make g++ git
   libgtest-dev libgmock-dev libbenchmark-dev
-  libeigen3-dev libcli11-dev nlohmann-json3-dev libyaml-cpp-dev liborocos-kdl-dev liburdfdom-dev
+  libeigen3-dev libcli11-dev nlohmann-json3-dev libyaml-cpp-dev liborocos-kdl-dev liburdfdom-dev libkdl-parser-dev
   gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm
   clang clang-tidy cppcheck
   qemu-system-x86 can-utils iproute2 busybox-static cpio xz-utils

@@ -36,6 +36,13 @@ ObserverGains ObserverOptions::to_gains(double rate_hz) const {
   return g;
 }
 
+void add_model_selection(CLI::App* cmd, robot::LoadOptions& o) {
+  cmd->add_option("--base", o.base_link, "URDF: first link of the chain (default: the root link)");
+  cmd->add_option("--tip", o.tip_link, "URDF: last link of the chain (default: the deepest tip)");
+  cmd->add_option("--drive", o.drive_file, "Drive parameters by joint name (YAML: joints, k_i, ...; docs/robot-model.md)")
+      ->check(CLI::ExistingFile);
+}
+
 void check_scalar(const std::string& scalar) {
   if (scalar != "float" && scalar != "q") throw std::invalid_argument("--scalar must be float or q");
 }

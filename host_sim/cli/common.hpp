@@ -5,6 +5,7 @@
 #include <string>
 
 #include "jointguard/observer/momentum_observer.hpp"
+#include "robot/robot_model.hpp"
 
 namespace jg::cli {
 
@@ -19,5 +20,9 @@ struct ObserverOptions {
 };
 
 void check_scalar(const std::string& scalar);
+
+/// --base LINK, --tip LINK (a URDF's chain) and --drive FILE (drive parameters by joint
+/// name), next to every --model.
+void add_model_selection(CLI::App* cmd, robot::LoadOptions& o);
 
 }  // namespace jg::cli

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
+#include "cli/common.hpp"
 #include "diagnosis/arm.hpp"
 #include "diagnosis/diagnose.hpp"
 #include "diagnosis/pairing.hpp"
@@ -19,6 +20,7 @@ namespace jg::cli {
 namespace {
 struct DiagnoseCliOptions {
   std::string model, real, sim, json, friction, out;
+  robot::LoadOptions model_options;
 };
 }  // namespace
 
@@ -30,13 +32,14 @@ Command add_diagnose(CLI::App& app) {
                                  "over the real motion (inverse dynamics + --friction).\n"
                                  "Example: jointguard diagnose --model models/ref3.yaml --real out/real.csv --sim out/sim.csv --json out/diagnosis.json --out out/diagnosis");
   cmd->add_option("--model", o->model, "Robot file (YAML or URDF)")->required()->check(CLI::ExistingFile);
+  add_model_selection(cmd, o->model_options);
   cmd->add_option("--real", o->real, "Real recording (CSV)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--sim", o->sim, "Simulated recording of the same motion (CSV)")->check(CLI::ExistingFile);
   cmd->add_option("--friction", o->friction, "Nominal friction JSON (identify) for the model's prediction")->check(CLI::ExistingFile);
   cmd->add_option("--json", o->json, "Write findings here (contract format)");
   cmd->add_option("--out", o->out, "Folder for the plots (SVG) and summary");
   return {cmd, [o]() {
-            const auto model = robot::load_robot(o->model);
+            const auto model = robot::load_robot(o->model, o->model_options);
             const auto real = io::read_recording(o->real);
             if (real.joints() != model.joints.size()) {
               throw std::invalid_argument(o->real + ": " + std::to_string(real.joints()) + " joints, the model has " +

@@ -23,6 +23,7 @@ struct EvaluateOptions {
   int count = 50, debounce = 1;
   unsigned long long seed = 1;
   ObserverOptions observer;
+  robot::LoadOptions model_options;
 };
 
 Reaction reaction_of(const std::string& s) {
@@ -54,6 +55,7 @@ Command add_evaluate(CLI::App& app) {
                                  "Example: jointguard evaluate --scenario paper --rate 125 --scalar q --json out/paper125.json");
   cmd->add_option("--scenario", o->scenario, "paper, campaign or a scenario file (YAML)")->capture_default_str();
   cmd->add_option("--model", o->model, "Robot file (YAML or URDF)")->capture_default_str()->check(CLI::ExistingFile);
+  add_model_selection(cmd, o->model_options);
   cmd->add_option("--rate", o->rate, "Control and observer rate [Hz]")->capture_default_str()->check(CLI::Range(50.0, 20000.0));
   cmd->add_option("--scalar", o->scalar, "Firmware scalar")->check(CLI::IsMember({"float", "q"}))->capture_default_str();
   cmd->add_option("--seed", o->seed, "Seed of noise, campaign and motion")->capture_default_str();
@@ -74,7 +76,7 @@ Command add_evaluate(CLI::App& app) {
               model_path = (std::filesystem::path(o->scenario).parent_path() /
                             io::YamlFields::load_file(o->scenario).text("model")).string();
             }
-            c.model = robot::load_robot(model_path);
+            c.model = robot::load_robot(model_path, o->model_options);
             c.rate_hz = scenario ? scenario->setup.control_rate_hz : o->rate;
             c.scalar = o->scalar;
             c.seed = o->seed;

@@ -30,11 +30,12 @@ struct NodeOptions {
   double rate = 1000.0, idle_exit_s = 0.0, startup_s = 30.0;
   int debounce = 1, fault_cycles = 5;
   ObserverOptions observer;
+  robot::LoadOptions model_options;
 };
 
 template <class S>
 int run_node(const NodeOptions& o) {
-  const robot::RobotModel model = robot::load_robot(o.model);
+  const robot::RobotModel model = robot::load_robot(o.model, o.model_options);
   const std::size_t n = model.joints.size();
   if (o.joint < 1 || static_cast<std::size_t>(o.joint) > n) {
     throw std::invalid_argument("--joint " + std::to_string(o.joint) + ": the robot " + o.model + " has joints 1.." + std::to_string(n));
@@ -112,6 +113,7 @@ Command add_node(CLI::App& app) {
   cmd->add_option("--joint", o->joint, "This drive's joint (1-based)")->required();
   cmd->add_option("--iface", o->iface, "SocketCAN interface (CAN FD capable: mtu 72)")->capture_default_str();
   cmd->add_option("--model", o->model, "Robot file (YAML or URDF)")->capture_default_str()->check(CLI::ExistingFile);
+  add_model_selection(cmd, o->model_options);
   cmd->add_option("--friction", o->friction, "Identified LuGre (identify's JSON); none: no compensation")->check(CLI::ExistingFile);
   cmd->add_option("--threshold", o->threshold, "Calibrated thresholds (calibrate's JSON); none: never flags")->check(CLI::ExistingFile);
   cmd->add_option("--rate", o->rate, "Control and observer rate [Hz]")->capture_default_str()->check(CLI::Range(50.0, 20000.0));

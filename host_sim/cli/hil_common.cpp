@@ -21,6 +21,7 @@ void HilOptions::add_to(CLI::App* cmd, bool plant) {
   }
   cmd->add_option("--model", model, "Robot file for the drives (default: the scenario's model); without --bus, the plant's robot file, "
                    "with the plant_effects `diagnose --model-out` wrote")->check(CLI::ExistingFile);
+  add_model_selection(cmd, model_options);
   cmd->add_option("--friction", friction, "Identified LuGre (identify's JSON); none: no compensation")->check(CLI::ExistingFile);
   cmd->add_option("--threshold", threshold, "Calibrated thresholds (calibrate's JSON; required with a bus)")->check(CLI::ExistingFile);
   cmd->add_option("--scalar", scalar, "Drives' scalar on the in-process bus")->check(CLI::IsMember({"float", "q"}))->capture_default_str();
@@ -41,7 +42,7 @@ int run_hil_command(const HilOptions& o) {
   const std::string model_path =
       !o.model.empty() ? o.model
                        : (std::filesystem::path(o.scenario).parent_path() / io::YamlFields::load_file(o.scenario).text("model")).string();
-  c.model = robot::load_robot(model_path);
+  c.model = robot::load_robot(model_path, o.model_options);
   if (!o.friction.empty()) c.friction = eval::read_friction_json(o.friction);
   c.thresholds = eval::read_threshold_json(o.threshold);
   c.gains = o.observer.to_gains(scenario.setup.control_rate_hz);

@@ -15,6 +15,7 @@ struct HilOptions {
   bool has_seed = false;
   double duration_s = 0.0;
   ObserverOptions observer;
+  robot::LoadOptions model_options;
   /// `plant`: --iface or --bus sim; `simulate`: --bus sim only (its scenario and --out are its own).
   void add_to(CLI::App* cmd, bool plant);
 };

@@ -17,6 +17,7 @@ struct WorkflowOptions {
   int debounce = 1, runs = 10;
   unsigned long long seed = 1;
   ObserverOptions observer;
+  robot::LoadOptions model_options;
 };
 
 io::Recording load_recording(const WorkflowOptions& o) {
@@ -34,13 +35,14 @@ Command add_identify(CLI::App& app) {
                                  "Example: jointguard identify out/excitation.csv --model models/ref3.yaml --json out/friction.json");
   cmd->add_option("recording", o->recording, "Recording (CSV)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--model", o->model, "Robot file (YAML or URDF)")->required()->check(CLI::ExistingFile);
+  add_model_selection(cmd, o->model_options);
   cmd->add_option("--json", o->json, "Write the identified parameters here (contract format)");
   cmd->add_option("--seed", o->seed, "GA seed")->capture_default_str();
   cmd->add_option("--runs", o->runs, "GA runs (result = mean)")->capture_default_str()->check(CLI::Range(1, 100));
   cmd->add_option("--rate", o->rate, "Resample the recording to this rate [Hz] first");
   cmd->add_option("--gain", o->observer.gains[0], "First-order observer gain K [1/s]")->capture_default_str();
   return {cmd, [o]() {
-            const auto model = robot::load_robot(o->model);
+            const auto model = robot::load_robot(o->model, o->model_options);
             const auto rec = load_recording(*o);
             ident::GaSettings ga;
             ga.seed = o->seed;
@@ -72,13 +74,14 @@ Command add_calibrate(CLI::App& app) {
                                  "Example: jointguard calibrate out/free.csv --model models/ref3.yaml --friction out/friction.json --json out/threshold.json");
   cmd->add_option("recording", o->recording, "Collision-free recording (CSV)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--model", o->model, "Robot file (YAML or URDF)")->required()->check(CLI::ExistingFile);
+  add_model_selection(cmd, o->model_options);
   cmd->add_option("--friction", o->friction, "Friction JSON from identify")->required()->check(CLI::ExistingFile);
   cmd->add_option("--json", o->json, "Write the thresholds here (contract format)");
   cmd->add_option("--margin", o->margin, "Safety margin added to the band [N·m]")->capture_default_str();
   cmd->add_option("--rate", o->rate, "Resample the recording to this rate [Hz] first");
   o->observer.add_to(cmd);
   return {cmd, [o]() {
-            const auto model = robot::load_robot(o->model);
+            const auto model = robot::load_robot(o->model, o->model_options);
             const auto rec = load_recording(*o);
             const auto friction = eval::read_friction_json(o->friction);
             const auto t = eval::calibrate_recording(rec, model, friction, o->observer.to_gains(eval::sample_rate(rec)), o->margin);
@@ -103,6 +106,7 @@ Command add_replay(CLI::App& app) {
                                  "Example: jointguard replay out/shoulder.csv --model models/ref3.yaml --friction out/friction.json --threshold out/threshold.json --scalar q");
   cmd->add_option("recording", o->recording, "Recording (CSV)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--model", o->model, "Robot file (YAML or URDF)")->required()->check(CLI::ExistingFile);
+  add_model_selection(cmd, o->model_options);
   cmd->add_option("--friction", o->friction, "Friction JSON from identify")->required()->check(CLI::ExistingFile);
   cmd->add_option("--threshold", o->threshold, "Threshold JSON from calibrate")->required()->check(CLI::ExistingFile);
   cmd->add_option("--scalar", o->scalar, "Firmware scalar")->check(CLI::IsMember({"float", "q"}))->capture_default_str();
@@ -111,7 +115,7 @@ Command add_replay(CLI::App& app) {
   cmd->add_option("--json", o->json, "Write the events here (contract format)");
   o->observer.add_to(cmd);
   return {cmd, [o]() {
-            const auto model = robot::load_robot(o->model);
+            const auto model = robot::load_robot(o->model, o->model_options);
             const auto rec = load_recording(*o);
             const auto friction = eval::read_friction_json(o->friction);
             const auto thresholds = eval::read_threshold_json(o->threshold);

@@ -22,6 +22,7 @@ sim::JointVector home_of(const robot::RobotModel& m) {
 sim::SimulationSetup base_setup(const ExperimentConfig& c, std::shared_ptr<const sim::Trajectory> trajectory,
                                 unsigned long long seed) {
   sim::SimulationSetup s;
+  robot::check_simulatable(c.model);  // a singular mass matrix would make NaN torques
   s.plant.links = c.model.plant_links();
   const std::size_t n = s.plant.links.size();
   for (std::size_t j = 0; j < n; ++j) s.plant.friction.push_back({sim::kPaperTable1[std::min<std::size_t>(j, 2)], {}});

@@ -1,9 +1,11 @@
 #include "robot/robot_model.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
 #include "io/yaml_fields.hpp"
+#include "robot/drive_params.hpp"
 #include "robot/urdf_import.hpp"
 
 namespace jg::robot {
@@ -107,15 +109,50 @@ std::vector<double> RobotModel::reaches() const {
   return out;
 }
 
-RobotModel load_robot(const std::string& path) {
+void check_simulatable(const RobotModel& model) {
+  const sim::ArmDynamics arm(model.plant_links());
+  const auto n = static_cast<Eigen::Index>(model.joints.size());
+  // A few fixed configurations: zero and spread-out angles (singular at every q is what
+  // a missing body causes; a configuration-dependent singularity cannot occur with
+  // positive link inertias).
+  for (int k = 0; k < 3; ++k) {
+    sim::JointVector q(n);
+    for (Eigen::Index i = 0; i < n; ++i) q(i) = k == 0 ? 0.0 : std::sin(1.7 * static_cast<double>(k) + 0.9 * static_cast<double>(i));
+    sim::JointMatrix M = arm.mass_matrix(q);
+    const double scale = std::max(1e-300, M.diagonal().cwiseAbs().maxCoeff());
+    // Unpivoted Cholesky: the first vanishing pivot names the joint without inertia.
+    for (Eigen::Index i = 0; i < n; ++i) {
+      for (Eigen::Index p = 0; p < i; ++p) M(i, i) -= M(i, p) * M(i, p);
+      if (!(M(i, i) > 1e-12 * scale)) {
+        throw io::FormatError(model.source + ": joint '" + model.joints[static_cast<std::size_t>(i)].name +
+                              "': the mass matrix is singular (nothing with mass or inertia moves about this joint, "
+                              "and no rotor inertia): cannot simulate; give the link a mass or inertia (URDF "
+                              "<inertial>) or the joint a rotor inertia");
+      }
+      M(i, i) = std::sqrt(M(i, i));
+      for (Eigen::Index r = i + 1; r < n; ++r) {
+        for (Eigen::Index p = 0; p < i; ++p) M(r, i) -= M(r, p) * M(i, p);
+        M(r, i) /= M(i, i);
+      }
+    }
+  }
+}
+
+RobotModel load_robot(const std::string& path, const LoadOptions& options) {
   const std::string ext = std::filesystem::path(path).extension().string();
+  RobotModel m;
   if (ext == ".urdf") {
-    return import_urdf(path);
+    m = import_urdf(path, options.base_link, options.tip_link);
+  } else if (ext == ".yaml" || ext == ".yml") {
+    if (!options.base_link.empty() || !options.tip_link.empty()) {
+      throw io::FormatError(path + ": --base/--tip select a chain in a URDF; a robot YAML is one chain already");
+    }
+    m = load_yaml(path);
+  } else {
+    throw io::FormatError(path + ": unknown robot file type '" + ext + "' (expected .yaml, .yml or .urdf)");
   }
-  if (ext == ".yaml" || ext == ".yml") {
-    return load_yaml(path);
-  }
-  throw io::FormatError(path + ": unknown robot file type '" + ext + "' (expected .yaml, .yml or .urdf)");
+  if (!options.drive_file.empty()) apply_drive_file(m, options.drive_file);
+  return m;
 }
 
 }  // namespace jg::robot

@@ -19,6 +19,7 @@ struct JointDescription {
   double gear_ratio = 100.0;
   double lower_rad = -3.14, upper_rad = 3.14;
   double reach_m = 0.3;  ///< distance to the next joint (for placing contacts)
+  double effort_limit_nm = 0.0;  ///< torque limit when the file gives one (URDF <limit effort>), else 0
 };
 
 struct RobotModel {
@@ -37,8 +38,20 @@ struct RobotModel {
   [[nodiscard]] std::vector<double> reaches() const;
 };
 
+/// What to take from a robot file besides its path (CLI: --base, --tip, --drive).
+struct LoadOptions {
+  std::string base_link;   ///< URDF: first link of the chain (default: the root)
+  std::string tip_link;    ///< URDF: last link of the chain (default: the deepest tip)
+  std::string drive_file;  ///< drive parameters by joint name (robot/drive_params.hpp), any model
+};
+
 /// Reads a robot file: .yaml/.yml in the project's format or .urdf. Errors name the file,
 /// line and field (io::FormatError).
-RobotModel load_robot(const std::string& path);
+RobotModel load_robot(const std::string& path, const LoadOptions& options = {});
+
+/// Refuses (io::FormatError naming the file and the joint) a model whose mass matrix is
+/// singular, e.g. a last link without mass or inertia and no rotor inertia: the plant's
+/// forward dynamics would produce NaN. Detection alone does not need it (no M^-1).
+void check_simulatable(const RobotModel& model);
 
 }  // namespace jg::robot

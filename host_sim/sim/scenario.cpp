@@ -246,6 +246,7 @@ namespace jg::sim {
 
 PlantModel load_plant_model(const std::string& path) {
   const robot::RobotModel r = robot::load_robot(path);
+  robot::check_simulatable(r);  // a singular mass matrix would fill the recording with NaN
   PlantModel m;
   m.name = r.name;
   m.links = r.plant_links();

@@ -1,0 +1,153 @@
+#include "robot/urdf_read.hpp"
+
+#include <console_bridge/console.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "io/recording.hpp"
+
+namespace jg::robot {
+namespace {
+
+[[noreturn]] void refuse(const std::string& path, const std::string& what) { throw io::FormatError(path + ": " + what); }
+
+// --- Reading: urdfdom, with its logging kept away from printf formats ----------------
+
+/// Collects urdfdom's error messages instead of printing them.
+class CaptureErrors : public console_bridge::OutputHandler {
+ public:
+  void log(const std::string& text, console_bridge::LogLevel level, const char* /*file*/, int /*line*/) override {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) errors.push_back(text);
+  }
+  std::vector<std::string> errors;
+};
+
+/// Restores console_bridge's handler and level on every way out.
+class LoggingGuard {
+ public:
+  LoggingGuard() : level_(console_bridge::getLogLevel()) {}
+  ~LoggingGuard() {
+    if (handler_set_) console_bridge::restorePreviousOutputHandler();
+    console_bridge::setLogLevel(level_);
+  }
+  LoggingGuard(const LoggingGuard&) = delete;
+  LoggingGuard& operator=(const LoggingGuard&) = delete;
+  void capture(console_bridge::OutputHandler* h) {
+    console_bridge::useOutputHandler(h);
+    handler_set_ = true;
+    console_bridge::setLogLevel(console_bridge::CONSOLE_BRIDGE_LOG_ERROR);
+  }
+  void silence() {
+    if (handler_set_) console_bridge::restorePreviousOutputHandler();
+    handler_set_ = false;
+    console_bridge::setLogLevel(console_bridge::CONSOLE_BRIDGE_LOG_NONE);  // no message is formatted at all
+  }
+
+ private:
+  console_bridge::LogLevel level_;
+  bool handler_set_ = false;
+};
+
+/// The file's text with every way to a '%' removed ('%' itself and XML character
+/// references, which TinyXML decodes): urdfdom hands messages holding the file's text to
+/// console_bridge as the printf format, so only such a copy may be parsed with logging on.
+std::string without_format_characters(std::string text) {
+  for (std::size_t k = 0; k < text.size(); ++k) {
+    if (text[k] == '%') text[k] = '?';
+    if (text[k] == '&' && k + 1 < text.size() && text[k + 1] == '#') text.replace(k, 1, "&amp;");
+  }
+  return text;
+}
+
+urdf::ModelInterfaceSharedPtr parse(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) refuse(path, "cannot read the file");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const std::string text = buffer.str();
+  LoggingGuard guard;
+  // First pass on the harmless copy, only to hear urdfdom's complaints: it logs some errors
+  // (a mass "heavy", a vector "1 2") and goes on with zeros.
+  CaptureErrors capture;
+  guard.capture(&capture);
+  const std::string harmless = without_format_characters(text);
+  bool copy_parsed = false;
+  try {
+    copy_parsed = urdf::parseURDF(harmless) != nullptr;
+  } catch (const std::exception& e) {  // urdfdom mostly logs, but may throw (version attribute)
+    capture.errors.emplace_back(e.what());
+  }
+  guard.silence();
+  if (!capture.errors.empty()) {
+    std::string all;
+    for (const auto& e : capture.errors) all += (all.empty() ? "" : "; ") + e;
+    refuse(path, "not a valid URDF: " + all + (harmless != text ? " (the file's '%' shown as '?')" : ""));
+  }
+  urdf::ModelInterfaceSharedPtr model;
+  try {
+    model = urdf::parseURDF(text);
+  } catch (const std::exception& e) {
+    refuse(path, std::string("not a valid URDF: ") + e.what());
+  }
+  if (!model || !copy_parsed) refuse(path, "not a valid URDF (urdfdom could not read it)");
+  return model;
+}
+
+// --- Checks on the values urdfdom read ------------------------------------------------
+
+bool finite(const urdf::Vector3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(const urdf::Pose& p) {
+  return finite(p.position) && std::isfinite(p.rotation.x) && std::isfinite(p.rotation.y) &&
+         std::isfinite(p.rotation.z) && std::isfinite(p.rotation.w);
+}
+
+void check_inertial(const std::string& path, const urdf::Link& link) {
+  if (!link.inertial) return;
+  const urdf::Inertial& in = *link.inertial;
+  const std::string where = "link '" + link.name + "': <inertial>: ";
+  if (!finite(in.origin)) refuse(path, where + "<origin> is not finite");
+  const double v[] = {in.mass, in.ixx, in.iyy, in.izz, in.ixy, in.ixz, in.iyz};
+  for (const double x : v) {
+    if (!std::isfinite(x)) refuse(path, where + "<mass>/<inertia> values must be finite numbers");
+  }
+  if (in.mass < 0.0) refuse(path, where + "<mass value> must be >= 0");
+  // A body's inertia is positive semi-definite and obeys the triangle inequalities (its
+  // principal moments are sums of non-negative second moments).
+  Eigen::Matrix3d I;
+  I << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
+  const Eigen::Vector3d l = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(I).eigenvalues();
+  const double tol = 1e-6 * std::max(l.cwiseAbs().maxCoeff(), 1e-12);
+  if (l(0) < -tol || l(0) + l(1) < l(2) - tol) {
+    std::ostringstream s;
+    s << where << "<inertia> is not a physical inertia (principal moments " << l(0) << ", " << l(1) << ", " << l(2)
+      << " kg m^2: must be >= 0 and each at most the sum of the other two)";
+    refuse(path, s.str());
+  }
+}
+
+void check_joint(const std::string& path, const urdf::Joint& j) {
+  const std::string where = "joint '" + j.name + "': ";
+  if (!finite(j.parent_to_joint_origin_transform)) refuse(path, where + "<origin> is not finite");
+  if (!finite(j.axis)) refuse(path, where + "<axis xyz> is not finite");
+  if (j.limits) {
+    const double v[] = {j.limits->lower, j.limits->upper, j.limits->effort, j.limits->velocity};
+    for (const double x : v) {
+      if (!std::isfinite(x)) refuse(path, where + "<limit> values must be finite numbers");
+    }
+  }
+}
+
+}  // namespace
+
+urdf::ModelInterfaceSharedPtr read_urdf(const std::string& path) {
+  urdf::ModelInterfaceSharedPtr model = parse(path);
+  for (const auto& [name, link] : model->links_) check_inertial(path, *link);
+  for (const auto& [name, joint] : model->joints_) check_joint(path, *joint);
+  return model;
+}
+
+}  // namespace jg::robot
