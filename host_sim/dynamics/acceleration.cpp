@@ -118,7 +118,7 @@ SigmaChoice choose_sigma_detail(const std::vector<std::vector<double>>& velociti
   for (const auto& v : velocities) n_max = std::max(n_max, v.size());
   const double duration = static_cast<double>(n_max) * dt;
   const double lo = 2.0 * dt, hi = std::max(lo, duration / 20.0);
-  const double gain_at_cutoff = 0.9;
+  const double gain_at_cutoff = 0.99;
   const double k_sigma = std::sqrt(2.0 * std::log(1.0 / gain_at_cutoff)) / (2.0 * kPi);
   best.sigma_s = std::clamp(0.02, lo, hi);  // nothing usable: a neutral 20 ms within the bounds
   for (std::size_t j = 0; j < velocities.size(); ++j) {
@@ -142,9 +142,8 @@ SigmaChoice choose_sigma_detail(const std::vector<std::vector<double>>& velociti
     const double df = 1.0 / (static_cast<double>(m) * dt);
     std::vector<double> power(m / 2 + 1);
     for (std::size_t k = 0; k <= m / 2; ++k) power[k] = std::norm(a[k]);
-    const double noise = median(std::vector<double>(power.begin() + static_cast<std::ptrdiff_t>(m / 4), power.end()));
-    // 1/12-octave bands from the lowest resolved frequency up to Nyquist.
-    double cutoff = 0.0;
+    // Log-spaced (1/12-octave) band powers from the lowest resolved frequency to Nyquist.
+    std::vector<double> f_lo, band;
     for (double f0 = df; f0 < 0.5 / dt; f0 *= std::pow(2.0, 1.0 / 12.0)) {
       const double f1 = f0 * std::pow(2.0, 1.0 / 12.0);
       double sum = 0.0;
@@ -153,7 +152,24 @@ SigmaChoice choose_sigma_detail(const std::vector<std::vector<double>>& velociti
         sum += power[k];
         ++cnt;
       }
-      if (cnt > 0 && sum / cnt > 10.0 * noise) cutoff = f1;
+      if (cnt > 0) {
+        f_lo.push_back(f0);
+        band.push_back(sum / cnt);
+      }
+    }
+    if (band.size() < 8) continue;
+    const auto peak = static_cast<std::size_t>(std::max_element(band.begin(), band.end()) - band.begin());
+    if (band.size() - peak < 6) continue;
+    // Noise floor: the median band above the peak (log spacing: the plateau dominates the
+    // count even when interpolation or a sensor's own filter bends the top octaves down).
+    const double noise = median(std::vector<double>(band.begin() + static_cast<std::ptrdiff_t>(peak) + 1, band.end()));
+    // Signal band: up to the first band above the peak that falls below 10x the floor.
+    double cutoff = 0.0;
+    for (std::size_t b = peak + 1; b < band.size(); ++b) {
+      if (band[b] < 10.0 * noise) {
+        cutoff = f_lo[b];
+        break;
+      }
     }
     if (!(cutoff > 0.0)) continue;
     const double sigma = std::clamp(k_sigma / cutoff, lo, hi);

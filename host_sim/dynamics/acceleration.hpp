@@ -22,14 +22,15 @@ namespace jg::dyn {
 struct SigmaChoice {
   double sigma_s = 0.0;        ///< chosen width [s]
   double cutoff_hz = 0.0;      ///< where the velocity spectrum meets its noise floor
-  double noise_floor = 0.0;    ///< median power of the top half of the band [(rad/s)^2/Hz]
+  double noise_floor = 0.0;    ///< median band power above the spectral peak (periodogram units)
   int joint_index = -1;        ///< the joint whose (highest) signal band set the width
 };
 
 /// Width from the data: per series the periodogram of the velocity (Hann window,
-/// averaged in 1/12-octave bands), its noise floor = the median of the upper half of the
-/// frequencies, its signal band = up to the highest band still 10x above that floor. The
-/// Gaussian passes f_c with 90 % gain: sigma = sqrt(2 ln(1/0.9)) / (2 pi f_c); clamped to
+/// averaged in 1/12-octave bands), its noise floor = the median band power above the
+/// spectral peak, its signal band f_c = up to the first band above the peak that falls
+/// below 10x that floor. The Gaussian passes f_c with 99 % gain (so the motion's own
+/// accelerations are not biased by more than 1 %): sigma = sqrt(2 ln(1/0.99)) / (2 pi f_c); clamped to
 /// [2 dt, duration / 20]. With several series (joints) the widest signal band (smallest
 /// sigma) wins, so no joint's dynamics are smoothed away. Series that do not move are skipped.
 [[nodiscard]] SigmaChoice choose_sigma_detail(const std::vector<std::vector<double>>& velocities, double dt);

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "dynamics/base_parameters.hpp"
+#include "dynamics/constrained_fit.hpp"
 
 namespace jg::dyn {
 namespace {
@@ -222,10 +223,12 @@ RigidBodyIdResult identify_rigid_body(const io::Recording& rec, const robot::Rob
   }
   const double sigma = res.acceleration.sigma_s;
   res.ddq.resize(n);
-  std::vector<double> eps(n), motion(n, 0.0);
+  std::vector<double> eps(n), motion(n, 0.0), slow(n, 0.0);
+  std::vector<std::vector<double>> dq_smooth(n);
   for (std::size_t j = 0; j < n; ++j) {
     res.ddq[j] = smooth_derivative(rec.dq[j], dt, sigma);
-    const std::vector<double> dqs = smooth(rec.dq[j], dt, sigma);
+    dq_smooth[j] = smooth(rec.dq[j], dt, sigma);
+    const std::vector<double>& dqs = dq_smooth[j];
     double s = 0.0;
     for (std::size_t k = 0; k < S; ++k) {
       s += (rec.dq[j][k] - dqs[k]) * (rec.dq[j][k] - dqs[k]);
@@ -233,6 +236,7 @@ RigidBodyIdResult identify_rigid_body(const io::Recording& rec, const robot::Rob
     }
     const double noise = std::sqrt(s / static_cast<double>(S));
     eps[j] = opt.friction_eps > 0.0 ? opt.friction_eps : std::max(3.0 * noise, 1e-3);
+    slow[j] = opt.slow_speed_rad_s >= 0.0 ? opt.slow_speed_rad_s : 3.0 * eps[j];
   }
   if (*std::max_element(motion.begin(), motion.end()) < 1e-3) throw std::invalid_argument("no joint moves: nothing to identify");
 
@@ -278,9 +282,11 @@ RigidBodyIdResult identify_rigid_body(const io::Recording& rec, const robot::Rob
 
   // One pass over the data: per-joint normal equations on training and held-out samples,
   // and a thinned stack of training rows for the base-parameter count.
-  Normal train_n, held_n;
-  train_n.init(L.n, P);
-  held_n.init(L.n, P);
+  // fit_n: the training rows the fit uses (a joint's row is left out while it is slower
+  // than `slow`: there the joint may stick, and stiction is not a function of the state).
+  Normal train_n, held_n, fit_n, held_moving_n;
+  for (Normal* N : {&train_n, &held_n, &fit_n, &held_moving_n}) N->init(L.n, P);
+  std::vector<long> fit_rows(n, 0), held_moving_rows(n, 0);
   const std::size_t thin = std::max<std::size_t>(1, S / 3000);
   std::vector<Eigen::RowVectorXd> stack_rows;
   Mat A(L.n, P);
@@ -300,12 +306,19 @@ RigidBodyIdResult identify_rigid_body(const io::Recording& rec, const robot::Rob
       N.H[u].selfadjointView<Eigen::Upper>().rankUpdate(A.row(j).transpose());
       N.g[u] += A.row(j).transpose() * t;
       N.tt[u] += t * t;
+      if (std::abs(dq_smooth[u][k]) >= slow[u]) {
+        Normal& M = train[k] ? fit_n : held_moving_n;
+        M.H[u].selfadjointView<Eigen::Upper>().rankUpdate(A.row(j).transpose());
+        M.g[u] += A.row(j).transpose() * t;
+        M.tt[u] += t * t;
+        ++(train[k] ? fit_rows : held_moving_rows)[u];
+      }
     }
     if (train[k] && k % thin == 0) {
       for (int j = 0; j < L.n; ++j) stack_rows.push_back(A.row(j).head(L.rigid()));
     }
   }
-  for (Normal* N : {&train_n, &held_n}) {
+  for (Normal* N : {&train_n, &held_n, &fit_n, &held_moving_n}) {
     for (auto& H : N->H) H = H.selfadjointView<Eigen::Upper>();
   }
   res.train_samples = static_cast<int>(train_n.count);
@@ -349,11 +362,11 @@ RigidBodyIdResult identify_rigid_body(const io::Recording& rec, const robot::Rob
   std::vector<bool> fric_only(static_cast<std::size_t>(P), false);
   for (int c = L.fric0(); c < P; ++c) fric_only[static_cast<std::size_t>(c)] = true;
   const std::vector<double> unit(n, 1.0);
-  const Vec x_prior_fric = solve(train_n, unit, lambda, x0, fric_only, x0);
+  const Vec x_prior_fric = solve(fit_n, unit, lambda, x0, fric_only, x0);
   std::vector<double> w(n);
   res.noise_weight.resize(n);
   for (int j = 0; j < L.n; ++j) {
-    const double s = std::max(train_n.rms(j, x_prior_fric), 1e-6);
+    const double s = std::max(std::sqrt(fit_n.sse(j, x_prior_fric) / std::max(1.0, static_cast<double>(fit_rows[static_cast<std::size_t>(j)]))), 1e-6);
     res.noise_weight[static_cast<std::size_t>(j)] = s;
     w[static_cast<std::size_t>(j)] = 1.0 / s;
   }
@@ -361,48 +374,75 @@ RigidBodyIdResult identify_rigid_body(const io::Recording& rec, const robot::Rob
   if (opt.identify_links) {
     // Step 2: the joint weighted, regularised estimate; reweight once by its own residual.
     for (int pass = 0; pass < 2; ++pass) {
-      x = solve(train_n, w, lambda, x0, free, x0);
+      x = solve(fit_n, w, lambda, x0, free, x0);
       for (int j = 0; j < L.n; ++j) {
-        const double s = std::max(train_n.rms(j, x), 1e-6);
+        const double s = std::max(std::sqrt(fit_n.sse(j, x) / std::max(1.0, static_cast<double>(fit_rows[static_cast<std::size_t>(j)]))), 1e-6);
         res.noise_weight[static_cast<std::size_t>(j)] = s;
         w[static_cast<std::size_t>(j)] = 1.0 / s;
       }
     }
-    // Step 3: physical consistency. A link whose estimate is infeasible is moved back along
-    // the segment from its (feasible) prior to the largest feasible step and held there;
-    // the other parameters are re-fitted with it held, until every link is feasible.
-    std::vector<bool> fr = free;
-    Vec held = x0;
+    // Step 3: physical consistency. The line search from the (feasible) prior towards the
+    // unconstrained estimate is reported per link (how far the data pull it outside); when
+    // any link is infeasible, the constrained optimum of the same objective is solved for
+    // (constrained_fit.hpp), starting from the prior's links.
     res.links.resize(n);
-    for (std::size_t i = 0; i < n; ++i) res.links[i].step = 1.0;
-    for (int iter = 0; iter <= L.n + 1; ++iter) {
-      bool changed = false;
+    bool feasible = true;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!link_free[i]) continue;
+      const int c0 = kLinkParams * static_cast<int>(i);
+      const LinkParams p0 = x0.segment<kLinkParams>(c0), pe = x.segment<kLinkParams>(c0);
+      res.links[i].step = check_link(pe, bounds[i]).ok ? 1.0 : feasible_step(p0, pe, bounds[i]);
+      feasible = feasible && res.links[i].step == 1.0;
+    }
+    if (L.rotor) {
+      for (int j = 0; j < L.n; ++j) feasible = feasible && !(free[static_cast<std::size_t>(L.rotor0() + j)] && x(L.rotor0() + j) < 0.0);
+    }
+    if (!feasible) {
+      std::vector<bool> fr = free;
+      Vec start = x;
+      std::vector<LinkConstraint> cons;
       for (std::size_t i = 0; i < n; ++i) {
-        if (!link_free[i] || !fr[static_cast<std::size_t>(kLinkParams * static_cast<int>(i))]) continue;
+        if (!link_free[i]) continue;
         const int c0 = kLinkParams * static_cast<int>(i);
-        const LinkParams p0 = x0.segment<kLinkParams>(c0), pe = x.segment<kLinkParams>(c0);
-        if (check_link(pe, bounds[i]).ok) continue;
-        const Consistency prior_ok = check_link(p0, bounds[i]);
-        const double s = prior_ok.ok ? feasible_step(p0, pe, bounds[i]) : 0.0;
-        if (!prior_ok.ok) res.notes.push_back("link " + std::to_string(i + 1) + ": the prior itself is not physically consistent (" + prior_ok.reason + "); kept at the prior");
-        res.links[i].step = s;
-        held.segment<kLinkParams>(c0) = p0 + s * (pe - p0);
-        for (int c = 0; c < kLinkParams; ++c) fr[static_cast<std::size_t>(c0 + c)] = false;
-        changed = true;
+        start.segment<kLinkParams>(c0) = x0.segment<kLinkParams>(c0);
+        if (strictly_feasible(x0.segment<kLinkParams>(c0), bounds[i])) {
+          cons.push_back({c0, bounds[i]});
+        } else {
+          for (int c = 0; c < kLinkParams; ++c) fr[static_cast<std::size_t>(c0 + c)] = false;
+          res.notes.push_back("link " + std::to_string(i + 1) + ": the prior is not physically consistent (" +
+                              check_link(x0.segment<kLinkParams>(c0), bounds[i]).reason + "); held at the prior");
+        }
       }
+      std::vector<int> positive;
       if (L.rotor) {
         for (int j = 0; j < L.n; ++j) {
           const int c = L.rotor0() + j;
-          if (fr[static_cast<std::size_t>(c)] && x(c) < 0.0) {
-            held(c) = 0.0;
-            fr[static_cast<std::size_t>(c)] = false;
-            changed = true;
-            res.notes.push_back("joint " + std::to_string(j + 1) + ": rotor inertia estimate < 0, held at 0");
-          }
+          if (!fr[static_cast<std::size_t>(c)]) continue;
+          positive.push_back(c);
+          start(c) = std::max(x0(c), 1e-3 * scale(c));
         }
       }
-      if (!changed) break;
-      x = solve(train_n, w, lambda, x0, fr, held);
+      Mat Q = Mat::Zero(P, P);
+      Vec cv = Vec::Zero(P);
+      for (std::size_t j = 0; j < n; ++j) {
+        Q += w[j] * w[j] * fit_n.H[j];
+        cv += w[j] * w[j] * fit_n.g[j];
+      }
+      Q.diagonal() += lambda;
+      cv += lambda.cwiseProduct(x0);
+      const BarrierResult br = constrained_minimize(Q, cv, start, fr, cons, positive);
+      x = br.x;
+      char buf[200];
+      std::snprintf(buf, sizeof buf,
+                    "unconstrained estimate not physically consistent (line-search step from the prior %.3f): "
+                    "constrained optimum by log-barrier Newton, %d steps%s",
+                    [&] {
+                      double s = 1.0;
+                      for (const auto& l : res.links) s = std::min(s, l.step);
+                      return s;
+                    }(),
+                    br.newton_steps, br.converged ? "" : " (not converged)");
+      res.notes.emplace_back(buf);
     }
   } else {
     res.links.resize(n);
@@ -476,6 +516,10 @@ RigidBodyIdResult identify_rigid_body(const io::Recording& rec, const robot::Rob
     res.heldout_rms_prior_rigid[u] = held_n.rms(j, x_prior_rigid);
     res.heldout_rms_prior[u] = held_n.rms(j, x_prior_fric);
     res.heldout_rms_after[u] = held_n.rms(j, x);
+    const double hm = std::max(1.0, static_cast<double>(held_moving_rows[u]));
+    res.heldout_moving_rms_prior.push_back(std::sqrt(held_moving_n.sse(j, x_prior_fric) / hm));
+    res.heldout_moving_rms_after.push_back(std::sqrt(held_moving_n.sse(j, x) / hm));
+    res.slow_speed_rad_s.push_back(slow[u]);
   }
   res.predicted = predict_torque(res.model, res.friction, rec.q, rec.dq, res.ddq, sensor);
   char buf[200];

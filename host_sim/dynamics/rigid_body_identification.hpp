@@ -41,7 +41,7 @@ struct LinkReport {
   LinkParams before = LinkParams::Zero(), after = LinkParams::Zero();
   double rotor_before = 0.0, rotor_after = 0.0;
   double com_bound_m = 0.0;
-  double step = 1.0;       ///< fraction of the way from the prior to the unconstrained estimate kept
+  double step = 1.0;       ///< largest feasible fraction of the way from the prior to the unconstrained estimate
   Consistency consistency;  ///< of `after`
 };
 
@@ -54,6 +54,9 @@ struct RigidBodyIdOptions {
   double com_margin_m = 0.1;         ///< CoM bound = max(reach, |prior CoM|) + margin
   double sigma_s = 0.0;              ///< acceleration filter width [s]; 0: choose_sigma
   double friction_eps = 0.0;         ///< tanh scale [rad/s]; 0: 3x the velocity noise (min 1e-3)
+  /// A joint's rows are left out of the fit while its smoothed speed is below this (the
+  /// joint may stick; stiction is not a function of the state); < 0: 3 eps; 0: keep all.
+  double slow_speed_rad_s = -1.0;
   double prior_weight = 1.0;         ///< prior std = parameter scale / sqrt(prior_weight), rows in noise units
 };
 
@@ -64,7 +67,7 @@ struct RigidBodyIdResult {
   std::vector<LinkReport> links;
   int base_parameters = 0;            ///< identifiable rigid-body (+ rotor) parameters
   int free_parameters = 0;            ///< rigid-body (+ rotor) parameters estimated
-  double feasibility_step = 1.0;      ///< smallest per-link step kept (1: estimate feasible as is)
+  double feasibility_step = 1.0;      ///< smallest per-link line-search step from the prior to the unconstrained estimate (1: feasible as is; then the constrained optimum was solved for)
   SigmaChoice acceleration;           ///< the derivative filter used
   std::vector<double> noise_weight;   ///< per-joint residual std used to weight the rows [N·m]
   int train_samples = 0, heldout_samples = 0;
@@ -73,6 +76,9 @@ struct RigidBodyIdResult {
   std::vector<double> rms_before;           ///< whole file, prior + friction fitted to it
   std::vector<double> rms_after;            ///< whole file, identified model
   std::vector<double> heldout_rms_prior_rigid, heldout_rms_prior, heldout_rms_after;  ///< held-out samples
+  /// Held-out RMS over the rows where the joint moves faster than slow_speed_rad_s.
+  std::vector<double> heldout_moving_rms_prior, heldout_moving_rms_after;
+  std::vector<double> slow_speed_rad_s;  ///< per joint: slower rows are left out of the fit
   std::vector<std::vector<double>> measured;   ///< [joint][sample] torque used
   std::vector<std::vector<double>> predicted;  ///< [joint][sample] identified model
   std::vector<std::vector<double>> ddq;        ///< [joint][sample] filtered acceleration
