@@ -64,6 +64,15 @@ void add_rigid_body_options(CLI::App* cmd, RigidBodyCliOptions& o) {
       ->check(CLI::Range(0.0, 10.0));
   cmd->add_option("--sigma-ms", o.sigma_ms, "With --rigid-body: acceleration filter width [ms] (default: from the data)")
       ->check(CLI::Range(0.0, 10000.0));
+  cmd->add_option("--prior-weight", o.prior_weight,
+                  "With --rigid-body: weight of the robot file's values (prior std = parameter scale / sqrt(w))")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-9, 1e9));
+  cmd->add_option("--friction-eps", o.friction_eps,
+                  "With --rigid-body: Coulomb tanh velocity scale [rad/s] (default: 3x the velocity noise)")
+      ->check(CLI::Range(0.0, 100.0));
+  cmd->add_option("--slow-speed", o.slow_speed,
+                  "With --rigid-body: rows slower than this [rad/s] are left out of the fit (default: 3x the tanh scale; 0: keep all)");
   cmd->add_flag("--payload-only", o.payload_only, "With --rigid-body: only the payload (last link) + friction, arm at the prior");
   cmd->add_flag("--asymmetric-coulomb", o.asymmetric_coulomb, "With --rigid-body: separate Coulomb levels per direction");
 }
@@ -90,6 +99,9 @@ int run_identify_rigid(const std::string& recording, const std::string& model_pa
   opt.asymmetric_coulomb = o.asymmetric_coulomb;
   opt.com_margin_m = o.com_margin_m;
   opt.sigma_s = o.sigma_ms * 1e-3;
+  opt.prior_weight = o.prior_weight;
+  opt.friction_eps = o.friction_eps;
+  opt.slow_speed_rad_s = o.slow_speed;
   dyn::RigidBodyIdResult r;
   try {
     r = dyn::identify_rigid_body(rec, prior, opt);

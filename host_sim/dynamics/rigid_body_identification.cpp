@@ -36,15 +36,16 @@ struct Layout {
   [[nodiscard]] int rigid() const { return fric0(); }
 };
 
-void friction_columns(const Layout& L, int j, double dq, double eps, Mat& A) {
+void friction_columns(const Layout& L, bool asym, int j, double dq, double eps, Mat& A) {
   auto row = A.row(j);
   const int c = L.fric0() + L.fric_per_joint * j;
   const double t = std::tanh(dq / eps);
-  if (L.fric_per_joint == 4) {
+  if (L.fric_per_joint == 3 && asym) {
+    // While moving, an offset and a direction-dependent Coulomb level are the same
+    // column (|tanh| = 1), and slow rows are left out of the fit: so no offset here.
     row(c) = std::max(t, 0.0);
     row(c + 1) = std::min(t, 0.0);
     row(c + 2) = dq;
-    row(c + 3) = 1.0;
   } else {
     row(c) = t;
     row(c + 1) = dq;
@@ -52,16 +53,16 @@ void friction_columns(const Layout& L, int j, double dq, double eps, Mat& A) {
   }
 }
 
-FrictionFit friction_from(const Layout& L, const Vec& x, int j, double eps) {
+FrictionFit friction_from(const Layout& L, bool asym, const Vec& x, int j, double eps) {
   FrictionFit f;
   f.eps = eps;
   const int c = L.fric0() + L.fric_per_joint * j;
-  if (L.fric_per_joint == 4) {
+  if (asym) {
     f.coulomb_pos = x(c);
     f.coulomb_neg = x(c + 1);
     f.coulomb = 0.5 * (f.coulomb_pos + f.coulomb_neg);
     f.viscous = x(c + 2);
-    f.offset = x(c + 3);
+    f.offset = 0.0;
   } else {
     f.coulomb = f.coulomb_pos = f.coulomb_neg = x(c);
     f.viscous = x(c + 1);
@@ -246,7 +247,7 @@ RigidBodyIdResult identify_rigid_body(const io::Recording& rec, const robot::Rob
   Layout L;
   L.n = static_cast<int>(n);
   L.rotor = !sensor;
-  L.fric_per_joint = opt.asymmetric_coulomb ? 4 : 3;
+  L.fric_per_joint = 3;
   const int P = L.total();
   robot::RobotModel geometry = prior;
   const sim::ArmDynamics arm = make_arm(geometry);
@@ -296,7 +297,7 @@ RigidBodyIdResult identify_rigid_body(const io::Recording& rec, const robot::Rob
     A.leftCols(kLinkParams * L.n) = link_regressor(arm, q, dq, ddq);
     for (int j = 0; j < L.n; ++j) {
       if (L.rotor) A(j, L.rotor0() + j) = ddq(j);
-      friction_columns(L, j, dq(j), eps[static_cast<std::size_t>(j)], A);
+      friction_columns(L, opt.asymmetric_coulomb, j, dq(j), eps[static_cast<std::size_t>(j)], A);
     }
     Normal& N = train[k] ? train_n : held_n;
     ++N.count;
@@ -362,21 +363,50 @@ RigidBodyIdResult identify_rigid_body(const io::Recording& rec, const robot::Rob
   std::vector<bool> fric_only(static_cast<std::size_t>(P), false);
   for (int c = L.fric0(); c < P; ++c) fric_only[static_cast<std::size_t>(c)] = true;
   const std::vector<double> unit(n, 1.0);
-  const Vec x_prior_fric = solve(fit_n, unit, lambda, x0, fric_only, x0);
+  Vec x_prior_fric = solve(fit_n, unit, lambda, x0, fric_only, x0);
   std::vector<double> w(n);
   res.noise_weight.resize(n);
+  const auto fit_std = [&](int j, const Vec& v) {
+    return std::max(std::sqrt(fit_n.sse(j, v) / std::max(1.0, static_cast<double>(fit_rows[static_cast<std::size_t>(j)]))), 1e-6);
+  };
   for (int j = 0; j < L.n; ++j) {
-    const double s = std::max(std::sqrt(fit_n.sse(j, x_prior_fric) / std::max(1.0, static_cast<double>(fit_rows[static_cast<std::size_t>(j)]))), 1e-6);
-    res.noise_weight[static_cast<std::size_t>(j)] = s;
-    w[static_cast<std::size_t>(j)] = 1.0 / s;
+    res.noise_weight[static_cast<std::size_t>(j)] = fit_std(j, x_prior_fric);
+    w[static_cast<std::size_t>(j)] = 1.0 / res.noise_weight[static_cast<std::size_t>(j)];
   }
   Vec x = x_prior_fric;
+  if (opt.identify_links && opt.slow_speed_rad_s < 0.0) {
+    // Does a joint stick? With the model fitted on moving rows, a joint whose slow rows fit
+    // about as well as its moving ones (RMS within 2x) does not: its slow rows go back in.
+    x = solve(fit_n, w, lambda, x0, free, x0);
+    bool changed = false;
+    for (int j = 0; j < L.n; ++j) {
+      const auto u = static_cast<std::size_t>(j);
+      const double slow_rows = static_cast<double>(train_n.count - fit_rows[u]);
+      if (!(slow_rows > 0.0)) continue;
+      const double rms_slow = std::sqrt(std::max(0.0, train_n.sse(j, x) - fit_n.sse(j, x)) / slow_rows);
+      if (rms_slow <= 2.0 * fit_std(j, x)) {
+        fit_n.H[u] = train_n.H[u];
+        fit_n.g[u] = train_n.g[u];
+        fit_n.tt[u] = train_n.tt[u];
+        fit_rows[u] = train_n.count;
+        slow[u] = 0.0;
+        changed = true;
+      }
+    }
+    if (changed) {
+      x_prior_fric = solve(fit_n, unit, lambda, x0, fric_only, x0);
+      for (int j = 0; j < L.n; ++j) {
+        res.noise_weight[static_cast<std::size_t>(j)] = fit_std(j, x_prior_fric);
+        w[static_cast<std::size_t>(j)] = 1.0 / res.noise_weight[static_cast<std::size_t>(j)];
+      }
+    }
+  }
   if (opt.identify_links) {
     // Step 2: the joint weighted, regularised estimate; reweight once by its own residual.
     for (int pass = 0; pass < 2; ++pass) {
       x = solve(fit_n, w, lambda, x0, free, x0);
       for (int j = 0; j < L.n; ++j) {
-        const double s = std::max(std::sqrt(fit_n.sse(j, x) / std::max(1.0, static_cast<double>(fit_rows[static_cast<std::size_t>(j)]))), 1e-6);
+        const double s = fit_std(j, x);
         res.noise_weight[static_cast<std::size_t>(j)] = s;
         w[static_cast<std::size_t>(j)] = 1.0 / s;
       }
@@ -470,7 +500,7 @@ RigidBodyIdResult identify_rigid_body(const io::Recording& rec, const robot::Rob
     for (int a = 0; a < 6; ++a) d.inertia_com[a] = I6[a];
     if (L.rotor) d.rotor_inertia = lr.rotor_after;
   }
-  for (std::size_t j = 0; j < n; ++j) res.friction.push_back(friction_from(L, x, static_cast<int>(j), eps[j]));
+  for (std::size_t j = 0; j < n; ++j) res.friction.push_back(friction_from(L, opt.asymmetric_coulomb, x, static_cast<int>(j), eps[j]));
 
   // Payload: the change of the last link against the prior.
   {

@@ -16,7 +16,8 @@ namespace jg::dyn {
 
 /// Per-joint friction, linear in its parameters:
 ///   f = f_c tanh(dq / eps) + f_v dq + f_o   (symmetric), or with asymmetric Coulomb
-///   f = f_c+ max(tanh, 0) + f_c- min(tanh, 0) + f_v dq + f_o   (f_c holds (f_c+ + f_c-)/2).
+///   f = f_c+ max(tanh, 0) + f_c- min(tanh, 0) + f_v dq   (f_c holds (f_c+ + f_c-)/2; no
+///   offset: while moving it is the same column as the difference of the two levels).
 struct FrictionFit {
   double coulomb = 0.0;      ///< f_c [N·m]
   double coulomb_pos = 0.0;  ///< f_c+ [N·m] (= f_c when symmetric)
@@ -55,7 +56,8 @@ struct RigidBodyIdOptions {
   double sigma_s = 0.0;              ///< acceleration filter width [s]; 0: choose_sigma
   double friction_eps = 0.0;         ///< tanh scale [rad/s]; 0: 3x the velocity noise (min 1e-3)
   /// A joint's rows are left out of the fit while its smoothed speed is below this (the
-  /// joint may stick; stiction is not a function of the state); < 0: 3 eps; 0: keep all.
+  /// joint may stick; stiction is not a function of the state); < 0: 3 eps, and a joint's
+  /// slow rows go back in when they fit within 2x of its moving rows (it does not stick); 0: keep all.
   double slow_speed_rad_s = -1.0;
   double prior_weight = 1.0;         ///< prior std = parameter scale / sqrt(prior_weight), rows in noise units
 };
@@ -78,7 +80,7 @@ struct RigidBodyIdResult {
   std::vector<double> heldout_rms_prior_rigid, heldout_rms_prior, heldout_rms_after;  ///< held-out samples
   /// Held-out RMS over the rows where the joint moves faster than slow_speed_rad_s.
   std::vector<double> heldout_moving_rms_prior, heldout_moving_rms_after;
-  std::vector<double> slow_speed_rad_s;  ///< per joint: slower rows are left out of the fit
+  std::vector<double> slow_speed_rad_s;  ///< per joint: slower rows were left out of the fit (0: none)
   std::vector<std::vector<double>> measured;   ///< [joint][sample] torque used
   std::vector<std::vector<double>> predicted;  ///< [joint][sample] identified model
   std::vector<std::vector<double>> ddq;        ///< [joint][sample] filtered acceleration
