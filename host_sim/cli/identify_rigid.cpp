@@ -121,6 +121,8 @@ int run_identify_rigid(const std::string& recording, const std::string& model_pa
     std::printf("%5d  %10.4f  %14.4f  %10.4f  %7.4f %7.4f %7.4f\n", rec.joint_ids[j], r.heldout_rms_prior_rigid[j],
                 r.heldout_rms_prior[j], r.heldout_rms_after[j], f.coulomb, f.viscous, f.offset);
   }
+  std::printf("identified links %s (held-out MSE ratio against the prior + friction %.3f)\n",
+              r.accepted ? "kept" : "NOT kept: prior's links written", r.heldout_mse_ratio);
   for (std::size_t i = 0; i < r.links.size(); ++i) {
     const auto& l = r.links[i];
     std::printf("link %zu: mass %.4f -> %.4f kg, %s\n", i + 1, l.before(0), l.after(0),
@@ -146,6 +148,8 @@ int run_identify_rigid(const std::string& recording, const std::string& model_pa
                        {"base_parameters", r.base_parameters},
                        {"free_parameters", r.free_parameters},
                        {"feasibility_step", r.feasibility_step},
+                       {"accepted", r.accepted},
+                       {"heldout_mse_ratio", r.heldout_mse_ratio},
                        {"train_samples", r.train_samples},
                        {"heldout_samples", r.heldout_samples},
                        {"heldout_blocks", {1, 4, 7}},

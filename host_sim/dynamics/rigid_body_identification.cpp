@@ -478,6 +478,29 @@ RigidBodyIdResult identify_rigid_body(const io::Recording& rec, const robot::Rob
     res.links.resize(n);
   }
 
+  // Model selection on the held-out blocks: the identified rigid body is kept only when it
+  // predicts them better than the prior with its friction re-fitted (mean of the per-joint
+  // MSE ratios <= 0.98); otherwise the data did not support the change (a poorly exciting
+  // motion, or effects the model lacks) and the prior's links are kept.
+  if (opt.identify_links && held_n.count > 0) {
+    double ratio = 0.0;
+    for (int j = 0; j < L.n; ++j) {
+      const double before = held_n.sse(j, x_prior_fric), after = held_n.sse(j, x);
+      ratio += before > 0.0 ? after / before : 1.0;
+    }
+    res.heldout_mse_ratio = ratio / L.n;
+    res.accepted = res.heldout_mse_ratio <= 0.98;
+    if (!res.accepted) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf,
+                    "the identified rigid body does not predict the held-out blocks better than the prior (MSE ratio %.3f > 0.98): prior's links kept",
+                    res.heldout_mse_ratio);
+      res.notes.emplace_back(buf);
+      x = x_prior_fric;
+      for (auto& l : res.links) l.step = 1.0;
+    }
+  }
+
   // Results.
   res.model = prior;
   res.feasibility_step = 1.0;
@@ -515,6 +538,10 @@ RigidBodyIdResult identify_rigid_body(const io::Recording& rec, const robot::Rob
     const double bound = bounds.back().com_radius_m;
     if (!opt.identify_links) {
       pe.reason = "links not identified";
+    } else if (!res.accepted) {
+      pe.reason = "identified links not kept (no held-out improvement)";
+    } else if (std::abs(pe.mass) < 0.01) {
+      pe.reason = "no payload: the last link's mass changed by less than 10 g";
     } else if (!(pe.mass >= 0.0)) {
       pe.reason = "negative mass change of the last link";
     } else if (!(pe.com.norm() <= bound)) {

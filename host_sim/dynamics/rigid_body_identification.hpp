@@ -68,6 +68,8 @@ struct RigidBodyIdResult {
   PayloadEstimate payload;
   std::vector<LinkReport> links;
   int base_parameters = 0;            ///< identifiable rigid-body (+ rotor) parameters
+  bool accepted = true;               ///< identified links kept (held-out MSE ratio <= 0.98), else the prior's
+  double heldout_mse_ratio = 1.0;     ///< mean over joints of held-out MSE identified / prior + friction
   int free_parameters = 0;            ///< rigid-body (+ rotor) parameters estimated
   double feasibility_step = 1.0;      ///< smallest per-link line-search step from the prior to the unconstrained estimate (1: feasible as is; then the constrained optimum was solved for)
   SigmaChoice acceleration;           ///< the derivative filter used

@@ -1,6 +1,7 @@
 #include "robot/robot_writer.hpp"
 
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -10,9 +11,11 @@
 namespace jg::robot {
 namespace {
 
+/// Shortest of 15 or 17 significant digits that reads back as the same double.
 std::string num(double v) {
   char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
+  std::snprintf(buf, sizeof buf, "%.15g", v);
+  if (std::strtod(buf, nullptr) != v) std::snprintf(buf, sizeof buf, "%.17g", v);
   return buf;
 }
 

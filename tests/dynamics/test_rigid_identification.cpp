@@ -274,6 +274,7 @@ TEST(RigidBodyIdentification, RecoversLinkMassAndPayload) {
   // friction re-fitted.
   for (std::size_t j = 1; j < 3; ++j) EXPECT_LT(3.0 * r.heldout_moving_rms_after[j], r.heldout_moving_rms_prior[j]);
   for (std::size_t i = 0; i < r.links.size(); ++i) EXPECT_TRUE(r.links[i].consistency.ok) << r.links[i].consistency.reason;
+  EXPECT_TRUE(r.accepted);
   std::printf("payload %.3f kg at (%.3f %.3f %.3f) claimed %d %s\n", r.payload.mass, r.payload.com.x(), r.payload.com.y(),
               r.payload.com.z(), r.payload.claimed ? 1 : 0, r.payload.reason.c_str());
   for (const auto& n : r.notes) std::printf("note: %s\n", n.c_str());
