@@ -14,7 +14,7 @@ struct RigidBodyCliOptions {
   std::string torque_kind = "auto";  ///< joint | motor | auto (tau_j<j> columns: joint, else motor)
   double com_margin_m = 0.1;
   double sigma_ms = 0.0;
-  double prior_weight = 1.0;
+  double prior_weight = 10.0;
   double friction_eps = 0.0;
   double slow_speed = -1.0;
   bool payload_only = false;

@@ -59,7 +59,7 @@ struct RigidBodyIdOptions {
   /// joint may stick; stiction is not a function of the state); < 0: 3 eps, and a joint's
   /// slow rows go back in when they fit within 2x of its moving rows (it does not stick); 0: keep all.
   double slow_speed_rad_s = -1.0;
-  double prior_weight = 1.0;         ///< prior std = parameter scale / sqrt(prior_weight), rows in noise units
+  double prior_weight = 10.0;        ///< prior std = parameter scale / sqrt(prior_weight) (~30 %), rows in noise units
 };
 
 struct RigidBodyIdResult {
