@@ -301,6 +301,40 @@ TEST(RigidBodyIdentification, RecoversLinkMassAndPayload) {
   EXPECT_NEAR(first_moment, mp * cp.x(), 0.05 * mp * cp.x());
 }
 
+TEST(RigidBodyIdentification, PayloadOnlyRecoversThePayload) {
+  const robot::RobotModel prior = robot::load_robot(kSource + "/models/ref3.yaml");
+  sim::Scenario sc = sim::load_scenario(kSource + "/scenarios/free_motion.yaml");
+  sim::SimulationSetup& st = sc.setup;
+  sim::JointVector q0(3);
+  q0 << -0.6, 0.1, -1.6;
+  st.trajectory = std::make_shared<MultiSine>(q0, 40.0);
+  st.duration_s = 40.0;
+  st.nominal_links = prior.plant_links();
+  const double mp = 1.5;
+  const Eigen::Vector3d cp(0.30, -0.02, 0.04);
+  {
+    sim::PlantLink payload;
+    payload.mass = mp;
+    payload.com = cp;
+    payload.inertia_com = Eigen::Matrix3d::Identity() * 1e-3;
+    dyn::LinkParams p3 = dyn::link_params(st.plant.links[2]) + dyn::link_params(payload);
+    st.plant.links[2] = dyn::with_params(st.plant.links[2], p3);
+  }
+  for (auto& f : st.plant.friction) f.lugre.tau_s = f.lugre.tau_c;
+  const io::Recording rec = sim::run_simulation(st).recording;
+  dyn::RigidBodyIdOptions opt;
+  opt.payload_only = true;
+  const dyn::RigidBodyIdResult r = dyn::identify_rigid_body(rec, prior, opt);
+  std::printf("payload-only: %.3f kg at (%.3f %.3f %.3f), claimed %d\n", r.payload.mass, r.payload.com.x(),
+              r.payload.com.y(), r.payload.com.z(), r.payload.claimed ? 1 : 0);
+  EXPECT_EQ(r.free_parameters, dyn::kLinkParams);
+  EXPECT_TRUE(r.payload.claimed) << r.payload.reason;
+  EXPECT_NEAR(r.payload.mass, mp, 0.05 * mp);
+  EXPECT_LT((r.payload.com - cp).norm(), 0.03);
+  // The arm before the last link is untouched.
+  for (std::size_t i = 0; i + 1 < prior.joints.size(); ++i) EXPECT_EQ(r.model.joints[i].link.mass, prior.joints[i].link.mass);
+}
+
 TEST(UniformGrid, DropsRepeatsAndInterpolatesByTime) {
   io::Recording rec;
   rec.resize(1, 6, false, true, false, false);
