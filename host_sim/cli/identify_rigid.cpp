@@ -79,7 +79,11 @@ void add_rigid_body_options(CLI::App* cmd, RigidBodyCliOptions& o) {
 
 int run_identify_rigid(const std::string& recording, const std::string& model_path, const std::string& json,
                        double rate_hz, const RigidBodyCliOptions& o) {
-  const robot::RobotModel prior = robot::load_robot(model_path);
+  return run_identify_rigid(recording, robot::load_robot(model_path), model_path, json, rate_hz, o);
+}
+
+int run_identify_rigid(const std::string& recording, const robot::RobotModel& prior, const std::string& model_path,
+                       const std::string& json, double rate_hz, const RigidBodyCliOptions& o) {
   io::Recording rec = io::read_recording(recording);
   std::string resampling = "none (uniform steps)";
   if (rate_hz > 0.0 || !dyn::is_uniform(rec)) {

@@ -6,6 +6,8 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
+#include "robot/robot_model.hpp"
+
 namespace jg::cli {
 
 struct RigidBodyCliOptions {
@@ -27,5 +29,9 @@ void add_rigid_body_options(CLI::App* cmd, RigidBodyCliOptions& o);
 /// Runs it; `rate_hz` > 0 resamples by time stamp to that rate first. Exit code 0/1.
 int run_identify_rigid(const std::string& recording, const std::string& model, const std::string& json, double rate_hz,
                        const RigidBodyCliOptions& o);
+/// The same with the prior already loaded (e.g. with URDF/drive load options); `model_label`
+/// names it in the outputs.
+int run_identify_rigid(const std::string& recording, const robot::RobotModel& prior, const std::string& model_label,
+                       const std::string& json, double rate_hz, const RigidBodyCliOptions& o);
 
 }  // namespace jg::cli
