@@ -1,5 +1,6 @@
 #include "robot/robot_writer.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -53,7 +54,12 @@ std::string robot_yaml(const RobotModel& m, const std::string& header) {
     o << "    gear_ratio: " << num(j.gear_ratio) << "\n";
     o << "    torque_constant_nm_per_a: " << num(l.torque_constant) << "\n";
     o << "    current_limit_a: " << num(l.current_limit) << "\n";
-    o << "    limits_rad: [" << num(j.lower_rad) << ", " << num(j.upper_rad) << "]\n";
+    if (std::isfinite(j.lower_rad) && std::isfinite(j.upper_rad)) {
+      o << "    limits_rad: [" << num(j.lower_rad) << ", " << num(j.upper_rad) << "]\n";
+    } else {
+      // The YAML format refuses non-finite numbers: a continuous joint (URDF) has no key.
+      o << "    # continuous joint: no limits_rad\n";
+    }
     o << "    reach_m: " << num(j.reach_m) << "\n";
   }
   return o.str();
