@@ -497,7 +497,6 @@ RigidBodyIdResult identify_rigid_body(const io::Recording& rec, const robot::Rob
                     res.heldout_mse_ratio);
       res.notes.emplace_back(buf);
       x = x_prior_fric;
-      for (auto& l : res.links) l.step = 1.0;
     }
   }
 

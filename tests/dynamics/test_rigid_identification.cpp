@@ -5,9 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <random>
 
 #include "dynamics/acceleration.hpp"
@@ -247,18 +245,8 @@ TEST(RigidBodyIdentification, RecoversLinkMassAndPayload) {
 
   dyn::RigidBodyIdOptions opt;
   opt.joint_torque_sensor = false;
-  if (const char* e = std::getenv("JG_SIGMA")) opt.sigma_s = std::atof(e);
-  if (const char* e = std::getenv("JG_SLOW")) opt.slow_speed_rad_s = std::atof(e);
   const dyn::RigidBodyIdResult r = dyn::identify_rigid_body(rec, prior, opt);
   const double noise = 0.01 * 12.0;  // current noise x K_I [N·m]
-  if (const char* dump = std::getenv("JG_DUMP")) {
-    std::ofstream f(dump);
-    for (std::size_t k = 0; k < rec.samples(); ++k) {
-      f << rec.t[k];
-      for (std::size_t j = 0; j < 3; ++j) f << "," << rec.dq[j][k] << "," << r.ddq[j][k] << "," << r.measured[j][k] - r.predicted[j][k];
-      f << "\n";
-    }
-  }
   std::printf("base parameters %d of %d, sigma %.1f ms, step %.3f\n", r.base_parameters, r.free_parameters,
               r.acceleration.sigma_s * 1e3, r.feasibility_step);
   for (std::size_t j = 0; j < 3; ++j) {
@@ -367,7 +355,6 @@ TEST(RigidBodyIdentification, RealPandaBeatsThePublishedModel) {
   const io::Recording rec = dyn::to_uniform_grid(raw, 0.001, &note);
   dyn::RigidBodyIdOptions opt;
   opt.joint_torque_sensor = true;
-  if (const char* e = std::getenv("JG_SLOW")) opt.slow_speed_rad_s = std::atof(e);
   const dyn::RigidBodyIdResult r = dyn::identify_rigid_body(rec, prior, opt);
   std::printf("%s\nbase parameters %d of %d, sigma %.1f ms (band %.2f Hz), step %.3f\n", note.c_str(), r.base_parameters,
               r.free_parameters, r.acceleration.sigma_s * 1e3, r.acceleration.cutoff_hz, r.feasibility_step);
