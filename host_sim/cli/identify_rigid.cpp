@@ -87,12 +87,22 @@ int run_identify_rigid(const std::string& recording, const robot::RobotModel& pr
   io::Recording rec = io::read_recording(recording);
   std::string resampling = "none (uniform steps)";
   if (rate_hz > 0.0 || !dyn::is_uniform(rec)) {
-    rec = dyn::to_uniform_grid(rec, rate_hz > 0.0 ? 1.0 / rate_hz : 0.0, &resampling);
+    try {
+      rec = dyn::to_uniform_grid(rec, rate_hz > 0.0 ? 1.0 / rate_hz : 0.0, &resampling);
+    } catch (const std::invalid_argument& e) {
+      std::fprintf(stderr, "%s: %s\n", recording.c_str(), e.what());
+      return 1;
+    }
     std::printf("%s\n", resampling.c_str());
   }
   dyn::RigidBodyIdOptions opt;
   bool tau_j = false;
-  (void)dyn::recording_torque(rec, prior, &tau_j);
+  try {
+    (void)dyn::recording_torque(rec, prior, &tau_j);
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "%s: %s\n", recording.c_str(), e.what());
+    return 1;
+  }
   opt.joint_torque_sensor = o.torque_kind == "joint" || (o.torque_kind == "auto" && tau_j);
   if (o.torque_kind == "motor" && tau_j) {
     std::fprintf(stderr, "%s: --torque-kind motor, but the torque columns are tau_j<j> (a joint torque sensor)\n",

@@ -53,7 +53,17 @@ io::Recording to_uniform_grid(const io::Recording& rec, double dt, std::string* 
   }
   if (rows.size() < 2) throw std::invalid_argument("fewer than two distinct rows: cannot resample");
   const std::vector<double> tk = pick(rec.t, rows);
-  if (!(dt > 0.0)) dt = median_step(tk);
+  const double typical = median_step(tk);
+  if (!(dt > 0.0)) dt = typical;
+  // Interpolating across a long gap would invent motion: refuse it (segments are io's job).
+  for (std::size_t k = 1; k < tk.size(); ++k) {
+    if (tk[k] - tk[k - 1] > std::max(20.0 * typical, 0.05)) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "gap of %.3f s after t = %.6f s (typical step %.4f s): split the recording first",
+                    tk[k] - tk[k - 1], tk[k - 1], typical);
+      throw std::invalid_argument(buf);
+    }
+  }
   const double t0 = tk.front();
   const auto m = static_cast<std::size_t>(std::floor((tk.back() - t0) / dt + 1e-9)) + 1;
   io::Recording out;

@@ -15,6 +15,8 @@ namespace jg::dyn {
 [[nodiscard]] bool is_uniform(const io::Recording& rec);
 
 /// dt <= 0: the median step of the kept rows. `note` (optional) receives what was done.
+/// Throws std::invalid_argument for fewer than two distinct rows or a gap over max(20 median
+/// steps, 50 ms) between distinct rows (repeated states at rest leave shorter gaps).
 [[nodiscard]] io::Recording to_uniform_grid(const io::Recording& rec, double dt, std::string* note = nullptr);
 
 }  // namespace jg::dyn
