@@ -10,6 +10,7 @@
 
 #include "dynamics/acceleration.hpp"
 #include "dynamics/base_parameters.hpp"
+#include "dynamics/constrained_fit.hpp"
 #include "dynamics/physical_consistency.hpp"
 #include "dynamics/regressor.hpp"
 #include "dynamics/rigid_body_identification.hpp"
@@ -140,6 +141,35 @@ TEST(PhysicalConsistency, RejectsAndSteps) {
   dyn::LinkParams neg = p;
   neg(0) = -1.0;
   EXPECT_FALSE(dyn::check_link(neg, b).ok);
+}
+
+TEST(ConstrainedFit, NearestFeasiblePointBeatsTheLineSearch) {
+  // Minimise |x - target|^2 (scaled) for one link whose target breaks the triangle
+  // inequality and puts the CoM outside its sphere: the barrier's optimum must be feasible,
+  // on the boundary, and no farther than the line-search point from the prior.
+  const auto model = robot::load_robot(kSource + "/models/ref3.yaml");
+  const sim::PlantLink l = model.plant_links()[1];
+  dyn::LinkBounds b;
+  b.com_radius_m = 0.3;
+  const dyn::LinkParams p0 = dyn::link_params(l);
+  dyn::LinkParams target = p0;
+  target(4) += 0.2;                 // I_xx far above I_yy + I_zz
+  target.segment<3>(1) *= 1.8;      // CoM 0.36 m out
+  ASSERT_FALSE(dyn::check_link(target, b).ok);
+  ASSERT_TRUE(dyn::strictly_feasible(p0, b));
+  Eigen::VectorXd w(dyn::kLinkParams);
+  w << 1.0, 10.0, 10.0, 10.0, 100.0, 100.0, 100.0, 100.0, 100.0, 100.0;  // per-unit scaling
+  const Eigen::MatrixXd Q = w.cwiseProduct(w).asDiagonal();
+  const Eigen::VectorXd c = Q * target;
+  const auto r = dyn::constrained_minimize(Q, c, p0, std::vector<bool>(dyn::kLinkParams, true), {{0, b}}, {});
+  EXPECT_TRUE(r.converged);
+  const dyn::LinkParams x = r.x;
+  EXPECT_TRUE(dyn::check_link(x, b).ok) << dyn::check_link(x, b).reason;
+  const auto cost = [&](const dyn::LinkParams& v) { return (w.cwiseProduct(v - target)).squaredNorm(); };
+  const double s = dyn::feasible_step(p0, target, b);
+  EXPECT_LT(cost(x), cost(p0 + s * (target - p0)));
+  // On the boundary: a small step towards the target leaves the feasible set.
+  EXPECT_FALSE(dyn::check_link(x + 0.01 * (target - x), b).ok);
 }
 
 TEST(RobotWriter, WritesWhatTheReaderReadsBack) {
