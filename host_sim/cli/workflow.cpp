@@ -6,6 +6,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/identify_rigid.hpp"
 #include "cli/progress.hpp"
 #include "eval/pipeline.hpp"
 
@@ -41,7 +42,13 @@ Command add_identify(CLI::App& app) {
   cmd->add_option("--runs", o->runs, "GA runs (result = mean)")->capture_default_str()->check(CLI::Range(1, 100));
   cmd->add_option("--rate", o->rate, "Resample the recording to this rate [Hz] first");
   cmd->add_option("--gain", o->observer.gains[0], "First-order observer gain K [1/s]")->capture_default_str();
-  return {cmd, [o]() {
+  auto rigid = std::make_shared<RigidBodyCliOptions>();
+  add_rigid_body_options(cmd, *rigid);
+  return {cmd, [o, rigid]() {
+            if (rigid->enabled) {
+              return run_identify_rigid(o->recording, robot::load_robot(o->model, o->model_options), o->model, o->json,
+                                        o->rate, *rigid);
+            }
             const auto model = robot::load_robot(o->model, o->model_options);
             const auto rec = load_recording(*o);
             ident::GaSettings ga;

@@ -51,10 +51,13 @@ VectorXd lsq(const MatrixXd& X, const VectorXd& y) {
 
 double soft_sign(double w, double band) { return std::fabs(w) >= band ? (w > 0.0 ? 1.0 : -1.0) : w / band; }
 
-/// Nuisance columns of joint j (offset, Coulomb sign, viscous), zero on other joints' rows.
+/// Nuisance columns of joint j, zero on other joints' rows: what one joint's own drive or
+/// friction adds (offset, Coulomb sign, viscous, and its rotor's inertia: acceleration),
+/// so that an arm-level cause must explain more than that.
+constexpr int kNuisance = 4;
 MatrixXd nuisance(const std::vector<JointSignals>& js, const Stack& st) {
   const auto nr = static_cast<Eigen::Index>(st.rows.size() * st.joints);
-  MatrixXd X = MatrixXd::Zero(nr, static_cast<Eigen::Index>(3 * st.joints));
+  MatrixXd X = MatrixXd::Zero(nr, static_cast<Eigen::Index>(kNuisance * st.joints));
   for (std::size_t j = 0; j < st.joints; ++j) {
     const auto& s = js[j];
     double vmax = 0.0;
@@ -63,10 +66,11 @@ MatrixXd nuisance(const std::vector<JointSignals>& js, const Stack& st) {
     for (std::size_t r = 0; r < st.rows.size(); ++r) {
       const auto row = static_cast<Eigen::Index>(j * st.rows.size() + r);
       const std::size_t k = st.rows[r];
-      const auto c = static_cast<Eigen::Index>(3 * j);
+      const auto c = static_cast<Eigen::Index>(kNuisance * j);
       X(row, c) = st.weight[j];
       X(row, c + 1) = st.weight[j] * soft_sign(s.dq[k], band);
       X(row, c + 2) = st.weight[j] * s.dq[k];
+      X(row, c + 3) = st.weight[j] * s.ddq[k];
     }
   }
   return X;
@@ -219,7 +223,7 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
     return hstack(parts);
   };
   auto param_count = [&](const std::vector<const ArmCandidate*>& cs) {
-    int k = static_cast<int>(3 * js.size());
+    int k = static_cast<int>(kNuisance * js.size());
     for (const auto* c : cs) k += static_cast<int>(c->columns.size()) + c->nonlinear_params;
     return k;
   };

@@ -23,6 +23,17 @@ double friction_truth_step(const JointFrictionTruth& truth, LuGreTruthState& sta
   const double zdot = w - rate * state.z;
   double tau = p.sigma0 * state.z + p.sigma1 * zdot + p.sigma2 * drift_scale * w;
   tau += e.viscous_asymmetry * std::fabs(w);
+  const double sgn = w > 0.0 ? 1.0 : (w < 0.0 ? -1.0 : 0.0);
+  if (e.stribeck_extra_nm != 0.0) {
+    const double v = w / e.stribeck_extra_w_s;
+    tau += e.stribeck_extra_nm * sgn * std::exp(-v * v);
+  }
+  if (e.dahl_extra_nm != 0.0) {
+    const double dx = w * dt;
+    if (sgn != 0.0) state.dahl = sgn + (state.dahl - sgn) * std::exp(-std::fabs(dx) / e.dahl_displacement_rad);
+    tau += e.dahl_extra_nm * (state.dahl - sgn);
+  }
+  if (e.drift_extra_nm != 0.0) tau += e.drift_extra_nm * sgn * (1.0 - std::exp(-time_s / e.drift_extra_time_constant_s));
   if (e.ripple_amplitude != 0.0) {
     tau += e.ripple_amplitude * std::sin(e.ripple_periods_per_rev * q + e.ripple_phase);
   }

@@ -22,6 +22,17 @@ struct FrictionEffects {
   // load_dependent_friction: Coulomb level += mu |tau_load|, tau_load = the torque the gear
   // transmits (motor torque less friction)
   double load_coefficient = 0.0;
+  // Shapes added to the friction as the diagnosis fits them (written back by `diagnose
+  // --model-out`, sim/apply_effects.cpp), where they are not a change of a LuGre parameter:
+  // Stribeck excess: tau += A sgn(w) exp(-(w / w_s)^2)
+  double stribeck_extra_nm = 0.0;
+  double stribeck_extra_w_s = 0.01;  ///< [rad/s]
+  // presliding (Dahl): tau += A (zeta - sgn w), zeta -> sgn w over a displacement delta
+  double dahl_extra_nm = 0.0;
+  double dahl_displacement_rad = 1e-3;
+  // temperature drift of the level: tau += D sgn(w) (1 - exp(-t / tau))
+  double drift_extra_nm = 0.0;
+  double drift_extra_time_constant_s = 600.0;
   // current_offset / torque_constant are sensor/actuator effects (see sensors.hpp).
 };
 
@@ -31,7 +42,8 @@ struct JointFrictionTruth {
 };
 
 struct LuGreTruthState {
-  double z = 0.0;  ///< bristle deflection [rad]
+  double z = 0.0;     ///< bristle deflection [rad]
+  double dahl = 0.0;  ///< state of the added presliding shape (FrictionEffects::dahl_extra_nm)
 };
 
 /// Advances z over `dt` with velocity w held and returns the friction torque at the end.

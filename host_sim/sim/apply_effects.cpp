@@ -44,20 +44,24 @@ void apply_effect(const robot::PlantEffect& e, std::size_t j, int joint, Simulat
     os << "viscous: sigma2 " << lugre.sigma2;
     lugre.sigma2 = std::max(0.0, lugre.sigma2 + b[0]);
     os << " -> " << lugre.sigma2 << " N·m·s/rad";
-  } else if (e.effect == "stribeck") {
+  } else if (e.effect == "stribeck" && model_curve) {
     os << "stribeck: tau_s " << lugre.tau_s;
     lugre.tau_s = positive(lugre.tau_s + b[0]);
-    if (!model_curve) lugre.w_s = e.setting.at("w_s");  // the fitted shape's Stribeck velocity
-    os << " -> " << lugre.tau_s << " N·m, w_s " << lugre.w_s << " rad/s";
-  } else if (e.effect == "presliding") {
+    os << " -> " << lugre.tau_s << " N·m";
+  } else if (e.effect == "stribeck") {
+    // The fitted shape itself: an excess at low speed with its own Stribeck velocity.
+    f.effects.stribeck_extra_nm = b[0];
+    f.effects.stribeck_extra_w_s = e.setting.at("w_s");
+    os << "stribeck: " << b[0] << " N·m extra below " << f.effects.stribeck_extra_w_s << " rad/s";
+  } else if (e.effect == "presliding" && e.setting.count("sigma0_ratio") != 0U) {
     os << "presliding: sigma0 " << lugre.sigma0;
-    if (e.setting.count("sigma0_ratio") != 0U) {
-      const double ratio = e.setting.at("sigma0_ratio") * b[0] + (1.0 - b[0]);
-      lugre.sigma0 = positive(lugre.sigma0 * ratio);
-    } else {  // Dahl displacement delta: bristle stiffness = level / delta
-      lugre.sigma0 = positive(std::max(std::fabs(b[0]), lugre.tau_c) / e.setting.at("displacement_rad"));
-    }
+    lugre.sigma0 = positive(lugre.sigma0 * (e.setting.at("sigma0_ratio") * b[0] + (1.0 - b[0])));
     os << " -> " << lugre.sigma0 << " N·m/rad";
+  } else if (e.effect == "presliding") {
+    // The fitted Dahl shape itself (a LuGre bristle stiffness would change the whole curve).
+    f.effects.dahl_extra_nm = b[0];
+    f.effects.dahl_displacement_rad = e.setting.at("displacement_rad");
+    os << "presliding: Dahl shape " << b[0] << " N·m over " << f.effects.dahl_displacement_rad << " rad";
   } else if (e.effect == "asymmetric_friction") {
     // The plant scales the Coulomb/static levels by 1 +/- a: a level difference b0 is a = b0 / tau_c.
     f.effects.asymmetry = std::clamp(f.effects.asymmetry + b[0] / lugre.tau_c, -0.95, 0.95);
@@ -70,9 +74,10 @@ void apply_effect(const robot::PlantEffect& e, std::size_t j, int joint, Simulat
     f.effects.ripple_phase = std::atan2(b[1], b[0]);
     os << "position_ripple: " << f.effects.ripple_amplitude << " N·m, " << f.effects.ripple_periods_per_rev << " per turn";
   } else if (e.effect == "temperature_drift") {
-    f.effects.drift = b[0] / lugre.tau_c;
-    f.effects.drift_time_constant_s = e.setting.at("time_constant_s");
-    os << "temperature_drift: levels x(1 + " << f.effects.drift << " (1 - exp(-t / " << f.effects.drift_time_constant_s << " s)))";
+    // The fitted shape itself: the level, not the viscous term, drifts.
+    f.effects.drift_extra_nm = b[0];
+    f.effects.drift_extra_time_constant_s = e.setting.at("time_constant_s");
+    os << "temperature_drift: level + " << b[0] << " N·m (1 - exp(-t / " << f.effects.drift_extra_time_constant_s << " s))";
   } else if (e.effect == "load_dependent_friction") {
     f.effects.load_coefficient += b[0];
     os << "load_dependent_friction: " << f.effects.load_coefficient << " N·m per N·m";

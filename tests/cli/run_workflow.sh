@@ -15,6 +15,14 @@ done
 "$J" simulate scenarios/paper_collision_shoulder.yaml --out "$W/shoulder.csv"
 "$J" identify "$W/excitation.csv" --model models/ref3.yaml --runs 2 --gain 150 --json "$W/friction.json"
 "$J" calibrate "$W/free.csv" --model models/ref3.yaml --friction "$W/friction.json" --json "$W/threshold.json"
+# Whole-arm rigid-body identification writes a robot file that --model accepts.
+"$J" identify "$W/free.csv" --model models/ref3.yaml --rigid-body --model-out "$W/ref3_id.yaml" --json "$W/rbid.json" > /dev/null
+grep -q '"base_parameters"' "$W/rbid.json" || { echo "rigid-body JSON lacks base_parameters"; exit 1; }
+"$J" calibrate "$W/free.csv" --model "$W/ref3_id.yaml" --friction "$W/friction.json" --json "$W/threshold_id.json" > /dev/null
+set +e
+"$J" identify "$W/excitation.csv" --model models/panda.yaml --rigid-body --model-out "$W/never.yaml" 2> "$W/err.txt"; rc=$?
+set -e
+{ [ "$rc" = 1 ] && [ ! -e "$W/never.yaml" ]; } || { echo "rigid-body on a mismatched model: exit 1, nothing written (got $rc)"; exit 1; }
 "$J" replay "$W/shoulder.csv" --model models/ref3.yaml --friction "$W/friction.json" --threshold "$W/threshold.json" --scalar q --json "$W/events.json"
 grep -q '"link": 2' "$W/events.json" || { echo "replay did not isolate link 2"; exit 1; }
 "$J" evaluate --scenario paper --rate 125 --scalar q --free-run 20 --json "$W/paper.json"

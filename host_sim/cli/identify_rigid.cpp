@@ -1,0 +1,228 @@
+#include "cli/identify_rigid.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "dynamics/rigid_body_identification.hpp"
+#include "dynamics/uniform_grid.hpp"
+#include "io/recording.hpp"
+#include "robot/robot_model.hpp"
+#include "robot/robot_writer.hpp"
+
+namespace jg::cli {
+namespace {
+
+nlohmann::json link_json(const dyn::LinkParams& p) {
+  const Eigen::Matrix3d Ic = dyn::inertia_com(p);
+  const double m = p(0);
+  const Eigen::Vector3d c = m > 0.0 ? Eigen::Vector3d(p.segment<3>(1) / m) : Eigen::Vector3d::Zero();
+  return {{"mass_kg", m},
+          {"com_m", {c.x(), c.y(), c.z()}},
+          {"first_moment_kg_m", {p(1), p(2), p(3)}},
+          {"inertia_com_kg_m2", {{"xx", Ic(0, 0)}, {"yy", Ic(1, 1)}, {"zz", Ic(2, 2)}, {"xy", Ic(0, 1)}, {"xz", Ic(0, 2)}, {"yz", Ic(1, 2)}}},
+          {"inertia_origin_kg_m2", {{"xx", p(4)}, {"yy", p(5)}, {"zz", p(6)}, {"xy", p(7)}, {"xz", p(8)}, {"yz", p(9)}}}};
+}
+
+/// Both outputs are prepared in full, written to temporary files, then renamed.
+void write_text_atomically(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+    if (!f) throw io::FormatError(path + ": cannot open for writing");
+    f << text;
+    f.flush();
+    if (!f) {
+      std::filesystem::remove(tmp);
+      throw io::FormatError(path + ": write failed");
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw io::FormatError(path + ": cannot rename the temporary file into place");
+  }
+}
+
+}  // namespace
+
+void add_rigid_body_options(CLI::App* cmd, RigidBodyCliOptions& o) {
+  cmd->add_flag("--rigid-body", o.enabled,
+                "Identify the whole arm's rigid-body parameters (+ payload, + per-joint friction) instead of LuGre;\n"
+                "example: jointguard identify rec.csv --model models/panda.yaml --rigid-body --torque-kind joint --model-out out/panda_id.yaml --json out/rbid.json");
+  cmd->add_option("--model-out", o.model_out, "With --rigid-body: write the corrected robot file here (YAML)");
+  cmd->add_option("--torque-kind", o.torque_kind,
+                  "With --rigid-body: the torque columns are 'joint' (link-side torque sensor: no rotor inertia) or\n"
+                  "'motor' (K_I i: rotor inertia identified too); 'auto': joint when tau_j<j> columns are present")
+      ->check(CLI::IsMember({"auto", "joint", "motor"}))
+      ->capture_default_str();
+  cmd->add_option("--com-margin", o.com_margin_m,
+                  "With --rigid-body: CoM bound = max(reach, |prior CoM|) + this [m]")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 10.0));
+  cmd->add_option("--sigma-ms", o.sigma_ms, "With --rigid-body: acceleration filter width [ms] (default: from the data)")
+      ->check(CLI::Range(0.0, 10000.0));
+  cmd->add_option("--prior-weight", o.prior_weight,
+                  "With --rigid-body: weight of the robot file's values (prior std = parameter scale / sqrt(w))")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-9, 1e9));
+  cmd->add_option("--friction-eps", o.friction_eps,
+                  "With --rigid-body: Coulomb tanh velocity scale [rad/s] (default: 3x the velocity noise)")
+      ->check(CLI::Range(0.0, 100.0));
+  cmd->add_option("--slow-speed", o.slow_speed,
+                  "With --rigid-body: rows slower than this [rad/s] are left out of the fit (default: 3x the tanh scale; 0: keep all)");
+  cmd->add_flag("--payload-only", o.payload_only, "With --rigid-body: only the payload (last link) + friction, arm at the prior");
+  cmd->add_flag("--asymmetric-coulomb", o.asymmetric_coulomb, "With --rigid-body: separate Coulomb levels per direction");
+}
+
+int run_identify_rigid(const std::string& recording, const std::string& model_path, const std::string& json,
+                       double rate_hz, const RigidBodyCliOptions& o) {
+  return run_identify_rigid(recording, robot::load_robot(model_path), model_path, json, rate_hz, o);
+}
+
+int run_identify_rigid(const std::string& recording, const robot::RobotModel& prior, const std::string& model_path,
+                       const std::string& json, double rate_hz, const RigidBodyCliOptions& o) {
+  io::Recording rec = io::read_recording(recording);
+  std::string resampling = "none (uniform steps)";
+  if (rate_hz > 0.0 || !dyn::is_uniform(rec)) {
+    try {
+      rec = dyn::to_uniform_grid(rec, rate_hz > 0.0 ? 1.0 / rate_hz : 0.0, &resampling);
+    } catch (const std::invalid_argument& e) {
+      std::fprintf(stderr, "%s: %s\n", recording.c_str(), e.what());
+      return 1;
+    }
+    std::printf("%s\n", resampling.c_str());
+  }
+  dyn::RigidBodyIdOptions opt;
+  bool tau_j = false;
+  try {
+    (void)dyn::recording_torque(rec, prior, &tau_j);
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "%s: %s\n", recording.c_str(), e.what());
+    return 1;
+  }
+  opt.joint_torque_sensor = o.torque_kind == "joint" || (o.torque_kind == "auto" && tau_j);
+  if (o.torque_kind == "motor" && tau_j) {
+    std::fprintf(stderr, "%s: --torque-kind motor, but the torque columns are tau_j<j> (a joint torque sensor)\n",
+                 recording.c_str());
+    return 1;
+  }
+  opt.payload_only = o.payload_only;
+  opt.asymmetric_coulomb = o.asymmetric_coulomb;
+  opt.com_margin_m = o.com_margin_m;
+  opt.sigma_s = o.sigma_ms * 1e-3;
+  opt.prior_weight = o.prior_weight;
+  opt.friction_eps = o.friction_eps;
+  opt.slow_speed_rad_s = o.slow_speed;
+  dyn::RigidBodyIdResult r;
+  try {
+    r = dyn::identify_rigid_body(rec, prior, opt);
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "%s: %s\n", recording.c_str(), e.what());
+    return 1;
+  }
+  const char* kind = opt.joint_torque_sensor ? "joint (torque sensor: no rotor inertia)" : "motor (rotor inertia identified)";
+  std::printf("torque kind: %s\n", kind);
+  std::printf("acceleration: zero-phase Gaussian derivative of dq, sigma = %.1f ms (velocity band %.2f Hz)\n",
+              r.acceleration.sigma_s * 1e3, r.acceleration.cutoff_hz);
+  std::printf("base parameters: %d of %d rigid-body parameters estimated; line-search step from the prior %.3f\n",
+              r.base_parameters, r.free_parameters, r.feasibility_step);
+  std::printf("held-out RMS (blocks 1, 4, 7 of 10) [N·m]:\n joint  prior rigid  prior+friction  identified   f_c     f_v     f_o\n");
+  for (std::size_t j = 0; j < r.friction.size(); ++j) {
+    const auto& f = r.friction[j];
+    std::printf("%5d  %10.4f  %14.4f  %10.4f  %7.4f %7.4f %7.4f\n", rec.joint_ids[j], r.heldout_rms_prior_rigid[j],
+                r.heldout_rms_prior[j], r.heldout_rms_after[j], f.coulomb, f.viscous, f.offset);
+  }
+  std::printf("identified links %s (held-out MSE ratio against the prior + friction %.3f)\n",
+              r.accepted ? "kept" : "NOT kept: prior's links written", r.heldout_mse_ratio);
+  for (std::size_t i = 0; i < r.links.size(); ++i) {
+    const auto& l = r.links[i];
+    std::printf("link %zu: mass %.4f -> %.4f kg, %s\n", i + 1, l.before(0), l.after(0),
+                l.consistency.ok ? "physically consistent" : l.consistency.reason.c_str());
+  }
+  if (r.payload.claimed) {
+    std::printf("payload (last link's change): %.3f kg at (%.3f, %.3f, %.3f) m\n", r.payload.mass, r.payload.com.x(),
+                r.payload.com.y(), r.payload.com.z());
+  } else {
+    std::printf("payload: not claimed (%s)\n", r.payload.reason.c_str());
+  }
+  for (const auto& n : r.notes) std::printf("note: %s\n", n.c_str());
+
+  nlohmann::json out;
+  nlohmann::json rb = {{"recording", recording},
+                       {"prior_model", model_path},
+                       {"torque_kind", opt.joint_torque_sensor ? "joint" : "motor"},
+                       {"resampling", resampling},
+                       {"acceleration_filter",
+                        {{"type", "zero-phase Gaussian derivative of dq"},
+                         {"sigma_s", r.acceleration.sigma_s},
+                         {"velocity_band_hz", r.acceleration.cutoff_hz}}},
+                       {"base_parameters", r.base_parameters},
+                       {"free_parameters", r.free_parameters},
+                       {"feasibility_step", r.feasibility_step},
+                       {"accepted", r.accepted},
+                       {"heldout_mse_ratio", r.heldout_mse_ratio},
+                       {"train_samples", r.train_samples},
+                       {"heldout_samples", r.heldout_samples},
+                       {"heldout_blocks", {1, 4, 7}},
+                       {"notes", r.notes}};
+  for (std::size_t i = 0; i < r.links.size(); ++i) {
+    const auto& l = r.links[i];
+    rb["links"].push_back({{"link", i + 1},
+                           {"before", link_json(l.before)},
+                           {"after", link_json(l.after)},
+                           {"rotor_inertia_before", l.rotor_before},
+                           {"rotor_inertia_after", l.rotor_after},
+                           {"consistent", l.consistency.ok},
+                           {"com_bound_m", l.com_bound_m},
+                           {"line_search_step", l.step}});
+  }
+  const auto& p = r.payload;
+  rb["payload"] = {{"mass_kg", p.mass},
+                   {"com_m", {p.com.x(), p.com.y(), p.com.z()}},
+                   {"inertia_com_kg_m2",
+                    {{"xx", p.inertia_com(0, 0)}, {"yy", p.inertia_com(1, 1)}, {"zz", p.inertia_com(2, 2)},
+                     {"xy", p.inertia_com(0, 1)}, {"xz", p.inertia_com(0, 2)}, {"yz", p.inertia_com(1, 2)}}},
+                   {"claimed", p.claimed},
+                   {"reason", p.reason}};
+  out["rigid_body"] = rb;
+  for (std::size_t j = 0; j < r.friction.size(); ++j) {
+    const auto& f = r.friction[j];
+    out["joints"].push_back({{"joint", rec.joint_ids[j]},
+                             {"friction",
+                              {{"coulomb", f.coulomb},
+                               {"coulomb_pos", f.coulomb_pos},
+                               {"coulomb_neg", f.coulomb_neg},
+                               {"viscous", f.viscous},
+                               {"offset", f.offset},
+                               {"tanh_eps_rad_s", f.eps}}},
+                             {"rms_prior_rigid", r.rms_prior_rigid[j]},
+                             {"rms_before", r.rms_before[j]},
+                             {"rms_after", r.rms_after[j]},
+                             {"heldout_rms_prior_rigid", r.heldout_rms_prior_rigid[j]},
+                             {"heldout_rms_before", r.heldout_rms_prior[j]},
+                             {"heldout_rms_after", r.heldout_rms_after[j]},
+                             {"heldout_moving_rms_before", r.heldout_moving_rms_prior[j]},
+                             {"heldout_moving_rms_after", r.heldout_moving_rms_after[j]},
+                             {"slow_speed_rad_s", r.slow_speed_rad_s[j]},
+                             {"noise_std", r.noise_weight[j]}});
+  }
+  // Write only after everything is computed: model first, then the JSON, each atomically.
+  if (!o.model_out.empty()) {
+    robot::RobotModel m = r.model;
+    robot::write_robot(o.model_out, m,
+                       "Identified by: jointguard identify " + recording + " --model " + model_path +
+                           " --rigid-body (torque kind " + (opt.joint_torque_sensor ? "joint" : "motor") +
+                           ")\nFormat: docs/robot-model.md. Per-joint friction and figures: the --json output.");
+    std::printf("wrote %s\n", o.model_out.c_str());
+  }
+  if (!json.empty()) {
+    write_text_atomically(json, out.dump(2) + "\n");
+    std::printf("wrote %s\n", json.c_str());
+  }
+  return 0;
+}
+
+}  // namespace jg::cli
