@@ -62,7 +62,7 @@ std::string robot_yaml(const RobotModel& m, const std::string& header) {
     }
     o << "    reach_m: " << num(j.reach_m) << "\n";
   }
-  write_plant_effects(o, model.plant_effects);
+  write_plant_effects(o, m.plant_effects);
   return o.str();
 }
 
