@@ -52,12 +52,14 @@ VectorXd lsq(const MatrixXd& X, const VectorXd& y) {
 double soft_sign(double w, double band) { return std::fabs(w) >= band ? (w > 0.0 ? 1.0 : -1.0) : w / band; }
 
 /// Nuisance columns of joint j, zero on other joints' rows: what one joint's own drive or
-/// friction adds (offset, Coulomb sign, viscous, and its rotor's inertia: acceleration),
-/// so that an arm-level cause must explain more than that.
-constexpr int kNuisance = 4;
-MatrixXd nuisance(const std::vector<JointSignals>& js, const Stack& st) {
+/// friction adds (offset, Coulomb sign, viscous), fitted beside every arm-level cause so that
+/// it must explain more than that; with_acceleration adds the joint's own acceleration (a
+/// rotor inertia), used to judge whether a cause can be told apart from per-joint effects.
+constexpr int kNuisance = 3;
+MatrixXd nuisance(const std::vector<JointSignals>& js, const Stack& st, bool with_acceleration = false) {
   const auto nr = static_cast<Eigen::Index>(st.rows.size() * st.joints);
-  MatrixXd X = MatrixXd::Zero(nr, static_cast<Eigen::Index>(kNuisance * st.joints));
+  const int per_joint = kNuisance + (with_acceleration ? 1 : 0);
+  MatrixXd X = MatrixXd::Zero(nr, static_cast<Eigen::Index>(per_joint * st.joints));
   for (std::size_t j = 0; j < st.joints; ++j) {
     const auto& s = js[j];
     double vmax = 0.0;
@@ -66,11 +68,11 @@ MatrixXd nuisance(const std::vector<JointSignals>& js, const Stack& st) {
     for (std::size_t r = 0; r < st.rows.size(); ++r) {
       const auto row = static_cast<Eigen::Index>(j * st.rows.size() + r);
       const std::size_t k = st.rows[r];
-      const auto c = static_cast<Eigen::Index>(kNuisance * j);
+      const auto c = static_cast<Eigen::Index>(per_joint * static_cast<int>(j));
       X(row, c) = st.weight[j];
       X(row, c + 1) = st.weight[j] * soft_sign(s.dq[k], band);
       X(row, c + 2) = st.weight[j] * s.dq[k];
-      X(row, c + 3) = st.weight[j] * s.ddq[k];
+      if (with_acceleration) X(row, c + 3) = st.weight[j] * s.ddq[k];
     }
   }
   return X;
@@ -212,9 +214,35 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
   const std::size_t n_train = static_cast<std::size_t>(y_train.size());
 
   // Candidate groups: the payload (its pick-up time on a grid), each inner link's error.
-  std::vector<std::vector<ArmCandidate>> groups{payload_candidates(js)};
+  std::vector<std::vector<ArmCandidate>> all_groups{payload_candidates(js)};
   if (arm != nullptr && arm->joints() == static_cast<int>(js.size())) {
-    for (int l = 0; l + 1 < arm->joints(); ++l) groups.push_back({link_candidate(js, *arm, l)});
+    for (int l = 0; l + 1 < arm->joints(); ++l) all_groups.push_back({link_candidate(js, *arm, l)});
+  }
+  // A cause must be separable from what single joints add on their own (offset, friction,
+  // a rotor inertia): at least min_separable of its columns' norm outside their span. On a
+  // narrow sinusoidal motion the acceleration is proportional to the displacement and a
+  // link's gravity torque change is a smooth function of it: not separable.
+  std::vector<std::vector<ArmCandidate>> groups;
+  {
+    const MatrixXd Nsep = nuisance(js, train, true);
+    Eigen::HouseholderQR<MatrixXd> qr(Nsep);
+    const MatrixXd Q = qr.householderQ() * MatrixXd::Identity(Nsep.rows(), Nsep.cols());
+    for (auto& g : all_groups) {
+      const MatrixXd Xc = shared(g.front(), train);
+      const double raw = Xc.norm();
+      const double outside = (Xc - Q * (Q.transpose() * Xc)).norm();
+      if (std::getenv("JG_DIAG_TRACE") != nullptr) {
+        std::fprintf(stderr, "  arm %s link %d: %.2f outside per-joint effects\n", g.front().effect.c_str(), g.front().link, outside / std::max(raw, 1e-300));
+      }
+      if (raw > 0.0 && outside >= o.min_separable * raw) {
+        groups.push_back(std::move(g));
+      } else {
+        const auto& c = g.front();
+        d.notes.push_back((c.effect == "payload" ? std::string("payload") : "link " + std::to_string(c.link) + " mass error") +
+                          ": not separable from per-joint effects on this motion (" +
+                          std::to_string(static_cast<int>(100.0 * outside / std::max(raw, 1e-300))) + " % of it outside them)");
+      }
+    }
   }
   auto design = [&](const std::vector<const ArmCandidate*>& cs, const Stack& st) {
     std::vector<MatrixXd> parts;

@@ -25,6 +25,11 @@ struct ArmDiagnosisOptions {
   /// within this share of (nominal mass x com_bound_m).
   double max_link_mass_share = 0.5;
   int max_causes = 2;
+  /// Share of a cause's columns (norm) that must lie outside what single joints add on their
+  /// own (offset, Coulomb, viscous, rotor inertia). 0.4 (variance inflation ~6): on the test
+  /// arm a link's gravity change has 30 % outside over +/-0.6 rad of motion (it is a rotor
+  /// inertia there) and 52 % over +/-1.5 rad; a payload 51 %.
+  double min_separable = 0.4;
 };
 
 struct ArmDiagnosis {
