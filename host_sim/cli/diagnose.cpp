@@ -8,17 +8,28 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
+#include "cli/common.hpp"
 #include "diagnosis/diagnose.hpp"
 #include "diagnosis/pairing.hpp"
 #include "eval/pipeline.hpp"
 #include "report/svg_plot.hpp"
 #include "robot/robot_model.hpp"
+#include "robot/torque_kind.hpp"
 
 namespace jg::cli {
 namespace {
 struct DiagnoseCliOptions {
   std::string model, real, sim, json, friction, out;
+  RecordingOptions input;  ///< for --real; --sim is read as it is (its torque is what the simulation wrote)
 };
+
+/// The simulated segment that covers [t0, t1], or nullptr.
+const io::Recording* covering(const std::vector<io::Recording>& segments, double t0, double t1, double dt) {
+  for (const auto& s : segments) {
+    if (s.t.front() <= t0 + dt && s.t.back() >= t1 - dt) return &s;
+  }
+  return nullptr;
+}
 }  // namespace
 
 Command add_diagnose(CLI::App& app) {
@@ -34,26 +45,46 @@ Command add_diagnose(CLI::App& app) {
   cmd->add_option("--friction", o->friction, "Nominal friction JSON (identify) for the model's prediction")->check(CLI::ExistingFile);
   cmd->add_option("--json", o->json, "Write findings here (contract format)");
   cmd->add_option("--out", o->out, "Folder for the plots (SVG) and summary");
+  o->input.add_to(cmd);
   return {cmd, [o]() {
-            const auto model = robot::load_robot(o->model);
-            const auto real = io::read_recording(o->real);
-            if (real.joints() != model.joints.size()) {
-              throw std::invalid_argument(o->real + ": " + std::to_string(real.joints()) + " joints, the model has " +
+            const LoadedRecording real = load_recording(o->real, o->input);
+            const auto nominal = robot::load_robot(o->model);
+            // A joint torque sensor does not see the rotor: no reflected rotor inertia then.
+            const auto model = robot::for_torque_kind(nominal, real.torque);
+            if (real.longest().joints() != model.joints.size()) {
+              throw std::invalid_argument(o->real + ": " + std::to_string(real.longest().joints()) + " joints, the model has " +
                                           std::to_string(model.joints.size()));
             }
             const sim::ArmDynamics arm(model.plant_links());
             diag::ModelContext ctx;
             ctx.arm = &arm;
             for (const auto& j : model.joints) ctx.torque_constant.push_back(j.link.torque_constant);
+            for (const auto& j : nominal.joints) ctx.rotor_inertia.push_back(j.link.rotor_inertia);
             if (!o->friction.empty()) ctx.friction = eval::read_friction_json(o->friction);
-            std::vector<diag::JointSignals> signals;
-            if (!o->sim.empty()) {
-              const auto simulated = io::read_recording(o->sim);
-              signals = diag::signals_from_pair(real, simulated, ctx);
-            } else {
-              signals = diag::signals_from_model(real, ctx);
-            }
+            // Every uniform segment of the real recording, its derivatives taken within it.
+            std::vector<std::vector<diag::JointSignals>> parts;
             nlohmann::json j;
+            if (!o->sim.empty()) {
+              RecordingOptions sim_input;
+              sim_input.max_gap_s = o->input.max_gap_s;
+              const LoadedRecording simulated = load_recording(o->sim, sim_input);
+              j["simulated"] = {{"resampling", resampling_json(simulated.data.report)}, {"torque", io::to_string(simulated.torque)}};
+              for (const auto& seg : real.data.segments) {
+                const io::Recording* s = covering(simulated.data.segments, seg.t.front(), seg.t.back(), seg.meta.sample_time);
+                if (s == nullptr) {
+                  throw std::invalid_argument(o->sim + ": no continuous part covers the real recording's t = " +
+                                              std::to_string(seg.t.front()) + " .. " + std::to_string(seg.t.back()) + " s");
+                }
+                parts.push_back(diag::signals_from_pair(seg, *s, ctx));
+              }
+            } else {
+              for (const auto& seg : real.data.segments) parts.push_back(diag::signals_from_model(seg, ctx));
+            }
+            if (parts.size() > 1) std::printf("diagnosis over all %zu segments, one after the other\n", parts.size());
+            const std::vector<diag::JointSignals> signals = diag::concatenate_signals(parts);
+            j["resampling"] = resampling_json(real.data.report);
+            j["torque"] = io::to_string(real.torque);
+            j["segments_used"] = parts.size();
             j["joints"] = nlohmann::json::array();
             if (!o->out.empty()) std::filesystem::create_directories(o->out);
             for (const auto& s : signals) {
@@ -105,7 +136,7 @@ Command add_diagnose(CLI::App& app) {
               }
             }
             if (!o->json.empty()) {
-              std::ofstream(o->json) << j.dump(2) << '\n';
+              write_json_file(o->json, j);
               std::printf("wrote %s\n", o->json.c_str());
             }
             return 0;

@@ -1,9 +1,11 @@
 #include "diagnosis/pairing.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "identification/lugre_batch.hpp"
 
@@ -26,14 +28,17 @@ double uniform_dt(const io::Recording& r, const char* which) {
 }
 
 std::vector<double> torque_of(const io::Recording& r, std::size_t j, const ModelContext& m, const char* which) {
-  if (!r.tau_m.empty()) return r.tau_m[j];
+  if (r.torque_kind != io::TorqueKind::current) {
+    const auto& tau = io::torque_columns(r);
+    if (j < tau.size()) return tau[j];
+  }
   if (!r.current.empty() && j < m.torque_constant.size()) {
     std::vector<double> t(r.current[j]);
     for (auto& v : t) v *= m.torque_constant[j];
     return t;
   }
   throw std::invalid_argument(std::string(which) + " recording: joint " + std::to_string(r.joint_ids[j]) +
-                              " has currents but the model gives no torque constant; give tau_m<j> columns");
+                              " has no torque column and the model gives no torque constant for its currents");
 }
 
 double interp(const std::vector<double>& t, const std::vector<double>& x, double at, std::size_t& hint) {
@@ -179,6 +184,18 @@ std::vector<JointSignals> signals_from_pair(const io::Recording& real, const io:
       for (std::size_t k = 0; k < real.samples(); ++k) out[j].tau_model[k] += f_real[k] - f_sim[k];
     }
   }
+  // A joint torque sensor does not see the rotor: take the simulation's rotor torque off
+  // a simulated motor torque before comparing.
+  if (real.torque_kind == io::TorqueKind::tau_j && simulated.torque_kind != io::TorqueKind::tau_j) {
+    for (std::size_t j = 0; j < real.joints() && j < model.rotor_inertia.size(); ++j) {
+      if (model.rotor_inertia[j] == 0.0) continue;
+      std::vector<double> dq_s(real.samples());
+      std::size_t hint = 0;
+      for (std::size_t k = 0; k < real.samples(); ++k) dq_s[k] = interp(simulated.t, simulated.dq[j], real.t[k], hint);
+      const auto ddq_s = derivative(dq_s, dt);
+      for (std::size_t k = 0; k < real.samples(); ++k) out[j].tau_model[k] -= model.rotor_inertia[j] * ddq_s[k];
+    }
+  }
   for (auto& s : out) {
     s.residual.resize(s.t.size());
     for (std::size_t k = 0; k < s.t.size(); ++k) s.residual[k] = s.tau_real[k] - s.tau_model[k];
@@ -207,6 +224,28 @@ std::vector<JointSignals> signals_from_model(const io::Recording& real, const Mo
     }
     s.residual.resize(s.t.size());
     for (std::size_t k = 0; k < s.t.size(); ++k) s.residual[k] = s.tau_real[k] - s.tau_model[k];
+  }
+  return out;
+}
+
+std::vector<JointSignals> concatenate_signals(const std::vector<std::vector<JointSignals>>& parts) {
+  if (parts.empty()) return {};
+  std::vector<JointSignals> out = parts.front();
+  auto append = [](std::vector<double>& a, const std::vector<double>& b) { a.insert(a.end(), b.begin(), b.end()); };
+  for (std::size_t p = 1; p < parts.size(); ++p) {
+    if (parts[p].size() != out.size()) throw std::invalid_argument("segments with different joints");
+    for (std::size_t j = 0; j < out.size(); ++j) {
+      JointSignals& a = out[j];
+      const JointSignals& b = parts[p][j];
+      for (auto [dst, src] : {std::pair{&a.t, &b.t}, {&a.q, &b.q}, {&a.dq, &b.dq}, {&a.ddq, &b.ddq}, {&a.tau_real, &b.tau_real},
+                              {&a.tau_model, &b.tau_model}, {&a.load, &b.load}, {&a.residual, &b.residual},
+                              {&a.velocity_mismatch, &b.velocity_mismatch}, {&a.deflection, &b.deflection}}) {
+        append(*dst, *src);
+      }
+      for (std::size_t c = 0; c < a.payload_columns.size() && c < b.payload_columns.size(); ++c) {
+        append(a.payload_columns[c], b.payload_columns[c]);
+      }
+    }
   }
   return out;
 }
