@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 #include <string>
 
 #include "io/recording.hpp"
@@ -50,6 +51,17 @@ LoadedRecording load_recording(const std::string& path, const RecordingOptions& 
 nlohmann::json resampling_json(const io::RegularizeReport& r);
 /// "i" | "tau_m" | "tau_j" and a description, for the stdout line.
 std::string torque_description(io::TorqueKind kind);
+
+/// Runs `work`; an std::invalid_argument it throws (the data cannot give what is asked:
+/// too short, never moving, ...) is re-thrown with the recording's file name in front.
+template <class Work>
+auto about_recording(const std::string& path, Work&& work) -> decltype(work()) {
+  try {
+    return work();
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(path + ": " + e.what());
+  }
+}
 
 /// Writes JSON to a temporary file renamed into place; throws when it cannot (a missing
 /// folder, a full disk): success is only reported for a complete file.

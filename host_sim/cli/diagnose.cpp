@@ -75,10 +75,12 @@ Command add_diagnose(CLI::App& app) {
                   throw std::invalid_argument(o->sim + ": no continuous part covers the real recording's t = " +
                                               std::to_string(seg.t.front()) + " .. " + std::to_string(seg.t.back()) + " s");
                 }
-                parts.push_back(diag::signals_from_pair(seg, *s, ctx));
+                parts.push_back(about_recording(o->real, [&] { return diag::signals_from_pair(seg, *s, ctx); }));
               }
             } else {
-              for (const auto& seg : real.data.segments) parts.push_back(diag::signals_from_model(seg, ctx));
+              for (const auto& seg : real.data.segments) {
+                parts.push_back(about_recording(o->real, [&] { return diag::signals_from_model(seg, ctx); }));
+              }
             }
             if (parts.size() > 1) std::printf("diagnosis over all %zu segments, one after the other\n", parts.size());
             const std::vector<diag::JointSignals> signals = diag::concatenate_signals(parts);
@@ -88,7 +90,7 @@ Command add_diagnose(CLI::App& app) {
             j["joints"] = nlohmann::json::array();
             if (!o->out.empty()) std::filesystem::create_directories(o->out);
             for (const auto& s : signals) {
-              const diag::JointDiagnosis d = diag::diagnose_joint(s);
+              const diag::JointDiagnosis d = about_recording(o->real, [&] { return diag::diagnose_joint(s); });
               nlohmann::json jj{{"joint", d.joint}, {"rms_before", d.rms_before}, {"rms_after", d.rms_after},
                                 {"heldout_rms_before", d.heldout_rms_before}, {"heldout_rms_after", d.heldout_rms_after},
                                 {"noise_rms", d.noise_rms}, {"whiteness_ljung_box", d.whiteness_q}, {"whiteness_p", d.whiteness_p}};

@@ -53,8 +53,10 @@ Command add_identify(CLI::App& app) {
             ga.seed = o->seed;
             ga.runs = o->runs;
             Progress bar("identify");
-            const auto r = eval::identify_recording(rec, model, ObserverGains{ObserverKind::first_order, o->observer.gains[0], 0, 0}, ga,
-                                                    [&](double f) { bar.update(f); });
+            const auto r = about_recording(o->recording, [&] {
+              return eval::identify_recording(rec, model, ObserverGains{ObserverKind::first_order, o->observer.gains[0], 0, 0}, ga,
+                                              [&](double f) { bar.update(f); });
+            });
             bar.finish();
             std::printf("joint  sigma0      sigma1    sigma2   tau_c    tau_s    w_s      rms [N·m]\n");
             for (std::size_t j = 0; j < r.size(); ++j) {
@@ -91,8 +93,9 @@ Command add_calibrate(CLI::App& app) {
             const auto in = load_recording(o->recording, o->input);
             const auto& rec = in.data.segments.front();
             const auto friction = eval::read_friction_json(o->friction);
-            const auto t = eval::calibrate_segments(in.data.segments, model, friction, o->observer.to_gains(in.data.report.rate_hz),
-                                                    o->margin);
+            const auto t = about_recording(o->recording, [&] {
+              return eval::calibrate_segments(in.data.segments, model, friction, o->observer.to_gains(in.data.report.rate_hz), o->margin);
+            });
             std::printf("joint  band without / with compensation [N·m]  shrink  threshold (moving)  + at standstill\n");
             for (std::size_t j = 0; j < t.threshold.size(); ++j) {
               std::printf("%5d  %12.3f / %-12.3f              %5.1fx  %10.3f          %+.3f\n", rec.joint_ids[j], t.band_uncompensated[j],
@@ -127,8 +130,10 @@ Command add_replay(CLI::App& app) {
             const auto friction = eval::read_friction_json(o->friction);
             const auto thresholds = eval::read_threshold_json(o->threshold);
             // Each segment runs from a fresh state; events keep the recording's time stamps.
-            const auto r = eval::replay_segments(in.data.segments, model, friction, thresholds,
-                                                 o->observer.to_gains(in.data.report.rate_hz), o->scalar, o->debounce);
+            const auto r = about_recording(o->recording, [&] {
+              return eval::replay_segments(in.data.segments, model, friction, thresholds, o->observer.to_gains(in.data.report.rate_hz),
+                                           o->scalar, o->debounce);
+            });
             std::printf("%zu detection(s)\n", r.events.size());
             nlohmann::json j = input_json(in);
             j["events"] = nlohmann::json::array();

@@ -33,9 +33,18 @@ double median(std::vector<double> v) {
   return *mid;
 }
 
-/// 3 significant digits: a logger's nominal rate (999.7 Hz of jitter -> 1000 Hz).
+/// A logger's nominal rate from its jittered median: the nearest of the usual rates
+/// (1, 1.25, 2, 2.5, 4, 5, 8 x 10^k Hz: 1000, 125, 100, ...) when within 2 %, else 3
+/// significant digits (991 Hz of a jittered 1 kHz log -> 1000 Hz; 333.4 Hz -> 333 Hz).
 double round_rate(double rate) {
-  const double scale = std::pow(10.0, std::floor(std::log10(rate)) - 2.0);
+  const double decade = std::pow(10.0, std::floor(std::log10(rate)));
+  double best = 0.0;
+  for (const double m : {1.0, 1.25, 2.0, 2.5, 4.0, 5.0, 8.0, 10.0}) {
+    const double nice = m * decade;
+    if (std::fabs(rate / nice - 1.0) < 0.02 && (best == 0.0 || std::fabs(nice - rate) < std::fabs(best - rate))) best = nice;
+  }
+  if (best > 0.0) return best;
+  const double scale = decade / 100.0;
   return std::round(rate / scale) * scale;
 }
 

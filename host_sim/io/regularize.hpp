@@ -14,7 +14,8 @@ namespace jg::io {
 
 struct RegularizeOptions {
   /// Output rate [Hz]; 0 = 1 / (median step between rows that carry a new state),
-  /// rounded to 3 significant digits (1.000 ms -> 1000 Hz).
+  /// rounded to the nearest usual rate (1, 1.25, 2, 2.5, 4, 5, 8 x 10^k Hz) within 2 %,
+  /// else to 3 significant digits (1.000 ms -> 1000 Hz, 10 ms -> 100 Hz).
   double rate_hz = 0.0;
   /// A step longer than gap_steps median steps and longer than gap_min_s splits the
   /// recording: too long to interpolate over (a stop, a lost connection).

@@ -2,8 +2,10 @@
 """Writes the small synthetic recordings of this folder (deterministic; no real data).
 Each is an odd case a real logger or a user can produce; tests/cli/run_odd_recordings.sh
 runs every one through diagnose, identify, calibrate and replay.
-Usage: python3 make_recordings.py   (from this folder; the shoulder cut is made by the
-test from `jointguard simulate`, not here)."""
+Usage: python3 make_recordings.py   (from this folder). shoulder_first_0.2s.csv is the
+README's shoulder recording cut to its first 0.2 s:
+  jointguard simulate scenarios/paper_collision_shoulder.yaml --out /tmp/shoulder.csv
+  awk -F, 'NR==1 || $1 <= 0.2' /tmp/shoulder.csv > shoulder_first_0.2s.csv"""
 import math
 import random
 
@@ -68,7 +70,7 @@ for k in range(500):
     rows.append(row(t, q, dq, tau))
 write("seven_joint_tau_j.csv", header(7, "tau_j"), rows)
 
-# An irregular log (3 joints, nominally 200 Hz, 4 s): jittered stamps (3.5-8 ms), rows
+# An irregular log (3 joints, nominally 200 Hz, 4 s): jittered stamps (3.5-6.5 ms), rows
 # repeating the previous state (the logger read it twice), skipped samples, and one gap
 # of 0.3 s that splits it in two.
 rows = []
@@ -84,10 +86,10 @@ while t < 4.0:
     r = row(t, q, dq, i)
     rows.append(r)
     if prev is not None and rng.random() < 0.05:  # a repeat: the previous state, a new stamp
-        t += rng.uniform(0.0035, 0.008)
+        t += rng.uniform(0.0035, 0.0065)
         rows.append([float(t)] + r[1:])
     prev = r
-    step = rng.uniform(0.0035, 0.008)
+    step = rng.uniform(0.0035, 0.0065)
     if rng.random() < 0.03:
         step += 0.005  # a skipped state
     if 2.0 <= t < 2.0 + step:
