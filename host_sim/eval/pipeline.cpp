@@ -136,10 +136,13 @@ std::vector<std::vector<double>> motor_torque(const io::Recording& rec, const ro
   }
   if (rec.torque_kind != io::TorqueKind::current) {
     const auto& tau = io::torque_columns(rec);
-    if (tau.size() != rec.joints()) throw std::invalid_argument(std::string("the recording has no ") + io::to_string(rec.torque_kind) + " columns");
-    return tau;
+    if (tau.size() == rec.joints()) return tau;
   }
-  if (rec.current.size() != rec.joints()) throw std::invalid_argument("the recording has no torque or current columns");
+  // A recording built in code may fill columns without setting torque_kind.
+  if (rec.current.size() != rec.joints()) {
+    if (rec.tau_m.size() == rec.joints()) return rec.tau_m;
+    throw std::invalid_argument(std::string("the recording has no ") + io::to_string(rec.torque_kind) + " columns");
+  }
   std::vector<std::vector<double>> out = rec.current;
   for (std::size_t j = 0; j < out.size(); ++j) {
     for (auto& v : out[j]) v *= model.joints[j].link.torque_constant;
