@@ -85,9 +85,16 @@ grep -q "held_arm.csv:1: field 'tau_m1'" "$W/tk.txt" || { bad "--torque-kind mot
   bad "--torque-kind joint on tau_m columns failed"
 grep -q '"torque": "tau_j"' "$W/tj.json" || bad "--torque-kind joint: JSON must say tau_j"
 # --json into a missing folder: exit 1, no "wrote".
-"$J" replay "$D/held_arm.csv" --model "$R3" --friction "$F3" --threshold "$T3" --json "$W/no/such/dir/e.json" > "$W/nd.txt" 2>&1
-[ $? = 1 ] || bad "--json into a missing folder must fail"
-grep -q "^wrote" "$W/nd.txt" && bad "--json into a missing folder must not say wrote"
+for c in replay calibrate diagnose; do
+  case $c in
+    replay) args=("$D/held_arm.csv" --model "$R3" --friction "$F3" --threshold "$T3") ;;
+    calibrate) args=("$D/held_arm.csv" --model "$R3" --friction "$F3") ;;
+    diagnose) args=(--model "$R3" --real "$D/held_arm.csv") ;;
+  esac
+  "$J" "$c" "${args[@]}" --json "$W/no/such/dir/e.json" > "$W/nd.txt" 2>&1
+  [ $? = 1 ] || bad "$c --json into a missing folder must fail"
+  grep -q "^wrote" "$W/nd.txt" && bad "$c --json into a missing folder must not say wrote"
+done
 
 [ "$fail" = 0 ] && echo "odd recordings OK"
 exit "$fail"
