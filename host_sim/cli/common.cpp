@@ -1,5 +1,8 @@
 #include "cli/common.hpp"
 
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <stdexcept>
 
 #include "tuning/observer_tuning.hpp"
@@ -45,6 +48,101 @@ void add_model_selection(CLI::App* cmd, robot::LoadOptions& o) {
 
 void check_scalar(const std::string& scalar) {
   if (scalar != "float" && scalar != "q") throw std::invalid_argument("--scalar must be float or q");
+}
+
+void RecordingOptions::add_to(CLI::App* cmd, const std::string& rate_help) {
+  cmd->add_option("--torque-kind", torque_kind,
+                  "What the torque columns are: auto (tau_j<j>, else tau_m<j>, else i<j>), current (i<j>), "
+                  "motor (tau_m<j>), joint (a joint torque sensor: tau_j<j>, or tau_m<j> re-read as one; "
+                  "no rotor inertia applied)")
+      ->check(CLI::IsMember({"auto", "current", "motor", "joint"}))
+      ->capture_default_str();
+  cmd->add_option("--rate", rate_hz, rate_help)->check(CLI::Range(1.0, 100000.0));
+  cmd->add_option("--max-gap", max_gap_s,
+                  "Steps longer than this [s] split the recording into segments (default: 10 median steps and "
+                  "at least 0.02 s); shorter gaps are interpolated over")
+      ->check(CLI::PositiveNumber);
+}
+
+io::ReadOptions RecordingOptions::read_options() const {
+  io::ReadOptions r;
+  r.torque = io::parse_torque_choice(torque_kind);
+  return r;
+}
+
+io::RegularizeOptions RecordingOptions::regularize_options() const {
+  io::RegularizeOptions r;
+  r.rate_hz = rate_hz;
+  r.max_gap_s = max_gap_s;
+  return r;
+}
+
+std::string torque_description(io::TorqueKind kind) {
+  switch (kind) {
+    case io::TorqueKind::current: return "i (motor current x K_I; rotor inertia applied)";
+    case io::TorqueKind::tau_m: return "tau_m (motor torque; rotor inertia applied)";
+    case io::TorqueKind::tau_j: return "tau_j (joint torque sensor; no rotor inertia)";
+  }
+  return "?";
+}
+
+LoadedRecording load_recording(const std::string& path, const RecordingOptions& o) {
+  LoadedRecording out;
+  out.path = path;
+  const io::Recording rec = io::read_recording(path, o.read_options());
+  out.torque = rec.torque_kind;
+  out.data = io::regularize(rec, o.regularize_options(), std::filesystem::path(path).filename().string());
+  std::printf("%s\n", out.data.report.summary().c_str());
+  std::printf("torque: %s\n", torque_description(out.torque).c_str());
+  return out;
+}
+
+nlohmann::json resampling_json(const io::RegularizeReport& r) {
+  nlohmann::json j{{"source", r.source},
+                   {"method", r.method},
+                   {"rate_hz", r.rate_hz},
+                   {"step_s", r.step_s},
+                   {"rate_given", r.rate_given},
+                   {"median_step_in_s", r.median_step_in_s},
+                   {"min_step_in_s", r.min_step_in_s},
+                   {"max_step_in_s", r.max_step_in_s},
+                   {"split_gap_s", r.split_gap_s},
+                   {"rows_in", r.rows_in},
+                   {"rows_out", r.rows_out},
+                   {"repeats_dropped", r.repeats_dropped},
+                   {"gaps_bridged", r.gaps_bridged},
+                   {"longest_bridged_gap_s", r.longest_bridged_gap_s},
+                   {"gaps_split", r.gaps_split}};
+  auto spans = [](const std::vector<io::SegmentSpan>& v) {
+    nlohmann::json a = nlohmann::json::array();
+    for (const auto& s : v) a.push_back({{"t_begin", s.t_begin}, {"t_end", s.t_end}, {"rows_in", s.rows_in}, {"samples", s.samples}});
+    return a;
+  };
+  j["segments"] = spans(r.segments);
+  j["dropped_segments"] = spans(r.dropped);
+  j["summary"] = r.summary();
+  return j;
+}
+
+void write_json_file(const std::string& path, const nlohmann::json& j) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp);
+    if (!out) throw std::runtime_error(path + ": cannot write (does its folder exist?)");
+    out << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
+    out.flush();
+    if (!out) {
+      out.close();
+      std::remove(tmp.c_str());
+      throw std::runtime_error(path + ": write failed");
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error(path + ": cannot write: " + ec.message());
+  }
 }
 
 }  // namespace jg::cli

@@ -2,8 +2,12 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
 #include <string>
 
+#include "io/recording.hpp"
+#include "io/regularize.hpp"
 #include "jointguard/observer/momentum_observer.hpp"
 #include "robot/robot_model.hpp"
 
@@ -24,5 +28,48 @@ void check_scalar(const std::string& scalar);
 /// --base LINK, --tip LINK (a URDF's chain) and --drive FILE (drive parameters by joint
 /// name), next to every --model.
 void add_model_selection(CLI::App* cmd, robot::LoadOptions& o);
+
+/// How a subcommand reads a recording: --torque-kind, --rate, --max-gap. Every recording
+/// is regularized by time stamp (io/regularize.hpp) and the command says what was done.
+struct RecordingOptions {
+  std::string torque_kind = "auto";
+  double rate_hz = 0.0;    ///< 0 = from the recording's median step
+  double max_gap_s = 0.0;  ///< 0 = the default split threshold
+  /// Adds the options; `rate_help` describes --rate for this command.
+  void add_to(CLI::App* cmd, const std::string& rate_help = "Resample the recording to this rate [Hz] (default: "
+                                                                 "its own median step, rounded)");
+  [[nodiscard]] io::ReadOptions read_options() const;
+  [[nodiscard]] io::RegularizeOptions regularize_options() const;
+};
+
+struct LoadedRecording {
+  std::string path;
+  io::Regularized data;  ///< uniform segments and what was done
+  io::TorqueKind torque = io::TorqueKind::tau_m;
+  [[nodiscard]] const io::Recording& longest() const { return data.segments[data.report.longest()]; }
+};
+
+/// Reads and regularizes a recording; prints the resampling line and the torque used.
+LoadedRecording load_recording(const std::string& path, const RecordingOptions& o);
+
+/// {"method", "rate_hz", "rows_in", "rows_out", "repeats_dropped", ..., "segments": [...]}
+nlohmann::json resampling_json(const io::RegularizeReport& r);
+/// "i" | "tau_m" | "tau_j" and a description, for the stdout line.
+std::string torque_description(io::TorqueKind kind);
+
+/// Runs `work`; an std::invalid_argument it throws (the data cannot give what is asked:
+/// too short, never moving, ...) is re-thrown with the recording's file name in front.
+template <class Work>
+auto about_recording(const std::string& path, Work&& work) -> decltype(work()) {
+  try {
+    return work();
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(path + ": " + e.what());
+  }
+}
+
+/// Writes JSON to a temporary file renamed into place; throws when it cannot (a missing
+/// folder, a full disk): success is only reported for a complete file.
+void write_json_file(const std::string& path, const nlohmann::json& j);
 
 }  // namespace jg::cli

@@ -5,23 +5,68 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "diagnosis/arm.hpp"
 #include "diagnosis/diagnose.hpp"
+#include "diagnosis/model_out.hpp"
+#include "dynamics/rigid_body_identification.hpp"
 #include "diagnosis/pairing.hpp"
 #include "eval/pipeline.hpp"
 #include "report/svg_plot.hpp"
 #include "robot/robot_model.hpp"
+#include "robot/robot_writer.hpp"
+#include "robot/torque_kind.hpp"
 
 namespace jg::cli {
 namespace {
 struct DiagnoseCliOptions {
-  std::string model, real, sim, json, friction, out;
+  std::string model, real, sim, json, friction, out, model_out;
+  bool no_rigid_body = false;
   robot::LoadOptions model_options;
+  RecordingOptions input;  ///< for --real; --sim is read as it is (its torque is what the simulation wrote)
 };
+
+/// The simulated segment that covers [t0, t1], or nullptr.
+const io::Recording* covering(const std::vector<io::Recording>& segments, double t0, double t1, double dt) {
+  for (const auto& s : segments) {
+    if (s.t.front() <= t0 + dt && s.t.back() >= t1 - dt) return &s;
+  }
+  return nullptr;
+}
+/// The rigid-body identification as an arm-level finding: held-out RMS per joint of the
+/// robot file's rigid body (with friction fitted) against the identified model's.
+void report_rigid_body(const dyn::RigidBodyIdResult& r, const robot::RobotModel& prior, nlohmann::json& arm) {
+  nlohmann::json f{{"effect", "rigid_body"}, {"confidence", r.accepted ? 1.0 : 0.0}};
+  nlohmann::json p = nlohmann::json::object();
+  p["base_parameters"] = r.base_parameters;
+  p["heldout_mse_ratio"] = r.heldout_mse_ratio;
+  p["acceleration_sigma_s"] = r.acceleration.sigma_s;
+  for (std::size_t j = 0; j < r.heldout_rms_after.size(); ++j) {
+    const std::string n = std::to_string(j + 1);
+    p["heldout_rms_file_rigid_body_joint" + n] = r.heldout_rms_prior_rigid[j];
+    p["heldout_rms_file_with_friction_joint" + n] = r.heldout_rms_prior[j];
+    p["heldout_rms_identified_joint" + n] = r.heldout_rms_after[j];
+  }
+  for (std::size_t l = 0; l < r.links.size() && l < prior.joints.size(); ++l) {
+    p["link" + std::to_string(l + 1) + "_mass_kg_before"] = r.links[l].before(0);
+    p["link" + std::to_string(l + 1) + "_mass_kg_after"] = r.links[l].after(0);
+  }
+  f["params"] = p;
+  f["description"] = r.accepted ? "the arm's rigid-body parameters identified (base parameters, physically consistent), "
+                                  "better on the held-out blocks than the robot file's"
+                                : "identified rigid body not better on the held-out blocks: the robot file's is kept";
+  std::printf("arm: rigid body %s (%d base parameters, acceleration filter %.1f ms); held-out RMS per joint, robot file + "
+              "fitted friction -> identified:",
+              r.accepted ? "identified" : "kept", r.base_parameters, 1e3 * r.acceleration.sigma_s);
+  for (std::size_t j = 0; j < r.heldout_rms_after.size(); ++j) std::printf(" %.3f->%.3f", r.heldout_rms_prior[j], r.heldout_rms_after[j]);
+  std::printf(" N·m\n");
+  if (r.accepted) arm["findings"].push_back(f);
+  for (const auto& n : r.notes) arm["notes"].push_back(n);
+}
 }  // namespace
 
 Command add_diagnose(CLI::App& app) {
@@ -32,47 +77,110 @@ Command add_diagnose(CLI::App& app) {
                                  "over the real motion (inverse dynamics + --friction).\n"
                                  "Example: jointguard diagnose --model models/ref3.yaml --real out/real.csv --sim out/sim.csv --json out/diagnosis.json --out out/diagnosis");
   cmd->add_option("--model", o->model, "Robot file (YAML or URDF)")->required()->check(CLI::ExistingFile);
-  add_model_selection(cmd, o->model_options);
   cmd->add_option("--real", o->real, "Real recording (CSV)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--sim", o->sim, "Simulated recording of the same motion (CSV)")->check(CLI::ExistingFile);
   cmd->add_option("--friction", o->friction, "Nominal friction JSON (identify) for the model's prediction")->check(CLI::ExistingFile);
   cmd->add_option("--json", o->json, "Write findings here (contract format)");
   cmd->add_option("--out", o->out, "Folder for the plots (SVG) and summary");
+  cmd->add_option("--model-out", o->model_out,
+                  "Write the robot file with what was found: identified links (model vs real) and the named effects as\n"
+                  "plant_effects, so that `simulate --model` and a new diagnosis include them");
+  cmd->add_flag("--no-rigid-body", o->no_rigid_body,
+                "Without --sim: keep the robot file's rigid body (default: identify the whole arm's rigid body and\n"
+                "friction on the training blocks first, an arm-level finding, then diagnose what remains)");
+  add_model_selection(cmd, o->model_options);
+  o->input.add_to(cmd);
   return {cmd, [o]() {
-            const auto model = robot::load_robot(o->model, o->model_options);
-            const auto real = io::read_recording(o->real);
-            if (real.joints() != model.joints.size()) {
-              throw std::invalid_argument(o->real + ": " + std::to_string(real.joints()) + " joints, the model has " +
+            const LoadedRecording real = load_recording(o->real, o->input);
+            const auto nominal = robot::load_robot(o->model, o->model_options);
+            // A joint torque sensor does not see the rotor: no reflected rotor inertia then.
+            const auto model = robot::for_torque_kind(nominal, real.torque);
+            if (real.longest().joints() != model.joints.size()) {
+              throw std::invalid_argument(o->real + ": " + std::to_string(real.longest().joints()) + " joints, the model has " +
                                           std::to_string(model.joints.size()));
             }
-            // With the robot file's gravity (gravity_m_s2), as calibrate and replay use it.
-            const sim::ArmDynamics arm = model.dynamics();
+            nlohmann::json j;
+            j["arm"] = {{"findings", nlohmann::json::array()}, {"notes", nlohmann::json::array()}};
+            // Model against real: the whole arm's rigid body and friction identified first on
+            // the training blocks (one cause, the arm's inertial parameters, fitted once), the
+            // diagnosis then works on what that model leaves.
+            robot::RobotModel used = model;
+            std::optional<dyn::RigidBodyIdResult> rb;
+            if (o->sim.empty() && !o->no_rigid_body) {
+              dyn::RigidBodyIdOptions ro;
+              ro.joint_torque_sensor = real.torque == io::TorqueKind::tau_j;
+              try {
+                rb = dyn::identify_rigid_body(real.longest(), model, ro);
+              } catch (const std::invalid_argument& e) {
+                std::printf("arm: rigid body not identified (%s): the robot file's is used\n", e.what());
+                j["arm"]["notes"].push_back(std::string("rigid body not identified: ") + e.what());
+              }
+              if (rb) report_rigid_body(*rb, model, j["arm"]);
+              if (rb && rb->accepted) used = rb->model;
+            }
+            const sim::ArmDynamics arm = used.dynamics();
             diag::ModelContext ctx;
             ctx.arm = &arm;
-            for (const auto& j : model.joints) ctx.torque_constant.push_back(j.link.torque_constant);
-            if (!o->friction.empty()) ctx.friction = eval::read_friction_json(o->friction);
-            std::vector<diag::JointSignals> signals;
+            for (const auto& jd : model.joints) ctx.torque_constant.push_back(jd.link.torque_constant);
+            for (const auto& jd : nominal.joints) ctx.rotor_inertia.push_back(jd.link.rotor_inertia);
+            // With the arm identified, its friction is the identified one (below), not --friction's.
+            if (!o->friction.empty() && !rb) ctx.friction = eval::read_friction_json(o->friction);
+            // Every uniform segment of the real recording, its derivatives taken within it.
+            std::vector<std::vector<diag::JointSignals>> parts;
             if (!o->sim.empty()) {
-              const auto simulated = io::read_recording(o->sim);
-              signals = diag::signals_from_pair(real, simulated, ctx);
+              RecordingOptions sim_input;
+              sim_input.max_gap_s = o->input.max_gap_s;
+              const LoadedRecording simulated = load_recording(o->sim, sim_input);
+              j["simulated"] = {{"resampling", resampling_json(simulated.data.report)}, {"torque", io::to_string(simulated.torque)}};
+              for (const auto& seg : real.data.segments) {
+                const io::Recording* s = covering(simulated.data.segments, seg.t.front(), seg.t.back(), seg.meta.sample_time);
+                if (s == nullptr) {
+                  throw std::invalid_argument(o->sim + ": no continuous part covers the real recording's t = " +
+                                              std::to_string(seg.t.front()) + " .. " + std::to_string(seg.t.back()) + " s");
+                }
+                parts.push_back(about_recording(o->real, [&] { return diag::signals_from_pair(seg, *s, ctx); }));
+              }
             } else {
-              signals = diag::signals_from_model(real, ctx);
+              for (const auto& seg : real.data.segments) {
+                parts.push_back(about_recording(o->real, [&] { return diag::signals_from_model(seg, ctx); }));
+              }
             }
-            // Causes that are one thing in the world (a payload) first, once for the arm.
-            const diag::ArmDiagnosis arm_diag = diag::diagnose_arm(signals, {}, &arm);
+            if (parts.size() > 1) std::printf("diagnosis over all %zu segments, one after the other\n", parts.size());
+            std::vector<diag::JointSignals> signals = diag::concatenate_signals(parts);
+            for (auto& s : signals) s.joint_torque_sensor = real.torque == io::TorqueKind::tau_j;
+            if (rb) {
+              // The identified friction is part of the model's prediction.
+              for (std::size_t jj = 0; jj < signals.size() && jj < rb->friction.size(); ++jj) {
+                auto& s = signals[jj];
+                for (std::size_t k = 0; k < s.size(); ++k) {
+                  const double f = rb->friction[jj].torque(s.dq[k]);
+                  s.tau_model[k] += f;
+                  s.residual[k] -= f;
+                }
+              }
+            }
+            // Causes that are one thing in the world (a payload, a link's mass) next, once
+            // for the arm, then each joint.
+            diag::ArmDiagnosisOptions arm_options;
+            if (!used.joints.empty()) arm_options.com_bound_m = std::max(arm_options.com_bound_m, used.joints.back().reach_m + 0.5);
+            const diag::ArmDiagnosis arm_diag = diag::diagnose_arm(signals, arm_options, &arm);
             signals = diag::without_arm_causes(signals, arm_diag);
-            nlohmann::json j;
-            j["arm"] = {{"findings", nlohmann::json::array()}, {"notes", arm_diag.notes}};
+            for (const auto& n : arm_diag.notes) j["arm"]["notes"].push_back(n);
             for (const auto& f : arm_diag.findings) {
               j["arm"]["findings"].push_back({{"effect", f.effect}, {"params", f.params}, {"confidence", f.confidence},
                                               {"delta_bic", f.delta_bic}, {"description", f.text}});
               std::printf("arm: %s: %s\n", f.effect.c_str(), f.text.c_str());
             }
-            if (arm_diag.findings.empty()) std::printf("arm: no arm-level cause (payload) found\n");
+            if (arm_diag.findings.empty()) std::printf("arm: no payload or link mass error found\n");
+            std::vector<diag::JointDiagnosis> diagnoses;
+            j["resampling"] = resampling_json(real.data.report);
+            j["torque"] = io::to_string(real.torque);
+            j["segments_used"] = parts.size();
             j["joints"] = nlohmann::json::array();
             if (!o->out.empty()) std::filesystem::create_directories(o->out);
             for (const auto& s : signals) {
-              const diag::JointDiagnosis d = diag::diagnose_joint(s);
+              const diag::JointDiagnosis d = about_recording(o->real, [&] { return diag::diagnose_joint(s); });
+              diagnoses.push_back(d);
               nlohmann::json jj{{"joint", d.joint}, {"rms_before", d.rms_before}, {"rms_after", d.rms_after},
                                 {"heldout_rms_before", d.heldout_rms_before}, {"heldout_rms_after", d.heldout_rms_after},
                                 {"noise_rms", d.noise_rms}, {"whiteness_ljung_box", d.whiteness_q}, {"whiteness_p", d.whiteness_p}};
@@ -119,8 +227,21 @@ Command add_diagnose(CLI::App& app) {
                 }
               }
             }
+            if (!o->model_out.empty()) {
+              // The named physics written back where the simulation lives (robot file +
+              // plant_effects): `simulate --model` and a new diagnosis include it.
+              robot::RobotModel out_model = used;
+              const auto effects = diag::plant_effects_of(arm_diag, diagnoses);
+              out_model.plant_effects.insert(out_model.plant_effects.end(), effects.begin(), effects.end());
+              robot::write_robot(o->model_out, out_model,
+                                 "Written by jointguard diagnose --model " + o->model + " --real " + o->real +
+                                     (o->sim.empty() ? "" : " --sim " + o->sim) + " --model-out " + o->model_out);
+              j["model_out"] = {{"file", o->model_out}, {"plant_effects", effects.size()}, {"rigid_body_identified", rb && rb->accepted}};
+              std::printf("wrote %s: %zu plant effect(s)%s\n", o->model_out.c_str(), effects.size(),
+                          rb && rb->accepted ? ", identified rigid body" : "");
+            }
             if (!o->json.empty()) {
-              std::ofstream(o->json) << j.dump(2) << '\n';
+              write_json_file(o->json, j);
               std::printf("wrote %s\n", o->json.c_str());
             }
             return 0;

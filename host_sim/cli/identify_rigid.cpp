@@ -53,11 +53,6 @@ void add_rigid_body_options(CLI::App* cmd, RigidBodyCliOptions& o) {
                 "Identify the whole arm's rigid-body parameters (+ payload, + per-joint friction) instead of LuGre;\n"
                 "example: jointguard identify rec.csv --model models/panda.yaml --rigid-body --torque-kind joint --model-out out/panda_id.yaml --json out/rbid.json");
   cmd->add_option("--model-out", o.model_out, "With --rigid-body: write the corrected robot file here (YAML)");
-  cmd->add_option("--torque-kind", o.torque_kind,
-                  "With --rigid-body: the torque columns are 'joint' (link-side torque sensor: no rotor inertia) or\n"
-                  "'motor' (K_I i: rotor inertia identified too); 'auto': joint when tau_j<j> columns are present")
-      ->check(CLI::IsMember({"auto", "joint", "motor"}))
-      ->capture_default_str();
   cmd->add_option("--com-margin", o.com_margin_m,
                   "With --rigid-body: CoM bound = max(reach, |prior CoM|) + this [m]")
       ->capture_default_str()
@@ -77,38 +72,12 @@ void add_rigid_body_options(CLI::App* cmd, RigidBodyCliOptions& o) {
   cmd->add_flag("--asymmetric-coulomb", o.asymmetric_coulomb, "With --rigid-body: separate Coulomb levels per direction");
 }
 
-int run_identify_rigid(const std::string& recording, const std::string& model_path, const std::string& json,
-                       double rate_hz, const RigidBodyCliOptions& o) {
-  return run_identify_rigid(recording, robot::load_robot(model_path), model_path, json, rate_hz, o);
-}
-
-int run_identify_rigid(const std::string& recording, const robot::RobotModel& prior, const std::string& model_path,
-                       const std::string& json, double rate_hz, const RigidBodyCliOptions& o) {
-  io::Recording rec = io::read_recording(recording);
-  std::string resampling = "none (uniform steps)";
-  if (rate_hz > 0.0 || !dyn::is_uniform(rec)) {
-    try {
-      rec = dyn::to_uniform_grid(rec, rate_hz > 0.0 ? 1.0 / rate_hz : 0.0, &resampling);
-    } catch (const std::invalid_argument& e) {
-      std::fprintf(stderr, "%s: %s\n", recording.c_str(), e.what());
-      return 1;
-    }
-    std::printf("%s\n", resampling.c_str());
-  }
+int run_identify_rigid(const io::Recording& rec, const std::string& recording, const nlohmann::json& resampling,
+                       const robot::RobotModel& prior, const std::string& model_path, const std::string& json,
+                       const RigidBodyCliOptions& o) {
   dyn::RigidBodyIdOptions opt;
-  bool tau_j = false;
-  try {
-    (void)dyn::recording_torque(rec, prior, &tau_j);
-  } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "%s: %s\n", recording.c_str(), e.what());
-    return 1;
-  }
-  opt.joint_torque_sensor = o.torque_kind == "joint" || (o.torque_kind == "auto" && tau_j);
-  if (o.torque_kind == "motor" && tau_j) {
-    std::fprintf(stderr, "%s: --torque-kind motor, but the torque columns are tau_j<j> (a joint torque sensor)\n",
-                 recording.c_str());
-    return 1;
-  }
+  // The torque kind was chosen when the recording was read (--torque-kind).
+  opt.joint_torque_sensor = rec.torque_kind == io::TorqueKind::tau_j;
   opt.payload_only = o.payload_only;
   opt.asymmetric_coulomb = o.asymmetric_coulomb;
   opt.com_margin_m = o.com_margin_m;

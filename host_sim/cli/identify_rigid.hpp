@@ -4,8 +4,10 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 #include <string>
 
+#include "io/recording.hpp"
 #include "robot/robot_model.hpp"
 
 namespace jg::cli {
@@ -13,7 +15,6 @@ namespace jg::cli {
 struct RigidBodyCliOptions {
   bool enabled = false;
   std::string model_out;
-  std::string torque_kind = "auto";  ///< joint | motor | auto (tau_j<j> columns: joint, else motor)
   double com_margin_m = 0.1;
   double sigma_ms = 0.0;
   double prior_weight = 10.0;
@@ -26,12 +27,10 @@ struct RigidBodyCliOptions {
 /// Adds --rigid-body and its options to `cmd` (the identify subcommand).
 void add_rigid_body_options(CLI::App* cmd, RigidBodyCliOptions& o);
 
-/// Runs it; `rate_hz` > 0 resamples by time stamp to that rate first. Exit code 0/1.
-int run_identify_rigid(const std::string& recording, const std::string& model, const std::string& json, double rate_hz,
+/// Runs it on a recording already read and regularized (uniform steps, its torque kind
+/// chosen by --torque-kind); `model_label` names the prior in the outputs. Exit code 0/1.
+int run_identify_rigid(const io::Recording& rec, const std::string& recording, const nlohmann::json& resampling,
+                       const robot::RobotModel& prior, const std::string& model_label, const std::string& json,
                        const RigidBodyCliOptions& o);
-/// The same with the prior already loaded (e.g. with URDF/drive load options); `model_label`
-/// names it in the outputs.
-int run_identify_rigid(const std::string& recording, const robot::RobotModel& prior, const std::string& model_label,
-                       const std::string& json, double rate_hz, const RigidBodyCliOptions& o);
 
 }  // namespace jg::cli

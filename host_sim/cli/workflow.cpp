@@ -14,16 +14,17 @@ namespace jg::cli {
 namespace {
 struct WorkflowOptions {
   std::string recording, model, json, friction, threshold, scalar = "float";
-  double rate = 0.0, margin = 0.5;
+  double margin = 0.5;
   int debounce = 1, runs = 10;
   unsigned long long seed = 1;
   ObserverOptions observer;
   robot::LoadOptions model_options;
+  RecordingOptions input;
 };
 
-io::Recording load_recording(const WorkflowOptions& o) {
-  io::Recording r = io::read_recording(o.recording);
-  return o.rate > 0.0 ? eval::resample(r, o.rate) : r;
+/// The "resampling" and "torque" fields every workflow JSON carries.
+nlohmann::json input_json(const LoadedRecording& in) {
+  return {{"resampling", resampling_json(in.data.report)}, {"torque", io::to_string(in.torque)}};
 }
 }  // namespace
 
@@ -40,23 +41,31 @@ Command add_identify(CLI::App& app) {
   cmd->add_option("--json", o->json, "Write the identified parameters here (contract format)");
   cmd->add_option("--seed", o->seed, "GA seed")->capture_default_str();
   cmd->add_option("--runs", o->runs, "GA runs (result = mean)")->capture_default_str()->check(CLI::Range(1, 100));
-  cmd->add_option("--rate", o->rate, "Resample the recording to this rate [Hz] first");
+  o->input.add_to(cmd);
   cmd->add_option("--gain", o->observer.gains[0], "First-order observer gain K [1/s]")->capture_default_str();
   auto rigid = std::make_shared<RigidBodyCliOptions>();
   add_rigid_body_options(cmd, *rigid);
   return {cmd, [o, rigid]() {
-            if (rigid->enabled) {
-              return run_identify_rigid(o->recording, robot::load_robot(o->model, o->model_options), o->model, o->json,
-                                        o->rate, *rigid);
-            }
             const auto model = robot::load_robot(o->model, o->model_options);
-            const auto rec = load_recording(*o);
+            const auto in = load_recording(o->recording, o->input);
+            // Rigid-body identification and the GA both fit one continuous run: the longest
+            // segment when gaps split the file.
+            const auto& rec = in.longest();
+            if (in.data.segments.size() > 1) {
+              std::printf("identify: using the longest of %zu segments, t = %.3f .. %.3f s\n", in.data.segments.size(),
+                          rec.t.front(), rec.t.back());
+            }
+            if (rigid->enabled) {
+              return run_identify_rigid(rec, o->recording, resampling_json(in.data.report), model, o->model, o->json, *rigid);
+            }
             ident::GaSettings ga;
             ga.seed = o->seed;
             ga.runs = o->runs;
             Progress bar("identify");
-            const auto r = eval::identify_recording(rec, model, ObserverGains{ObserverKind::first_order, o->observer.gains[0], 0, 0}, ga,
-                                                    [&](double f) { bar.update(f); });
+            const auto r = about_recording(o->recording, [&] {
+              return eval::identify_recording(rec, model, ObserverGains{ObserverKind::first_order, o->observer.gains[0], 0, 0}, ga,
+                                              [&](double f) { bar.update(f); });
+            });
             bar.finish();
             std::printf("joint  sigma0      sigma1    sigma2   tau_c    tau_s    w_s      rms [N·m]\n");
             for (std::size_t j = 0; j < r.size(); ++j) {
@@ -66,7 +75,9 @@ Command add_identify(CLI::App& app) {
               for (const auto& w : r[j].warnings) std::printf("       warning: %s\n", w.c_str());
             }
             if (!o->json.empty()) {
-              eval::write_friction_json(o->json, r, rec.joint_ids);
+              auto extra = input_json(in);
+              extra["segment_used"] = {{"t_begin", rec.t.front()}, {"t_end", rec.t.back()}};
+              eval::write_friction_json(o->json, r, rec.joint_ids, extra);
               std::printf("wrote %s\n", o->json.c_str());
             }
             return 0;
@@ -85,13 +96,16 @@ Command add_calibrate(CLI::App& app) {
   cmd->add_option("--friction", o->friction, "Friction JSON from identify")->required()->check(CLI::ExistingFile);
   cmd->add_option("--json", o->json, "Write the thresholds here (contract format)");
   cmd->add_option("--margin", o->margin, "Safety margin added to the band [N·m]")->capture_default_str();
-  cmd->add_option("--rate", o->rate, "Resample the recording to this rate [Hz] first");
+  o->input.add_to(cmd);
   o->observer.add_to(cmd);
   return {cmd, [o]() {
             const auto model = robot::load_robot(o->model, o->model_options);
-            const auto rec = load_recording(*o);
+            const auto in = load_recording(o->recording, o->input);
+            const auto& rec = in.data.segments.front();
             const auto friction = eval::read_friction_json(o->friction);
-            const auto t = eval::calibrate_recording(rec, model, friction, o->observer.to_gains(eval::sample_rate(rec)), o->margin);
+            const auto t = about_recording(o->recording, [&] {
+              return eval::calibrate_segments(in.data.segments, model, friction, o->observer.to_gains(in.data.report.rate_hz), o->margin);
+            });
             std::printf("joint  band without / with compensation [N·m]  shrink  threshold (moving)  + at standstill\n");
             for (std::size_t j = 0; j < t.threshold.size(); ++j) {
               std::printf("%5d  %12.3f / %-12.3f              %5.1fx  %10.3f          %+.3f\n", rec.joint_ids[j], t.band_uncompensated[j],
@@ -99,7 +113,7 @@ Command add_calibrate(CLI::App& app) {
                           t.low_speed_extra[j]);
             }
             if (!o->json.empty()) {
-              eval::write_threshold_json(o->json, t, rec.joint_ids);
+              eval::write_threshold_json(o->json, t, rec.joint_ids, input_json(in));
               std::printf("wrote %s\n", o->json.c_str());
             }
             return 0;
@@ -117,19 +131,22 @@ Command add_replay(CLI::App& app) {
   cmd->add_option("--friction", o->friction, "Friction JSON from identify")->required()->check(CLI::ExistingFile);
   cmd->add_option("--threshold", o->threshold, "Threshold JSON from calibrate")->required()->check(CLI::ExistingFile);
   cmd->add_option("--scalar", o->scalar, "Firmware scalar")->check(CLI::IsMember({"float", "q"}))->capture_default_str();
-  cmd->add_option("--rate", o->rate, "Control/observer rate [Hz] (the recording is resampled)");
+  o->input.add_to(cmd, "Control/observer rate [Hz]: the recording is resampled to it by time stamp (default: its own median step, rounded)");
   cmd->add_option("--debounce", o->debounce, "Cycles over threshold before a detection")->capture_default_str()->check(CLI::Range(1, 50));
   cmd->add_option("--json", o->json, "Write the events here (contract format)");
   o->observer.add_to(cmd);
   return {cmd, [o]() {
             const auto model = robot::load_robot(o->model, o->model_options);
-            const auto rec = load_recording(*o);
+            const auto in = load_recording(o->recording, o->input);
             const auto friction = eval::read_friction_json(o->friction);
             const auto thresholds = eval::read_threshold_json(o->threshold);
-            const auto r = eval::replay_recording(rec, model, friction, thresholds, o->observer.to_gains(eval::sample_rate(rec)), o->scalar,
-                                                o->debounce);
+            // Each segment runs from a fresh state; events keep the recording's time stamps.
+            const auto r = about_recording(o->recording, [&] {
+              return eval::replay_segments(in.data.segments, model, friction, thresholds, o->observer.to_gains(in.data.report.rate_hz),
+                                           o->scalar, o->debounce);
+            });
             std::printf("%zu detection(s)\n", r.events.size());
-            nlohmann::json j;
+            nlohmann::json j = input_json(in);
             j["events"] = nlohmann::json::array();
             for (const auto& e : r.events) {
               std::printf("  t = %.4f s: link %d (joints over threshold:", e.t, e.link);
@@ -140,7 +157,7 @@ Command add_replay(CLI::App& app) {
             j["external_torque_max"] = r.external_torque_max;
             j["scalar"] = o->scalar;
             if (!o->json.empty()) {
-              std::ofstream(o->json) << j.dump(2) << '\n';
+              write_json_file(o->json, j);
               std::printf("wrote %s\n", o->json.c_str());
             }
             return 0;

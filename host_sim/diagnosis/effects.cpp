@@ -222,7 +222,8 @@ std::vector<std::vector<Candidate>> build_candidates(const JointSignals& s) {
     } else {
       for (const double v : grid) g.push_back(make_candidate(effect, {{key, v}}, s));
     }
-    if (!g.front().columns.empty()) all.push_back(std::move(g));
+    // An empty grid (no ripple period fits the recorded range: a held arm) offers nothing.
+    if (!g.empty() && !g.front().columns.empty()) all.push_back(std::move(g));
   };
   // With the nominal friction model, friction effects are also its parameters' changes:
   // further instances of the same group (they compete with the generic shapes by BIC).

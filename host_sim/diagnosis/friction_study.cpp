@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "identification/lugre_batch.hpp"
+#include "io/regularize.hpp"
 
 namespace jg::diag {
 namespace {
@@ -37,33 +38,17 @@ io::Recording resample_uniform(const io::Recording& r, double max_gap_steps) {
   if (r.joints() != 1 || r.tau_m.empty()) {
     throw std::invalid_argument("friction study: expected one joint with a torque column");
   }
-  std::vector<double> steps;
-  for (std::size_t k = 1; k < r.samples(); ++k) steps.push_back(r.t[k] - r.t[k - 1]);
-  std::nth_element(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2), steps.end());
-  const double dt = steps[steps.size() / 2];
-  for (std::size_t k = 1; k < r.samples(); ++k) {
-    if (r.t[k] - r.t[k - 1] > max_gap_steps * dt) {
-      throw std::invalid_argument("gap of " + std::to_string(r.t[k] - r.t[k - 1]) + " s at t = " + std::to_string(r.t[k - 1]) +
-                                  " s: too long to interpolate over");
-    }
+  // By time stamp (io::regularize), the study needing one continuous run: any gap longer
+  // than max_gap_steps median steps is refused rather than split.
+  io::RegularizeOptions o;
+  o.gap_steps = max_gap_steps;
+  o.gap_min_s = 0.0;
+  const io::Regularized reg = io::regularize(r, o, "friction study recording");
+  if (reg.report.gaps_split > 0 || reg.segments.size() != 1) {
+    throw std::invalid_argument("friction study: a gap longer than " + std::to_string(reg.report.split_gap_s) +
+                                " s: too long to interpolate over");
   }
-  io::Recording out;
-  const auto n = static_cast<std::size_t>(std::floor((r.t.back() - r.t.front()) / dt)) + 1;
-  out.resize(1, n, false, true, false, false);
-  out.joint_ids = r.joint_ids;
-  out.meta = r.meta;
-  out.meta.sample_time = dt;
-  std::size_t i = 0;
-  for (std::size_t k = 0; k < n; ++k) {
-    const double t = r.t.front() + static_cast<double>(k) * dt;
-    while (i + 2 < r.samples() && r.t[i + 1] < t) ++i;
-    const double a = std::clamp((t - r.t[i]) / (r.t[i + 1] - r.t[i]), 0.0, 1.0);
-    out.t[k] = t;
-    out.q[0][k] = r.q[0][i] + a * (r.q[0][i + 1] - r.q[0][i]);
-    out.dq[0][k] = r.dq[0][i] + a * (r.dq[0][i + 1] - r.dq[0][i]);
-    out.tau_m[0][k] = r.tau_m[0][i] + a * (r.tau_m[0][i + 1] - r.tau_m[0][i]);
-  }
-  return out;
+  return reg.segments.front();
 }
 
 StudyResult friction_study(const std::vector<StudyFile>& files, std::size_t train_index, const ident::GaSettings& ga,

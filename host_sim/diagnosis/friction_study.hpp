@@ -39,8 +39,9 @@ struct StudyResult {
   std::vector<StudyFileResult> files;
 };
 
-/// Resamples a one-joint recording onto a uniform time base (linear interpolation) at its
-/// median step; refuses recordings with gaps longer than `max_gap_steps` median steps.
+/// Resamples a one-joint recording onto a uniform time base by time stamp (io::regularize:
+/// linear, at its median step's nominal rate); refuses gaps longer than `max_gap_steps`
+/// median steps.
 io::Recording resample_uniform(const io::Recording& r, double max_gap_steps = 20.0);
 
 StudyResult friction_study(const std::vector<StudyFile>& files, std::size_t train_index,

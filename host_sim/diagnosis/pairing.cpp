@@ -1,10 +1,13 @@
 #include "diagnosis/pairing.hpp"
 
-#include <array>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
+#include "dynamics/acceleration.hpp"
+#include "dynamics/sensitivity.hpp"
 #include "identification/lugre_batch.hpp"
 
 namespace jg::diag {
@@ -26,14 +29,17 @@ double uniform_dt(const io::Recording& r, const char* which) {
 }
 
 std::vector<double> torque_of(const io::Recording& r, std::size_t j, const ModelContext& m, const char* which) {
-  if (!r.tau_m.empty()) return r.tau_m[j];
+  if (r.torque_kind != io::TorqueKind::current) {
+    const auto& tau = io::torque_columns(r);
+    if (j < tau.size()) return tau[j];
+  }
   if (!r.current.empty() && j < m.torque_constant.size()) {
     std::vector<double> t(r.current[j]);
     for (auto& v : t) v *= m.torque_constant[j];
     return t;
   }
   throw std::invalid_argument(std::string(which) + " recording: joint " + std::to_string(r.joint_ids[j]) +
-                              " has currents but the model gives no torque constant; give tau_m<j> columns");
+                              " has no torque column and the model gives no torque constant for its currents");
 }
 
 double interp(const std::vector<double>& t, const std::vector<double>& x, double at, std::size_t& hint) {
@@ -61,13 +67,26 @@ std::vector<double> deflection_of(const io::Recording& r, std::size_t j) {
   return d;
 }
 
+/// The acceleration the model's torque is computed with: a zero-phase Gaussian derivative
+/// of the velocity whose width comes from the data (dynamics/acceleration.hpp: where the
+/// velocity spectrum meets its noise floor), unless the context fixes it (0: the +/-10 ms
+/// Savitzky-Golay slope).
+double acceleration_sigma(const std::vector<std::vector<double>>& dq, double dt, const ModelContext& m) {
+  return m.acceleration_sigma_s >= 0.0 ? m.acceleration_sigma_s : dyn::choose_sigma(dq, dt);
+}
+std::vector<double> acceleration(const std::vector<double>& dq, double dt, double sigma_s) {
+  return sigma_s > 0.0 ? dyn::smooth_derivative(dq, dt, sigma_s) : derivative(dq, dt);
+}
+
 /// Fills the model-dependent signals: ddq, rigid-body load, payload columns, mismatch.
 void add_model_terms(std::vector<JointSignals>& out, const io::Recording& real, const ModelContext& m) {
   const std::size_t n = real.samples();
   const std::size_t nj = real.joints();
   std::vector<std::vector<double>> ddq(nj);
+  const double sigma = out.empty() ? 0.0 : acceleration_sigma(real.dq, out.front().dt, m);
   for (std::size_t j = 0; j < nj; ++j) {
-    ddq[j] = derivative(real.dq[j], out[j].dt);
+    ddq[j] = acceleration(real.dq[j], out[j].dt, sigma);
+    out[j].acceleration_sigma_s = sigma;
     out[j].ddq = ddq[j];
     const auto dq_link = derivative(real.q[j], out[j].dt);
     out[j].velocity_mismatch.resize(n);
@@ -76,45 +95,21 @@ void add_model_terms(std::vector<JointSignals>& out, const io::Recording& real, 
     if (j < m.friction.size()) out[j].friction = m.friction[j];
   }
   if (m.arm == nullptr || m.arm->joints() != static_cast<int>(nj)) return;
-  sim::ArmDynamics plus = *m.arm;
-  const int last = plus.joints() - 1;
+  const int last = m.arm->joints() - 1;
   for (auto& s : out) {
     s.load.resize(n);
     s.payload_columns.assign(4, std::vector<double>(n, 0.0));
   }
-  // d tau / d theta for theta = (m, h = m c) of the last link with its rotational inertia
-  // about the link origin held fixed: the dynamics are linear in (m, h, I_origin), so a
-  // small step divided by its size is the exact column.
-  const sim::PlantLink base = m.arm->link(last);
-  const Eigen::Matrix3d eye = Eigen::Matrix3d::Identity();
-  const Eigen::Matrix3d inertia_origin =
-      base.inertia_com + base.mass * (base.com.squaredNorm() * eye - base.com * base.com.transpose());
-  constexpr double kStep = 0.01;
-  std::array<sim::PlantLink, 4> perturbed;
-  for (int p = 0; p < 4; ++p) {
-    double mass = base.mass;
-    Eigen::Vector3d first = base.mass * base.com;
-    if (p == 0) mass += kStep;
-    else first(p - 1) += kStep;
-    sim::PlantLink l = base;
-    l.mass = mass;
-    l.com = first / mass;
-    l.inertia_com = inertia_origin - mass * (l.com.squaredNorm() * eye - l.com * l.com.transpose());
-    perturbed[static_cast<std::size_t>(p)] = l;
-  }
+  // d tau / d (m, m c) of the last link, its rotational inertia about the link origin held
+  // fixed: the payload's columns (exact: the dynamics are linear in those parameters).
   for (std::size_t k = 0; k < n; ++k) {
-    const auto q = column_at(real.q, k), dq = column_at(real.dq, k), a = column_at(ddq, k);
-    const sim::JointVector tau0 = m.arm->inverse_dynamics(q, dq, a);
-    for (std::size_t j = 0; j < nj; ++j) out[j].load[k] = tau0(static_cast<Eigen::Index>(j));
-    for (int p = 0; p < 4; ++p) {
-      plus.link(last) = perturbed[static_cast<std::size_t>(p)];
-      const sim::JointVector tau1 = plus.inverse_dynamics(q, dq, a);
-      for (std::size_t j = 0; j < nj; ++j) {
-        out[j].payload_columns[static_cast<std::size_t>(p)][k] =
-            (tau1(static_cast<Eigen::Index>(j)) - tau0(static_cast<Eigen::Index>(j))) / kStep;
-      }
+    sim::JointVector tau0;
+    const auto cols = sim::mass_first_moment_sensitivity(*m.arm, last, column_at(real.q, k), column_at(real.dq, k),
+                                                         column_at(ddq, k), &tau0);
+    for (std::size_t j = 0; j < nj; ++j) {
+      out[j].load[k] = tau0(static_cast<Eigen::Index>(j));
+      for (std::size_t p = 0; p < 4; ++p) out[j].payload_columns[p][k] = cols[p](static_cast<Eigen::Index>(j));
     }
-    plus.link(last) = base;
   }
 }
 
@@ -167,7 +162,7 @@ std::vector<JointSignals> signals_from_pair(const io::Recording& real, const io:
         q_s[j][k] = interp(simulated.t, simulated.q[j], real.t[k], h1);
         dq_s[j][k] = interp(simulated.t, simulated.dq[j], real.t[k], h2);
       }
-      ddq_s[j] = derivative(dq_s[j], dt);
+      ddq_s[j] = acceleration(dq_s[j], dt, out[j].acceleration_sigma_s);
     }
     for (std::size_t k = 0; k < real.samples(); ++k) {
       const auto tau_sim_motion = model.arm->inverse_dynamics(column_at(q_s, k), column_at(dq_s, k), column_at(ddq_s, k));
@@ -177,6 +172,18 @@ std::vector<JointSignals> signals_from_pair(const io::Recording& real, const io:
       const auto f_real = ident::lugre_predict(model.friction[j], real.dq[j], dt);
       const auto f_sim = ident::lugre_predict(model.friction[j], dq_s[j], dt);
       for (std::size_t k = 0; k < real.samples(); ++k) out[j].tau_model[k] += f_real[k] - f_sim[k];
+    }
+  }
+  // A joint torque sensor does not see the rotor: take the simulation's rotor torque off
+  // a simulated motor torque before comparing.
+  if (real.torque_kind == io::TorqueKind::tau_j && simulated.torque_kind != io::TorqueKind::tau_j) {
+    for (std::size_t j = 0; j < real.joints() && j < model.rotor_inertia.size(); ++j) {
+      if (model.rotor_inertia[j] == 0.0) continue;
+      std::vector<double> dq_s(real.samples());
+      std::size_t hint = 0;
+      for (std::size_t k = 0; k < real.samples(); ++k) dq_s[k] = interp(simulated.t, simulated.dq[j], real.t[k], hint);
+      const auto ddq_s = acceleration(dq_s, dt, out[j].acceleration_sigma_s);
+      for (std::size_t k = 0; k < real.samples(); ++k) out[j].tau_model[k] -= model.rotor_inertia[j] * ddq_s[k];
     }
   }
   for (auto& s : out) {
@@ -207,6 +214,28 @@ std::vector<JointSignals> signals_from_model(const io::Recording& real, const Mo
     }
     s.residual.resize(s.t.size());
     for (std::size_t k = 0; k < s.t.size(); ++k) s.residual[k] = s.tau_real[k] - s.tau_model[k];
+  }
+  return out;
+}
+
+std::vector<JointSignals> concatenate_signals(const std::vector<std::vector<JointSignals>>& parts) {
+  if (parts.empty()) return {};
+  std::vector<JointSignals> out = parts.front();
+  auto append = [](std::vector<double>& a, const std::vector<double>& b) { a.insert(a.end(), b.begin(), b.end()); };
+  for (std::size_t p = 1; p < parts.size(); ++p) {
+    if (parts[p].size() != out.size()) throw std::invalid_argument("segments with different joints");
+    for (std::size_t j = 0; j < out.size(); ++j) {
+      JointSignals& a = out[j];
+      const JointSignals& b = parts[p][j];
+      for (auto [dst, src] : {std::pair{&a.t, &b.t}, {&a.q, &b.q}, {&a.dq, &b.dq}, {&a.ddq, &b.ddq}, {&a.tau_real, &b.tau_real},
+                              {&a.tau_model, &b.tau_model}, {&a.load, &b.load}, {&a.residual, &b.residual},
+                              {&a.velocity_mismatch, &b.velocity_mismatch}, {&a.deflection, &b.deflection}}) {
+        append(*dst, *src);
+      }
+      for (std::size_t c = 0; c < a.payload_columns.size() && c < b.payload_columns.size(); ++c) {
+        append(a.payload_columns[c], b.payload_columns[c]);
+      }
+    }
   }
   return out;
 }

@@ -17,6 +17,7 @@ struct JointSignals {
   std::vector<double> q;         ///< link position [rad]
   std::vector<double> dq;        ///< velocity [rad/s]
   std::vector<double> ddq;       ///< acceleration estimated by differentiating dq [rad/s^2]
+  double acceleration_sigma_s = 0.0;  ///< width of the zero-phase Gaussian derivative used for ddq (0: +/-10 ms slope)
   std::vector<double> tau_real;  ///< measured motor torque [N·m]
   std::vector<double> tau_model; ///< simulated or predicted motor torque [N·m]
   std::vector<double> load;      ///< rigid-body torque of the model (no friction) [N·m]

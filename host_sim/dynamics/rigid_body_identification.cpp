@@ -144,26 +144,16 @@ std::vector<bool> default_train_mask(std::size_t samples) {
 
 std::vector<std::vector<double>> recording_torque(const io::Recording& rec, const robot::RobotModel& model,
                                                   bool* joint_sensor) {
-  if (joint_sensor) *joint_sensor = false;
-  if (!rec.tau_m.empty()) return rec.tau_m;
-  std::vector<std::vector<double>> tau;
-  bool all_tau_j = true;
-  for (int id : rec.joint_ids) {
-    const auto it = rec.extra.find("tau_j" + std::to_string(id));
-    if (it == rec.extra.end()) {
-      all_tau_j = false;
-      break;
+  // The torque the recording's kind names (io::torque_columns): a joint torque sensor's
+  // reading, a motor torque, or the currents times each drive's K_I.
+  if (joint_sensor) *joint_sensor = rec.torque_kind == io::TorqueKind::tau_j;
+  const auto& cols = io::torque_columns(rec);
+  if (cols.empty()) throw std::invalid_argument("recording has no torque (tau_m<j>, tau_j<j>) or current (i<j>) columns");
+  std::vector<std::vector<double>> tau = cols;
+  if (rec.torque_kind == io::TorqueKind::current) {
+    for (std::size_t j = 0; j < tau.size(); ++j) {
+      for (double& v : tau[j]) v *= model.joints[j].link.torque_constant;
     }
-    tau.push_back(it->second);
-  }
-  if (all_tau_j && !tau.empty()) {
-    if (joint_sensor) *joint_sensor = true;
-    return tau;
-  }
-  if (rec.current.empty()) throw std::invalid_argument("recording has no torque (tau_m<j>, tau_j<j>) or current (i<j>) columns");
-  tau = rec.current;
-  for (std::size_t j = 0; j < tau.size(); ++j) {
-    for (double& v : tau[j]) v *= model.joints[j].link.torque_constant;
   }
   return tau;
 }

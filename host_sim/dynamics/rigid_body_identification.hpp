@@ -92,11 +92,8 @@ struct RigidBodyIdResult {
 /// Default held-out split: 10 equal blocks, blocks 1, 4 and 7 (0-based) held out.
 [[nodiscard]] std::vector<bool> default_train_mask(std::size_t samples);
 
-/// The recording's torque per joint: tau_m<j>, else tau_j<j> (extra columns; torque
-/// sensor), else K_I x i<j> with the model's K_I. Sets *joint_sensor when tau_j was used.
-/// Merge note: once io::Recording carries tau_j and torque_kind (host_sim/io, recordings
-/// branch), this is io::torque_columns(rec) (times K_I for currents), with *joint_sensor =
-/// (rec.torque_kind == io::TorqueKind::tau_j).
+/// io::torque_columns(rec), currents times each joint's K_I; *joint_sensor = the recording
+/// carries a joint torque sensor's reading (tau_j).
 [[nodiscard]] std::vector<std::vector<double>> recording_torque(const io::Recording& rec,
                                                                 const robot::RobotModel& model, bool* joint_sensor);
 

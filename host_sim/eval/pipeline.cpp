@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
 #include "eval/firmware_estimator.hpp"
 #include "jointguard/detection/detector.hpp"
+#include "robot/torque_kind.hpp"
 
 namespace jg::eval {
 namespace {
@@ -35,10 +37,19 @@ void write_json_atomic(const std::string& path, const nlohmann::json& j) {
   const std::string tmp = path + ".tmp";
   {
     std::ofstream out(tmp);
-    if (!out) throw std::runtime_error(path + ": cannot write");
-    out << j.dump(2) << '\n';
+    if (!out) throw std::runtime_error(path + ": cannot write (does its folder exist?)");
+    out << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
+    out.flush();
+    if (!out) {
+      out.close();
+      std::remove(tmp.c_str());
+      throw std::runtime_error(path + ": write failed");
+    }
   }
-  std::rename(tmp.c_str(), path.c_str());
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error(path + ": cannot write (rename failed)");
+  }
 }
 
 double field(const nlohmann::json& j, const char* key, const std::string& path, std::size_t index) {
@@ -52,8 +63,8 @@ double field(const nlohmann::json& j, const char* key, const std::string& path, 
 }  // namespace
 
 void write_friction_json(const std::string& path, const std::vector<ident::IdentificationResult>& r,
-                         const std::vector<int>& joint_ids) {
-  nlohmann::json j;
+                         const std::vector<int>& joint_ids, const nlohmann::json& extra) {
+  nlohmann::json j = extra.is_object() ? extra : nlohmann::json::object();
   j["joints"] = nlohmann::json::array();
   for (std::size_t i = 0; i < r.size(); ++i) {
     const auto& p = r[i].params;
@@ -87,8 +98,9 @@ std::vector<LuGreParams<double>> read_friction_json(const std::string& path) {
   return out;
 }
 
-void write_threshold_json(const std::string& path, const Thresholds& t, const std::vector<int>& joint_ids) {
-  nlohmann::json j;
+void write_threshold_json(const std::string& path, const Thresholds& t, const std::vector<int>& joint_ids,
+                          const nlohmann::json& extra) {
+  nlohmann::json j = extra.is_object() ? extra : nlohmann::json::object();
   j["margin"] = t.margin;
   j["joints"] = nlohmann::json::array();
   for (std::size_t i = 0; i < t.threshold.size(); ++i) {
@@ -122,46 +134,19 @@ std::vector<std::vector<double>> motor_torque(const io::Recording& rec, const ro
     throw std::invalid_argument("the recording has " + std::to_string(rec.joints()) + " joints, the model " +
                                 std::to_string(model.joints.size()));
   }
-  if (!rec.tau_m.empty()) return rec.tau_m;
+  if (rec.torque_kind != io::TorqueKind::current) {
+    const auto& tau = io::torque_columns(rec);
+    if (tau.size() == rec.joints()) return tau;
+  }
+  // A recording built in code may fill columns without setting torque_kind.
+  if (rec.current.size() != rec.joints()) {
+    if (rec.tau_m.size() == rec.joints()) return rec.tau_m;
+    throw std::invalid_argument(std::string("the recording has no ") + io::to_string(rec.torque_kind) + " columns");
+  }
   std::vector<std::vector<double>> out = rec.current;
   for (std::size_t j = 0; j < out.size(); ++j) {
     for (auto& v : out[j]) v *= model.joints[j].link.torque_constant;
   }
-  return out;
-}
-
-io::Recording resample(const io::Recording& rec, double rate_hz) {
-  const double dt = sample_time(rec);
-  if (!(rate_hz > 0.0) || std::fabs(dt * rate_hz - 1.0) < 1e-3) return rec;
-  const double new_dt = 1.0 / rate_hz;
-  const auto n = static_cast<std::size_t>(std::floor((rec.t.back() - rec.t.front()) / new_dt)) + 1;
-  io::Recording out = rec;
-  out.t.resize(n);
-  auto interp = [&](const std::vector<double>& x, double t) {
-    const double pos = (t - rec.t.front()) / dt;
-    const auto i = std::min(static_cast<std::size_t>(std::max(0.0, pos)), rec.samples() - 2);
-    const double a = std::clamp(pos - static_cast<double>(i), 0.0, 1.0);
-    return x[i] + a * (x[i + 1] - x[i]);
-  };
-  for (auto* sig : {&out.q, &out.dq, &out.current, &out.tau_m, &out.tau_ext}) {
-    for (auto& v : *sig) v.resize(n);
-  }
-  std::vector<int> coll(out.collision.empty() ? 0 : n);
-  for (std::size_t k = 0; k < n; ++k) {
-    const double t = rec.t.front() + static_cast<double>(k) * new_dt;
-    out.t[k] = t;
-    for (std::size_t j = 0; j < rec.joints(); ++j) {
-      out.q[j][k] = interp(rec.q[j], t);
-      out.dq[j][k] = interp(rec.dq[j], t);
-      if (!rec.current.empty()) out.current[j][k] = interp(rec.current[j], t);
-      if (!rec.tau_m.empty()) out.tau_m[j][k] = interp(rec.tau_m[j], t);
-      if (!rec.tau_ext.empty()) out.tau_ext[j][k] = interp(rec.tau_ext[j], t);
-    }
-    if (!coll.empty()) coll[k] = rec.collision[std::min(rec.samples() - 1, static_cast<std::size_t>(std::lround((t - rec.t.front()) / dt)))];
-  }
-  out.collision = coll;
-  out.extra.clear();
-  out.meta.sample_time = new_dt;
   return out;
 }
 
@@ -171,7 +156,7 @@ std::vector<std::vector<double>> observer_disturbance(const io::Recording& rec, 
                                                      const std::string& scalar) {
   const auto tau = motor_torque(rec, model);
   FirmwareEstimatorConfig c;
-  c.model = model;
+  c.model = robot::for_torque_kind(model, rec.torque_kind);
   c.dt = sample_time(rec);
   c.observer = gains;
   c.compensate_friction = compensate;
@@ -321,19 +306,38 @@ Thresholds BandStatistics::fit(double margin) const {
 Thresholds calibrate_recording(const io::Recording& rec, const robot::RobotModel& model,
                                const std::vector<LuGreParams<double>>& friction, const ObserverGains& gains,
                                double margin, double settle_s, const std::string& scalar) {
-  if (!rec.collision.empty()) {
+  return calibrate_segments({rec}, model, friction, gains, margin, settle_s, scalar);
+}
+
+Thresholds calibrate_segments(const std::vector<io::Recording>& segments, const robot::RobotModel& model,
+                              const std::vector<LuGreParams<double>>& friction, const ObserverGains& gains,
+                              double margin, double settle_s, const std::string& scalar) {
+  if (segments.empty()) throw std::invalid_argument("calibration: no recording to calibrate on");
+  for (const auto& rec : segments) {
     for (const int c : rec.collision) {
       if (c != 0) throw std::invalid_argument("calibration needs a collision-free recording (its collision column is not all 0)");
     }
   }
-  const auto with = observer_disturbance(rec, model, gains, true, friction, scalar);
-  const auto without = observer_disturbance(rec, model, gains, false, friction, scalar);
-  BandStatistics stats(rec.joints());
-  for (std::size_t j = 0; j < rec.joints(); ++j) {
-    for (std::size_t k = 0; k < rec.samples(); ++k) {
-      if (rec.t[k] - rec.t.front() < settle_s) continue;
-      stats.add(j, rec.dq[j][k], with[j][k], without[j][k]);
+  BandStatistics stats(segments.front().joints());
+  std::size_t used = 0;
+  double longest = 0.0;
+  for (const auto& rec : segments) {
+    longest = std::max(longest, rec.t.back() - rec.t.front());
+    if (rec.t.back() - rec.t.front() < settle_s) continue;  // nothing after the observer settles
+    const auto with = observer_disturbance(rec, model, gains, true, friction, scalar);
+    const auto without = observer_disturbance(rec, model, gains, false, friction, scalar);
+    for (std::size_t j = 0; j < rec.joints(); ++j) {
+      for (std::size_t k = 0; k < rec.samples(); ++k) {
+        if (rec.t[k] - rec.t.front() < settle_s) continue;
+        stats.add(j, rec.dq[j][k], with[j][k], without[j][k]);
+        used += j == 0 ? 1 : 0;
+      }
     }
+  }
+  if (used == 0) {
+    throw std::invalid_argument("calibration: no sample after the observer's " + std::to_string(settle_s) +
+                                " s settling time (the longest continuous part lasts " + std::to_string(longest) +
+                                " s); record a longer collision-free motion");
   }
   return stats.fit(margin);
 }
@@ -362,6 +366,7 @@ ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel&
   r.mu.assign(n, std::vector<double>(rec.samples()));
   std::vector<JointDetectorState> st(n);
   JointMask previous = 0;
+  double quiet_since = -1.0;
   for (std::size_t k = 0; k < rec.samples(); ++k) {
     JointMask mask = 0;
     for (std::size_t j = 0; j < n; ++j) {
@@ -390,7 +395,6 @@ ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel&
     bool all_quiet = true;
     for (std::size_t j = 0; j < n; ++j) all_quiet = all_quiet && std::fabs(r.mu[j][k]) < thresholds[j];
     if (mask != 0 && all_quiet) {
-      static thread_local double quiet_since = -1.0;
       if (quiet_since < 0.0) quiet_since = rec.t[k];
       if (rec.t[k] - quiet_since > 0.2) {
         for (auto& s : st) reset_detector(s);
@@ -401,6 +405,25 @@ ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel&
     previous = mask;
   }
   return r;
+}
+
+ReplayResult replay_segments(const std::vector<io::Recording>& segments, const robot::RobotModel& model,
+                             const std::vector<LuGreParams<double>>& friction, const Thresholds& thresholds,
+                             const ObserverGains& gains, const std::string& scalar, int debounce_cycles) {
+  if (segments.empty()) throw std::invalid_argument("replay: no recording to replay");
+  ReplayResult all;
+  for (const auto& rec : segments) {
+    ReplayResult r = replay_recording(rec, model, friction, thresholds, gains, scalar, debounce_cycles);
+    all.events.insert(all.events.end(), r.events.begin(), r.events.end());
+    if (all.external_torque_max.empty()) all.external_torque_max.assign(r.external_torque_max.size(), 0.0);
+    for (std::size_t j = 0; j < r.external_torque_max.size(); ++j) {
+      all.external_torque_max[j] = std::max(all.external_torque_max[j], r.external_torque_max[j]);
+    }
+    all.t.insert(all.t.end(), r.t.begin(), r.t.end());
+    if (all.mu.empty()) all.mu.resize(r.mu.size());
+    for (std::size_t j = 0; j < r.mu.size(); ++j) all.mu[j].insert(all.mu[j].end(), r.mu[j].begin(), r.mu[j].end());
+  }
+  return all;
 }
 
 }  // namespace jg::eval

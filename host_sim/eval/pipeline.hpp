@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -16,8 +17,10 @@
 namespace jg::eval {
 
 /// Contract JSON (--friction): {"joints": [{"joint", "sigma0", ..., "w_s", "rms"}]}
+/// `extra` fields (e.g. "resampling", "torque") are added at the top level. The file is
+/// written to a temporary name and renamed: it exists complete or not at all.
 void write_friction_json(const std::string& path, const std::vector<ident::IdentificationResult>& r,
-                         const std::vector<int>& joint_ids);
+                         const std::vector<int>& joint_ids, const nlohmann::json& extra = nlohmann::json::object());
 std::vector<LuGreParams<double>> read_friction_json(const std::string& path);
 
 struct Thresholds {
@@ -29,18 +32,18 @@ struct Thresholds {
   double margin = 0.0;
 };
 /// Contract JSON (--threshold): {"joints": [{"joint", "threshold", "threshold_uncompensated"}]}
-void write_threshold_json(const std::string& path, const Thresholds& t, const std::vector<int>& joint_ids);
+void write_threshold_json(const std::string& path, const Thresholds& t, const std::vector<int>& joint_ids,
+                          const nlohmann::json& extra = nlohmann::json::object());
 Thresholds read_threshold_json(const std::string& path);
 
-/// Motor torque per joint from a recording (tau_m columns, or currents x K_I of the model).
+/// The measured torque per joint, of the recording's torque kind (rec.torque_kind):
+/// tau_j or tau_m columns, or currents x K_I of the model. Apply the model to it through
+/// robot::for_torque_kind (a joint torque sensor sees no rotor inertia).
 std::vector<std::vector<double>> motor_torque(const io::Recording& rec, const robot::RobotModel& model);
 
 /// Mean sample rate of a recording [Hz]; throws when it has fewer than 3 samples.
+/// Recordings from files go through io::regularize first (uniform segments).
 double sample_rate(const io::Recording& rec);
-
-/// Resamples a recording to `rate_hz` (linear interpolation); returns it unchanged when
-/// the rate already matches within 0.1 %.
-io::Recording resample(const io::Recording& rec, double rate_hz);
 
 /// Observer output per joint over a recording (firmware core, float, no compensation).
 std::vector<std::vector<double>> observer_disturbance(const io::Recording& rec, const robot::RobotModel& model,
@@ -55,6 +58,12 @@ std::vector<ident::IdentificationResult> identify_recording(const io::Recording&
 Thresholds calibrate_recording(const io::Recording& rec, const robot::RobotModel& model,
                                const std::vector<LuGreParams<double>>& friction, const ObserverGains& gains,
                                double margin, double settle_s = 0.5, const std::string& scalar = "float");
+/// Calibration over uniform segments of one recording (io::regularize): each run from a
+/// fresh observer state, its first settle_s skipped, the band gathered over all of them.
+/// Throws when no segment lasts longer than settle_s (no sample to calibrate on).
+Thresholds calibrate_segments(const std::vector<io::Recording>& segments, const robot::RobotModel& model,
+                              const std::vector<LuGreParams<double>>& friction, const ObserverGains& gains,
+                              double margin, double settle_s = 0.5, const std::string& scalar = "float");
 
 /// Collision-free band statistics, gathered sample by sample (a long calibration run need
 /// not be recorded): max |mu| per joint in velocity bins, then the band
@@ -100,5 +109,10 @@ std::vector<JointThreshold<double>> threshold_bands(const Thresholds& t);
 ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel& model,
                               const std::vector<LuGreParams<double>>& friction, const Thresholds& thresholds,
                               const ObserverGains& gains, const std::string& scalar, int debounce_cycles);
+/// Replay of uniform segments, each from a fresh state; events, t and mu merged in time
+/// order (events keep the recording's time stamps).
+ReplayResult replay_segments(const std::vector<io::Recording>& segments, const robot::RobotModel& model,
+                             const std::vector<LuGreParams<double>>& friction, const Thresholds& thresholds,
+                             const ObserverGains& gains, const std::string& scalar, int debounce_cycles);
 
 }  // namespace jg::eval

@@ -84,7 +84,7 @@ std::string replace_j(std::string pattern, int j) {
   return pattern;
 }
 
-enum class Kind { time, q, dq, current, tau_m, tau_ext, collision, extra };
+enum class Kind { time, q, dq, current, tau_m, tau_j, tau_ext, collision, extra };
 struct Column {
   Kind kind = Kind::extra;
   std::size_t joint = 0;  // index into joint_ids
@@ -121,7 +121,62 @@ RecordingMeta read_meta(const std::filesystem::path& json_path) {
   return meta;
 }
 
+/// Applies the user's torque choice; the columns it needs must be there.
+void resolve_torque(Recording& rec, const std::string& path, TorqueChoice choice) {
+  const std::string first = rec.joint_ids.empty() ? "1" : std::to_string(rec.joint_ids.front());
+  switch (choice) {
+    case TorqueChoice::automatic:
+      rec.torque_kind = !rec.tau_j.empty() ? TorqueKind::tau_j : (!rec.tau_m.empty() ? TorqueKind::tau_m : TorqueKind::current);
+      return;
+    case TorqueChoice::current:
+      if (rec.current.empty()) fail(path, 1, "i" + first, "--torque-kind current needs motor current columns i<j>");
+      rec.torque_kind = TorqueKind::current;
+      return;
+    case TorqueChoice::motor:
+      if (rec.tau_m.empty()) fail(path, 1, "tau_m" + first, "--torque-kind motor needs motor torque columns tau_m<j>");
+      rec.torque_kind = TorqueKind::tau_m;
+      return;
+    case TorqueChoice::joint:
+      if (rec.tau_j.empty()) {
+        if (rec.tau_m.empty()) {
+          fail(path, 1, "tau_j" + first, "--torque-kind joint needs joint torque columns tau_j<j> (or tau_m<j> to re-read)");
+        }
+        // The logger wrote a torque sensor's reading under tau_m<j> (e.g. a Panda's tau_J).
+        rec.tau_j = std::move(rec.tau_m);
+        rec.tau_m.clear();
+      }
+      rec.torque_kind = TorqueKind::tau_j;
+      return;
+  }
+}
+
 }  // namespace
+
+const char* to_string(TorqueKind kind) {
+  switch (kind) {
+    case TorqueKind::current: return "i";
+    case TorqueKind::tau_m: return "tau_m";
+    case TorqueKind::tau_j: return "tau_j";
+  }
+  return "?";
+}
+
+TorqueChoice parse_torque_choice(const std::string& text) {
+  if (text == "auto") return TorqueChoice::automatic;
+  if (text == "current") return TorqueChoice::current;
+  if (text == "motor") return TorqueChoice::motor;
+  if (text == "joint") return TorqueChoice::joint;
+  throw std::invalid_argument("--torque-kind must be auto, current, motor or joint (got '" + text + "')");
+}
+
+const std::vector<std::vector<double>>& torque_columns(const Recording& rec) {
+  switch (rec.torque_kind) {
+    case TorqueKind::current: return rec.current;
+    case TorqueKind::tau_m: return rec.tau_m;
+    case TorqueKind::tau_j: return rec.tau_j;
+  }
+  return rec.tau_m;
+}
 
 void Recording::resize(std::size_t n_joints, std::size_t n_samples, bool with_current, bool with_tau_m,
                        bool with_tau_ext, bool with_collision) {
@@ -135,6 +190,8 @@ void Recording::resize(std::size_t n_joints, std::size_t n_samples, bool with_cu
   dq = zeros;
   current = with_current ? zeros : std::vector<std::vector<double>>{};
   tau_m = with_tau_m ? zeros : std::vector<std::vector<double>>{};
+  tau_j.clear();
+  torque_kind = with_tau_m || !with_current ? TorqueKind::tau_m : TorqueKind::current;
   tau_ext = with_tau_ext ? zeros : std::vector<std::vector<double>>{};
   collision = with_collision ? std::vector<int>(n_samples, 0) : std::vector<int>{};
 }
@@ -167,7 +224,7 @@ Recording read_recording(const std::string& path, const ReadOptions& options) {
   }
   std::vector<Column> cols;
   std::set<std::string> seen;
-  bool has_time = false, has_current = false, has_tau_m = false, has_tau_ext = false;
+  bool has_time = false, has_current = false, has_tau_m = false, has_tau_j = false, has_tau_ext = false;
   for (const auto& raw : header) {
     Column c;
     c.name = trim(raw);
@@ -195,6 +252,8 @@ Recording read_recording(const std::string& path, const ReadOptions& options) {
       has_tau_ext = true;
     } else if (match("tau_m", Kind::tau_m)) {
       has_tau_m = true;
+    } else if (match("tau_j", Kind::tau_j)) {
+      has_tau_j = true;
     } else if (match("dq", Kind::dq) || match("q", Kind::q)) {
     } else if (match("i", Kind::current)) {
       has_current = true;
@@ -232,9 +291,12 @@ Recording read_recording(const std::string& path, const ReadOptions& options) {
     if (has_tau_m && !has(Kind::tau_m)) {
       fail(path, 1, "tau_m" + std::to_string(j), "motor torque given for some joints but not this one");
     }
-    if (!has_current && !has_tau_m) {
-      fail(path, 1, "i" + std::to_string(j) + "/tau_m" + std::to_string(j),
-           "need motor current i<j> or motor torque tau_m<j>");
+    if (has_tau_j && !has(Kind::tau_j)) {
+      fail(path, 1, "tau_j" + std::to_string(j), "joint torque given for some joints but not this one");
+    }
+    if (!has_current && !has_tau_m && !has_tau_j) {
+      fail(path, 1, "i" + std::to_string(j) + "/tau_m" + std::to_string(j) + "/tau_j" + std::to_string(j),
+           "need motor current i<j>, motor torque tau_m<j> or joint torque tau_j<j>");
     }
   }
   const std::size_t n = rec.joint_ids.size();
@@ -242,14 +304,26 @@ Recording read_recording(const std::string& path, const ReadOptions& options) {
   rec.dq.assign(n, {});
   if (has_current) rec.current.assign(n, {});
   if (has_tau_m) rec.tau_m.assign(n, {});
+  if (has_tau_j) rec.tau_j.assign(n, {});
   if (has_tau_ext) rec.tau_ext.assign(n, {});
 
   std::size_t line_no = 1;
+  std::string previous_row;
   while (std::getline(in, line)) {
     ++line_no;
     if (trim(line).empty() || trim(line) == "\r") {
       continue;
     }
+    if (!line.empty() && line.back() == '\r') {
+      line.pop_back();
+    }
+    // A row repeated character for character, time stamp included, is a logger writing
+    // the same sample twice: not an error, and not a second sample.
+    if (line == previous_row) {
+      ++rec.duplicate_rows_dropped;
+      continue;
+    }
+    previous_row = line;
     const auto fields = split_commas(line);
     if (fields.size() != cols.size()) {
       fail(path, line_no, "", "expected " + std::to_string(cols.size()) + " fields, found " +
@@ -276,9 +350,10 @@ Recording read_recording(const std::string& path, const ReadOptions& options) {
         case Kind::dq: rec.dq[col.joint].push_back(v); break;
         case Kind::current: rec.current[col.joint].push_back(v); break;
         case Kind::tau_m: rec.tau_m[col.joint].push_back(v); break;
+        case Kind::tau_j: rec.tau_j[col.joint].push_back(v); break;
         case Kind::tau_ext: rec.tau_ext[col.joint].push_back(v); break;
         case Kind::collision:
-          if (v < 0.0 || v != std::floor(v)) {
+          if (v < 0.0 || v > 1e6 || v != std::floor(v)) {
             fail(path, line_no, col.name, "'" + trim(fields[c]) + "' is not a link number (0 = no contact)");
           }
           rec.collision.push_back(static_cast<int>(v));
@@ -290,6 +365,7 @@ Recording read_recording(const std::string& path, const ReadOptions& options) {
   if (rec.t.empty()) {
     fail(path, line_no, "", "no data rows after the header");
   }
+  resolve_torque(rec, path, options.torque);
   const std::filesystem::path p(path);
   rec.meta = read_meta(p.parent_path() / (p.stem().string() + ".json"));
   return rec;
@@ -309,9 +385,10 @@ void write_recording(const std::string& path, const Recording& rec) {
   check(rec.dq, "dq");
   check(rec.current, "i");
   check(rec.tau_m, "tau_m");
+  check(rec.tau_j, "tau_j");
   check(rec.tau_ext, "tau_ext");
-  if (rec.q.empty() || rec.dq.empty() || (rec.current.empty() && rec.tau_m.empty())) {
-    throw std::invalid_argument("write_recording: q, dq and one of i/tau_m are required");
+  if (rec.q.empty() || rec.dq.empty() || (rec.current.empty() && rec.tau_m.empty() && rec.tau_j.empty())) {
+    throw std::invalid_argument("write_recording: q, dq and one of i/tau_m/tau_j are required");
   }
   const std::filesystem::path target(path);
   if (target.has_parent_path()) {
@@ -333,6 +410,7 @@ void write_recording(const std::string& path, const Recording& rec) {
     head(rec.dq, "dq");
     head(rec.current, "i");
     head(rec.tau_m, "tau_m");
+    head(rec.tau_j, "tau_j");
     head(rec.tau_ext, "tau_ext");
     if (!rec.collision.empty()) out << ",collision";
     for (const auto& [name, values] : rec.extra) out << ',' << name;
@@ -349,7 +427,7 @@ void write_recording(const std::string& path, const Recording& rec) {
     };
     for (std::size_t k = 0; k < m; ++k) {
       put_plain(rec.t[k]);
-      for (const auto* sig : {&rec.q, &rec.dq, &rec.current, &rec.tau_m, &rec.tau_ext}) {
+      for (const auto* sig : {&rec.q, &rec.dq, &rec.current, &rec.tau_m, &rec.tau_j, &rec.tau_ext}) {
         for (const auto& v : *sig) put(v[k]);
       }
       if (!rec.collision.empty()) out << ',' << rec.collision[k];

@@ -1,8 +1,11 @@
 // Recordings: the CSV format of ../shared/CONTRACT.md (plus an optional JSON side file).
 // One header line, one row per sample, SI units:
-//   t, q<j>, dq<j>, i<j> and/or tau_m<j>, [tau_ext<j>], [collision], any other columns.
+//   t, q<j>, dq<j>, i<j> and/or tau_m<j> and/or tau_j<j>, [tau_ext<j>], [collision],
+//   any other columns.
 // The reader accepts extra columns (kept by name) and missing optional ones, so real
 // recordings go through the same code. Every error names file, line and field.
+// Time stamps need only increase: real loggers jitter, repeat rows and skip samples;
+// io/regularize.hpp turns such a recording into uniform segments.
 #pragma once
 
 #include <map>
@@ -19,6 +22,26 @@ class FormatError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// Which torque a recording's consumers use. The model applies rotor inertia and other
+/// motor-side terms only to the first two (robot/torque_kind.hpp).
+enum class TorqueKind {
+  current,  ///< i<j> [A], times the model's torque constant K_I
+  tau_m,    ///< motor torque at the link side, K_I * i [N·m]
+  tau_j,    ///< link-side joint torque from a torque sensor after the gear [N·m]
+};
+/// "i", "tau_m", "tau_j": the column prefix, also used in the JSON outputs.
+[[nodiscard]] const char* to_string(TorqueKind kind);
+
+/// What the user says the torque columns are (--torque-kind).
+enum class TorqueChoice {
+  automatic,  ///< tau_j<j> when present, else tau_m<j>, else i<j>
+  current,    ///< use i<j> (required)
+  motor,      ///< use tau_m<j> as a motor torque (required)
+  joint,      ///< use tau_j<j>, or tau_m<j> re-read as a joint-torque-sensor reading
+};
+/// Parses "auto" | "current" | "motor" | "joint"; throws std::invalid_argument otherwise.
+[[nodiscard]] TorqueChoice parse_torque_choice(const std::string& text);
+
 struct RecordingMeta {
   std::string model;        ///< robot model name or file
   double sample_time = 0.0; ///< [s], 0 when unknown
@@ -33,11 +56,17 @@ struct Recording {
   std::vector<double> t;
   std::vector<std::vector<double>> q, dq;
   std::vector<std::vector<double>> current;   ///< [A], empty when absent
-  std::vector<std::vector<double>> tau_m;     ///< [N·m] link side, empty when absent
+  std::vector<std::vector<double>> tau_m;     ///< [N·m] motor torque at the link side, empty when absent
+  std::vector<std::vector<double>> tau_j;     ///< [N·m] joint torque sensor, empty when absent
   std::vector<std::vector<double>> tau_ext;   ///< [N·m] ground truth, empty when absent
   std::vector<int> collision;                 ///< 0 or collided link, empty when absent
   std::map<std::string, std::vector<double>> extra;  ///< other numeric columns
   RecordingMeta meta;
+  /// The torque consumers use (set by the reader from the columns and ReadOptions::torque).
+  TorqueKind torque_kind = TorqueKind::tau_m;
+  /// Rows dropped by the reader because they repeated the previous row exactly, time
+  /// stamp included (a logger writing the same sample twice).
+  std::size_t duplicate_rows_dropped = 0;
 
   [[nodiscard]] std::size_t joints() const { return joint_ids.size(); }
   [[nodiscard]] std::size_t samples() const { return t.size(); }
@@ -53,7 +82,13 @@ struct ReadOptions {
   std::string torque_column_pattern;
   /// Other non-numeric-tolerant columns are an error; set to skip non-numeric extras.
   bool ignore_non_numeric_extra = false;
+  /// Which torque to use; `joint` moves tau_m<j> columns to tau_j when there is no tau_j<j>.
+  TorqueChoice torque = TorqueChoice::automatic;
 };
+
+/// The columns `rec.torque_kind` names: tau_j, tau_m, or the currents [A] (which the
+/// caller multiplies by its model's K_I).
+[[nodiscard]] const std::vector<std::vector<double>>& torque_columns(const Recording& rec);
 
 /// Reads a recording; the JSON side file <stem>.json is read when present.
 [[nodiscard]] Recording read_recording(const std::string& path, const ReadOptions& options = {});

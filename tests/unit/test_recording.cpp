@@ -6,6 +6,8 @@
 #include <fstream>
 
 #include "io/recording.hpp"
+#include "io/regularize.hpp"
+#include "robot/torque_kind.hpp"
 
 namespace {
 namespace fs = std::filesystem;
@@ -89,7 +91,7 @@ TEST_F(RecordingTest, ErrorsNameFileLineAndField) {
   auto p = write("nan.csv", "t,q1,dq1,i1\n0,0,0,0\n0.001,0,nan,0\n");
   EXPECT_NE(error_of(p).find("nan.csv:3: field 'dq1': 'nan' is not a finite number (column 3)"),
             std::string::npos) << error_of(p);
-  p = write("time.csv", "t,q1,dq1,i1\n0,0,0,0\n0,0,0,0\n");
+  p = write("time.csv", "t,q1,dq1,i1\n0,0,0,0\n0,0,1,0\n");
   EXPECT_NE(error_of(p).find("time.csv:3: field 't'"), std::string::npos) << error_of(p);
   p = write("missing.csv", "t,q1,i1\n0,0,0\n");
   EXPECT_NE(error_of(p).find("missing.csv:1: field 'dq1': missing required velocity column"), std::string::npos)
@@ -105,5 +107,191 @@ TEST_F(RecordingTest, ErrorsNameFileLineAndField) {
   p = write("empty.csv", "t,q1,dq1,i1\n");
   EXPECT_NE(error_of(p).find("no data rows"), std::string::npos) << error_of(p);
   EXPECT_NE(error_of((dir / "absent.csv").string()).find("cannot open"), std::string::npos);
+}
+
+TEST_F(RecordingTest, ExactDuplicateRowsAreDroppedAndCounted) {
+  const auto p = write("dup.csv", "t,q1,dq1,i1\n0,0,0,0\n0,0,0,0\n0.001,0.1,0,0\n");
+  const auto r = jg::io::read_recording(p);
+  EXPECT_EQ(r.samples(), 2U);
+  EXPECT_EQ(r.duplicate_rows_dropped, 1U);
+}
+
+TEST_F(RecordingTest, TorqueKindFromColumnsAndFromTheUser) {
+  const auto pj = write("j.csv", "t,q1,dq1,tau_j1,i1\n0,0,0,2.5,1\n0.001,0,0,2.5,1\n");
+  const auto rj = jg::io::read_recording(pj);
+  EXPECT_EQ(rj.torque_kind, jg::io::TorqueKind::tau_j);
+  EXPECT_EQ(jg::io::torque_columns(rj)[0][1], 2.5);
+  EXPECT_STREQ(jg::io::to_string(rj.torque_kind), "tau_j");
+  // A torque sensor's reading logged under tau_m<j> (the Panda file): re-read as tau_j.
+  const auto pm = write("m.csv", "t,q1,dq1,tau_m1\n0,0,0,3\n0.001,0,0,4\n");
+  EXPECT_EQ(jg::io::read_recording(pm).torque_kind, jg::io::TorqueKind::tau_m);
+  jg::io::ReadOptions o;
+  o.torque = jg::io::TorqueChoice::joint;
+  const auto rm = jg::io::read_recording(pm, o);
+  EXPECT_EQ(rm.torque_kind, jg::io::TorqueKind::tau_j);
+  EXPECT_TRUE(rm.tau_m.empty());
+  EXPECT_EQ(rm.tau_j[0][1], 4.0);
+  // A kind the file does not carry is refused, naming the field.
+  o.torque = jg::io::TorqueChoice::current;
+  EXPECT_NE(error_of(pm, o).find("m.csv:1: field 'i1'"), std::string::npos) << error_of(pm, o);
+  EXPECT_THROW((void)jg::io::parse_torque_choice("sensor"), std::invalid_argument);
+  EXPECT_EQ(jg::io::parse_torque_choice("joint"), jg::io::TorqueChoice::joint);
+}
+
+TEST_F(RecordingTest, JointTorqueWritesAndReadsBack) {
+  jg::io::Recording rec;
+  rec.resize(1, 2, false, false, false, false);
+  rec.t = {0.0, 0.001};
+  rec.tau_j = {{1.5, 2.5}};
+  rec.torque_kind = jg::io::TorqueKind::tau_j;
+  const std::string path = (dir / "tj.csv").string();
+  jg::io::write_recording(path, rec);
+  const auto back = jg::io::read_recording(path);
+  EXPECT_EQ(back.torque_kind, jg::io::TorqueKind::tau_j);
+  EXPECT_EQ(back.tau_j[0][1], 2.5);
+}
+
+TEST(TorqueKindModel, JointTorqueSensorSeesNoRotorInertia) {
+  jg::robot::RobotModel m;
+  m.joints.resize(2);
+  m.joints[0].link.rotor_inertia = 0.4;
+  m.joints[1].link.rotor_inertia = 0.2;
+  EXPECT_EQ(jg::robot::for_torque_kind(m, jg::io::TorqueKind::tau_m).joints[0].link.rotor_inertia, 0.4);
+  EXPECT_EQ(jg::robot::for_torque_kind(m, jg::io::TorqueKind::current).joints[1].link.rotor_inertia, 0.2);
+  const auto j = jg::robot::for_torque_kind(m, jg::io::TorqueKind::tau_j);
+  EXPECT_EQ(j.joints[0].link.rotor_inertia, 0.0);
+  EXPECT_EQ(j.joints[1].link.rotor_inertia, 0.0);
+}
+
+// --- regularize -----------------------------------------------------------------------
+
+/// One joint, q = 2 t, dq = 2, torque = t: any error of the time base shows in q - 2 t.
+jg::io::Recording ramp(const std::vector<double>& t) {
+  jg::io::Recording r;
+  r.resize(1, t.size(), false, true, false, false);
+  r.t = t;
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    r.q[0][k] = 2.0 * t[k];
+    r.dq[0][k] = 2.0;
+    r.tau_m[0][k] = t[k];
+  }
+  return r;
+}
+
+std::vector<double> jittered(double t0, double t1, double step, double jitter, unsigned seed) {
+  std::vector<double> t{t0};
+  unsigned x = seed;
+  while (t.back() < t1) {
+    x = x * 1103515245U + 12345U;
+    const double u = static_cast<double>((x >> 8) & 0xffffU) / 65535.0;  // 0..1
+    t.push_back(t.back() + step * (1.0 - jitter + 2.0 * jitter * u));
+  }
+  return t;
+}
+
+TEST(Regularize, UniformRecordingIsUsedAsRecorded) {
+  std::vector<double> t(500);
+  for (std::size_t k = 0; k < t.size(); ++k) t[k] = 0.002 * static_cast<double>(k);
+  const auto r = ramp(t);
+  const auto out = jg::io::regularize(r);
+  ASSERT_EQ(out.segments.size(), 1U);
+  EXPECT_EQ(out.segments[0].t, r.t);
+  EXPECT_EQ(out.report.method, "none (uniform)");
+  EXPECT_NEAR(out.report.rate_hz, 500.0, 1e-6);
+  EXPECT_NE(out.report.summary().find("uniform: used as recorded"), std::string::npos);
+}
+
+TEST(Regularize, JitteredLogIsResampledByTimeStampNotByIndex) {
+  // Steps 0.5-1.5 ms around 1 ms: index spacing would drift the clock by many ms.
+  const auto r = ramp(jittered(0.0, 2.0, 0.001, 0.5, 3));
+  const auto out = jg::io::regularize(r, {}, "jit.csv");
+  ASSERT_EQ(out.segments.size(), 1U);
+  EXPECT_EQ(out.report.method, "linear by time stamp");
+  EXPECT_NEAR(out.report.rate_hz, 1000.0, 1e-9);
+  const auto& s = out.segments[0];
+  for (std::size_t k = 0; k < s.samples(); ++k) {
+    ASSERT_NEAR(s.t[k], s.t.front() + 0.001 * static_cast<double>(k), 1e-12);
+    ASSERT_NEAR(s.q[0][k], 2.0 * s.t[k], 1e-9) << "k = " << k;
+  }
+  EXPECT_NE(out.report.summary().find("resampled jit.csv: "), std::string::npos) << out.report.summary();
+  // A given rate: still on the recording's clock.
+  jg::io::RegularizeOptions o;
+  o.rate_hz = 125.0;
+  const auto slow = jg::io::regularize(r, o);
+  EXPECT_TRUE(slow.report.rate_given);
+  const auto& z = slow.segments[0];
+  EXPECT_NEAR(z.t[100] - z.t[0], 0.8, 1e-12);
+  EXPECT_NEAR(z.q[0][100], 2.0 * z.t[100], 1e-9);
+}
+
+TEST(Regularize, RepeatedRowsAreDroppedNotInterpolatedThrough) {
+  // Every 7th row repeats the previous state under a new time stamp (a logger reading the
+  // same state twice): kept, it would bend the ramp.
+  auto r = ramp(jittered(0.0, 1.0, 0.001, 0.2, 5));
+  std::size_t repeats = 0;
+  for (std::size_t k = 7; k < r.samples(); k += 7) {
+    r.q[0][k] = r.q[0][k - 1];
+    r.dq[0][k] = r.dq[0][k - 1];
+    r.tau_m[0][k] = r.tau_m[0][k - 1];
+    ++repeats;
+  }
+  const auto out = jg::io::regularize(r);
+  EXPECT_EQ(out.report.repeats_dropped, repeats);
+  const auto& s = out.segments[0];
+  for (std::size_t k = 0; k < s.samples(); ++k) ASSERT_NEAR(s.q[0][k], 2.0 * s.t[k], 1e-9) << "k = " << k;
+}
+
+TEST(Regularize, AStateHeldForLongKeepsItsValueUntilItChanges) {
+  // At rest for 0.2 s (identical rows, jittered stamps), then moving: the rest holds.
+  auto t = jittered(0.0, 0.5, 0.001, 0.2, 9);
+  auto r = ramp(t);
+  for (std::size_t k = 0; k < r.samples(); ++k) {
+    if (t[k] < 0.2) {
+      r.q[0][k] = 0.0;
+      r.dq[0][k] = 0.0;
+      r.tau_m[0][k] = 0.0;
+    }
+  }
+  const auto out = jg::io::regularize(r);
+  const auto& s = out.segments[0];
+  for (std::size_t k = 0; k < s.samples() && s.t[k] < 0.195; ++k) ASSERT_EQ(s.q[0][k], 0.0) << "t = " << s.t[k];
+}
+
+TEST(Regularize, LongGapsSplitShortSegmentsAreDroppedAndReported) {
+  std::vector<double> t;
+  for (int k = 0; k < 300; ++k) t.push_back(0.001 * k);            // 0 .. 0.299
+  for (int k = 0; k < 2; ++k) t.push_back(0.8 + 0.001 * k);        // 2 rows alone
+  for (int k = 0; k < 400; ++k) t.push_back(1.5 + 0.001 * k * 1.01);  // slightly jittered
+  t[350] += 0.0004;
+  const auto out = jg::io::regularize(ramp(t));
+  EXPECT_EQ(out.report.gaps_split, 2U);
+  ASSERT_EQ(out.segments.size(), 2U);
+  ASSERT_EQ(out.report.dropped.size(), 1U);
+  EXPECT_NEAR(out.report.dropped[0].t_begin, 0.8, 1e-12);
+  EXPECT_NEAR(out.segments[1].t.front(), 1.5, 1e-12);
+  EXPECT_EQ(out.report.longest(), 1U);
+  EXPECT_NE(out.report.summary().find("into 2 segments"), std::string::npos) << out.report.summary();
+  // With a larger split threshold the gaps are bridged instead.
+  jg::io::RegularizeOptions o;
+  o.max_gap_s = 1.0;
+  const auto one = jg::io::regularize(ramp(t), o);
+  EXPECT_EQ(one.segments.size(), 1U);
+  EXPECT_EQ(one.report.gaps_bridged, 2U);
+}
+
+TEST(Regularize, TooShortIsRefusedWithAReason) {
+  for (const std::size_t n : {1U, 2U}) {
+    std::vector<double> t(n);
+    for (std::size_t k = 0; k < n; ++k) t[k] = 0.001 * static_cast<double>(k);
+    try {
+      (void)jg::io::regularize(ramp(t), {}, "short.csv");
+      ADD_FAILURE() << n << " rows accepted";
+    } catch (const FormatError& e) {
+      EXPECT_NE(std::string(e.what()).find("short.csv: field 't'"), std::string::npos) << e.what();
+    }
+  }
+  jg::io::RegularizeOptions o;
+  o.rate_hz = 1e9;
+  EXPECT_THROW((void)jg::io::regularize(ramp(jittered(0.0, 10.0, 0.001, 0.3, 1)), o), FormatError);
 }
 }  // namespace
