@@ -343,6 +343,34 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
         return why.str();
       }
     }
+    // A payload loads the joints between it and the base through its weight: one that shows
+    // on a single joint is that joint's own effect (a rotor inertia, an offset) in disguise.
+    Eigen::Index at2 = 0;
+    for (const auto* c : sub.cs) {
+      const auto p = static_cast<Eigen::Index>(c->columns.size());
+      if (c->effect == "payload" && js.size() >= 2) {
+        std::vector<double> load(js.size(), 0.0);
+        for (std::size_t j = 0; j < js.size(); ++j) {
+          double acc = 0.0;
+          for (const std::size_t k : test.rows) {
+            double v = 0.0;
+            for (Eigen::Index i = 0; i < p; ++i) v += sub.b(at2 + i) * c->columns[static_cast<std::size_t>(i)][j][k];
+            acc += v * v;
+          }
+          load[j] = std::sqrt(acc / static_cast<double>(std::max<std::size_t>(test.rows.size(), 1)));
+        }
+        const double peak = *std::max_element(load.begin(), load.end());
+        int improved = 0;
+        for (std::size_t j = 0; j < js.size(); ++j) {
+          if (load[j] >= 0.25 * peak && after_joint[j] < before_joint[j] * (1.0 - o.joint.min_heldout_gain)) ++improved;
+        }
+        if (improved < 2) {
+          why << "payload fit improves fewer than two of the joints it loads: a single joint's effect, not claimed";
+          return why.str();
+        }
+      }
+      at2 += p;
+    }
     return {};
   };
   const bool trace = std::getenv("JG_DIAG_TRACE") != nullptr;
