@@ -105,17 +105,20 @@ Command add_diagnose(CLI::App& app) {
             // the training blocks (one cause, the arm's inertial parameters, fitted once), the
             // diagnosis then works on what that model leaves.
             robot::RobotModel used = model;
+            // A robot file written by --model-out carries what an earlier diagnosis found: in the
+            // prediction too (arm-level effects folded into the links, per-joint ones below).
+            const auto model_effect_notes = diag::fold_arm_effects(used);
             std::optional<dyn::RigidBodyIdResult> rb;
             if (o->sim.empty() && !o->no_rigid_body) {
               dyn::RigidBodyIdOptions ro;
               ro.joint_torque_sensor = real.torque == io::TorqueKind::tau_j;
               try {
-                rb = dyn::identify_rigid_body(real.longest(), model, ro);
+                rb = dyn::identify_rigid_body(real.longest(), used, ro);
               } catch (const std::invalid_argument& e) {
                 std::printf("arm: rigid body not identified (%s): the robot file's is used\n", e.what());
                 j["arm"]["notes"].push_back(std::string("rigid body not identified: ") + e.what());
               }
-              if (rb) report_rigid_body(*rb, model, j["arm"]);
+              if (rb) report_rigid_body(*rb, used, j["arm"]);
               if (rb && rb->accepted) used = rb->model;
             }
             const sim::ArmDynamics arm = used.dynamics();
@@ -148,6 +151,12 @@ Command add_diagnose(CLI::App& app) {
             if (parts.size() > 1) std::printf("diagnosis over all %zu segments, one after the other\n", parts.size());
             std::vector<diag::JointSignals> signals = diag::concatenate_signals(parts);
             for (auto& s : signals) s.joint_torque_sensor = real.torque == io::TorqueKind::tau_j;
+            if (!used.plant_effects.empty() && o->sim.empty()) {
+              auto notes = diag::add_joint_effects(used.plant_effects, signals);
+              notes.insert(notes.begin(), model_effect_notes.begin(), model_effect_notes.end());
+              std::printf("the robot file's plant_effects are in the model's prediction (%zu)\n", used.plant_effects.size());
+              j["model_plant_effects"] = {{"count", used.plant_effects.size()}, {"notes", notes}};
+            }
             if (rb) {
               // The identified friction is part of the model's prediction.
               for (std::size_t jj = 0; jj < signals.size() && jj < rb->friction.size(); ++jj) {

@@ -1,5 +1,7 @@
 #include "dynamics/sensitivity.hpp"
 
+#include <algorithm>
+
 namespace jg::sim {
 
 std::array<JointVector, 4> mass_first_moment_sensitivity(const ArmDynamics& arm, int link, const JointVector& q,
@@ -35,6 +37,17 @@ std::array<JointVector, 4> mass_first_moment_sensitivity(const ArmDynamics& arm,
     plus.link(link) = l;
     out[static_cast<std::size_t>(p)] = (plus.inverse_dynamics(q, qd, qdd) - tau_ref) / kStep;
   }
+  return out;
+}
+
+PlantLink with_mass_first_moment_change(const PlantLink& link, double dm, const Eigen::Vector3d& dh) {
+  const Eigen::Matrix3d eye = Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d inertia_origin =
+      link.inertia_com + link.mass * (link.com.squaredNorm() * eye - link.com * link.com.transpose());
+  PlantLink out = link;
+  out.mass = std::max(1e-9, link.mass + dm);
+  out.com = (link.mass * link.com + dh) / out.mass;
+  out.inertia_com = inertia_origin - out.mass * (out.com.squaredNorm() * eye - out.com * out.com.transpose());
   return out;
 }
 

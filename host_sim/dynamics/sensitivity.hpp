@@ -16,4 +16,8 @@ std::array<JointVector, 4> mass_first_moment_sensitivity(const ArmDynamics& arm,
                                                           const JointVector& qd, const JointVector& qdd,
                                                           JointVector* tau0 = nullptr);
 
+/// The link with its mass and first moment changed by (dm, dh) and its rotational inertia
+/// about the link origin kept: what the columns above fit (a payload, a link's mass error).
+[[nodiscard]] PlantLink with_mass_first_moment_change(const PlantLink& link, double dm, const Eigen::Vector3d& dh);
+
 }  // namespace jg::sim

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "dynamics/sensitivity.hpp"
+
 namespace jg::sim {
 namespace {
 
@@ -153,15 +155,10 @@ void apply_arm_effect(const robot::PlantEffect& e, SimulationSetup& s, EffectsRe
       return;
     }
     auto& link = s.plant.links[l];
-    const Eigen::Matrix3d eye = Eigen::Matrix3d::Identity();
-    const Eigen::Matrix3d inertia_origin =
-        link.inertia_com + link.mass * (link.com.squaredNorm() * eye - link.com * link.com.transpose());
-    const double m = std::max(1e-6, link.mass + e.coefficients[0]);
-    const Eigen::Vector3d h = link.mass * link.com + Eigen::Vector3d(e.coefficients[1], e.coefficients[2], e.coefficients[3]);
-    os << "arm: link " << l + 1 << " mass " << link.mass << " -> " << m << " kg";
-    link.mass = m;
-    link.com = h / m;
-    link.inertia_com = inertia_origin - m * (link.com.squaredNorm() * eye - link.com * link.com.transpose());
+    os << "arm: link " << l + 1 << " mass " << link.mass;
+    link = with_mass_first_moment_change(link, e.coefficients[0],
+                                         Eigen::Vector3d(e.coefficients[1], e.coefficients[2], e.coefficients[3]));
+    os << " -> " << link.mass << " kg";
   } else if (e.effect == "payload" && e.coefficients.size() >= 4 && e.coefficients[0] > 0.0) {
     const double m = e.coefficients[0];
     const auto it = e.setting.find("picked_up_at_s");
