@@ -480,13 +480,30 @@ JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
     }
     if (!improved) break;
   }
-  const std::vector<const Candidate*> chosen = sel.chosen;
+  std::vector<const Candidate*> chosen = sel.chosen;
   for (auto& note : sel.notes) d.notes.push_back(std::move(note));
   d.heldout_rms_after = sel.heldout;
   // Final fit on all samples, ranking by the evidence each effect carries.
   std::vector<std::size_t> all_rows(n);
   std::iota(all_rows.begin(), all_rows.end(), 0U);
   const VectorXd y = vec_of(s.residual, all_rows);
+  // Jointly fitted, an effect's coefficients move from those it was chosen with: one that
+  // ends up implausible there is not claimed either (dropped, the rest refitted).
+  for (bool dropped = true; dropped && !chosen.empty();) {
+    dropped = false;
+    const VectorXd b = solve(rows_of(columns_of(chosen), all_rows), y);
+    Eigen::Index at = 0;
+    for (std::size_t i = 0; i < chosen.size() && !dropped; ++i) {
+      const auto m = static_cast<Eigen::Index>(chosen[i]->columns.size());
+      const std::string why = implausible(*chosen[i], std::vector<double>(b.data() + at, b.data() + at + m), s);
+      at += m;
+      if (why.empty()) continue;
+      d.notes.push_back(chosen[i]->effect + " fitted jointly with the others is not physically plausible: " + why + "; not claimed");
+      chosen.erase(chosen.begin() + static_cast<std::ptrdiff_t>(i));
+      d.heldout_rms_after = heldout_rms(chosen);
+      dropped = true;
+    }
+  }
   d.rms_before = rms(y);
   d.fitted.assign(n, 0.0);
   if (chosen.empty()) {

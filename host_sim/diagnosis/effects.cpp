@@ -280,6 +280,23 @@ std::string implausible(const Candidate& c, const std::vector<double>& b, const 
   const std::string& e = c.effect;
   const bool model_curve = c.setting.count("model_curve") != 0U;
   const double span = s.t.empty() ? 0.0 : s.t.back() - s.t.front();
+  // No effect's torque can exceed everything the joint measured: the drive saw it.
+  double tau_max = 0.0;
+  for (const double v : s.tau_real) tau_max = std::max(tau_max, std::fabs(v));
+  double w_max = 0.0;
+  for (const double w : s.dq) w_max = std::max(w_max, std::fabs(w));
+  const double level_of = e == "position_ripple" && b.size() > 1 ? std::hypot(b[0], b[1])
+                          : e == "asymmetric_friction"
+                              ? std::max(std::fabs(2.0 * b[0]), b.size() > 1 ? std::fabs(2.0 * b[1]) * w_max : 0.0)
+                          : e == "viscous" ? std::fabs(b[0]) * w_max
+                          : e == "coulomb" || e == "current_offset" || e == "temperature_drift" ||
+                                    (e == "stribeck" && !model_curve)
+                              ? std::fabs(b[0])
+                              : 0.0;
+  if (tau_max > 0.0 && level_of > tau_max) {
+    os << e << " of " << level_of << " N·m exceeds the largest torque the joint measured (" << tau_max << " N·m)";
+    return os.str();
+  }
   // Friction levels stay non-negative: the model's level (0 without a friction model) plus
   // the change.
   if (e == "coulomb") {
