@@ -60,7 +60,7 @@ Command add_diagnose(CLI::App& app) {
             ctx.arm = &arm;
             for (const auto& j : model.joints) ctx.torque_constant.push_back(j.link.torque_constant);
             for (const auto& j : nominal.joints) ctx.rotor_inertia.push_back(j.link.rotor_inertia);
-            if (!o->friction.empty()) ctx.friction = eval::read_friction_json(o->friction);
+            if (!o->friction.empty()) ctx.friction = eval::read_friction_json(o->friction, real.longest().joint_ids);
             // Every uniform segment of the real recording, its derivatives taken within it.
             std::vector<std::vector<diag::JointSignals>> parts;
             nlohmann::json j;
