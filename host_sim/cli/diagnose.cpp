@@ -127,7 +127,7 @@ Command add_diagnose(CLI::App& app) {
             for (const auto& jd : model.joints) ctx.torque_constant.push_back(jd.link.torque_constant);
             for (const auto& jd : nominal.joints) ctx.rotor_inertia.push_back(jd.link.rotor_inertia);
             // With the arm identified, its friction is the identified one (below), not --friction's.
-            if (!o->friction.empty() && !rb) ctx.friction = eval::read_friction_json(o->friction);
+            if (!o->friction.empty() && !rb) ctx.friction = eval::read_friction_json(o->friction, real.longest().joint_ids);
             // Every uniform segment of the real recording, its derivatives taken within it.
             std::vector<std::vector<diag::JointSignals>> parts;
             if (!o->sim.empty()) {

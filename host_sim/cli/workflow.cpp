@@ -102,7 +102,7 @@ Command add_calibrate(CLI::App& app) {
             const auto model = robot::load_robot(o->model, o->model_options);
             const auto in = load_recording(o->recording, o->input);
             const auto& rec = in.data.segments.front();
-            const auto friction = eval::read_friction_json(o->friction);
+            const auto friction = eval::read_friction_json(o->friction, rec.joint_ids);
             const auto t = about_recording(o->recording, [&] {
               return eval::calibrate_segments(in.data.segments, model, friction, o->observer.to_gains(in.data.report.rate_hz), o->margin);
             });
@@ -138,8 +138,9 @@ Command add_replay(CLI::App& app) {
   return {cmd, [o]() {
             const auto model = robot::load_robot(o->model, o->model_options);
             const auto in = load_recording(o->recording, o->input);
-            const auto friction = eval::read_friction_json(o->friction);
-            const auto thresholds = eval::read_threshold_json(o->threshold);
+            const auto& ids = in.data.segments.front().joint_ids;
+            const auto friction = eval::read_friction_json(o->friction, ids);
+            const auto thresholds = eval::read_threshold_json(o->threshold, ids);
             // Each segment runs from a fresh state; events keep the recording's time stamps.
             const auto r = about_recording(o->recording, [&] {
               return eval::replay_segments(in.data.segments, model, friction, thresholds, o->observer.to_gains(in.data.report.rate_hz),

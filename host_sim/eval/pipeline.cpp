@@ -6,6 +6,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
+#include <utility>
 
 #include "eval/firmware_estimator.hpp"
 #include "jointguard/detection/detector.hpp"
@@ -94,6 +95,59 @@ std::vector<LuGreParams<double>> read_friction_json(const std::string& path) {
                           field(e, "tau_c", path, i),  field(e, "tau_s", path, i),  field(e, "w_s", path, i)};
     if (validate(p) != Error::ok) throw io::FormatError(path + ": joints[" + std::to_string(i) + "]: invalid LuGre parameters");
     out.push_back(p);
+  }
+  return out;
+}
+
+namespace {
+/// For each of `joint_ids`, the index of its entry in the file's "joints" array.
+std::vector<std::size_t> joint_order(const std::string& path, const std::vector<int>& joint_ids) {
+  const auto j = read_json(path);
+  if (!j.contains("joints") || !j["joints"].is_array()) throw io::FormatError(path + ": field 'joints' missing");
+  const auto& a = j["joints"];
+  if (a.size() != joint_ids.size()) {
+    throw io::FormatError(path + ": field 'joints': " + std::to_string(a.size()) + " entries, the recording has " +
+                          std::to_string(joint_ids.size()) + " joints");
+  }
+  std::vector<std::size_t> order(joint_ids.size(), a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    int id = joint_ids[i];
+    if (a[i].contains("joint")) {
+      if (!a[i]["joint"].is_number_integer()) {
+        throw io::FormatError(path + ": joints[" + std::to_string(i) + "]: field 'joint' is not an integer");
+      }
+      id = a[i]["joint"].get<int>();
+    }
+    const auto it = std::find(joint_ids.begin(), joint_ids.end(), id);
+    if (it == joint_ids.end()) {
+      throw io::FormatError(path + ": joints[" + std::to_string(i) + "]: field 'joint': joint " + std::to_string(id) +
+                            " is not in the recording");
+    }
+    const auto k = static_cast<std::size_t>(it - joint_ids.begin());
+    if (order[k] != a.size()) {
+      throw io::FormatError(path + ": joints[" + std::to_string(i) + "]: field 'joint': joint " + std::to_string(id) + " given twice");
+    }
+    order[k] = i;
+  }
+  return order;
+}
+}  // namespace
+
+std::vector<LuGreParams<double>> read_friction_json(const std::string& path, const std::vector<int>& joint_ids) {
+  const auto order = joint_order(path, joint_ids);
+  const auto all = read_friction_json(path);
+  std::vector<LuGreParams<double>> out;
+  for (const std::size_t i : order) out.push_back(all[i]);
+  return out;
+}
+
+Thresholds read_threshold_json(const std::string& path, const std::vector<int>& joint_ids) {
+  const auto order = joint_order(path, joint_ids);
+  const Thresholds all = read_threshold_json(path);
+  Thresholds out = all;
+  for (auto [dst, src] : {std::pair{&out.threshold, &all.threshold}, {&out.threshold_uncompensated, &all.threshold_uncompensated},
+                          {&out.low_speed_extra, &all.low_speed_extra}}) {
+    for (std::size_t k = 0; k < order.size(); ++k) (*dst)[k] = (*src)[order[k]];
   }
   return out;
 }
@@ -313,6 +367,10 @@ Thresholds calibrate_segments(const std::vector<io::Recording>& segments, const 
                               const std::vector<LuGreParams<double>>& friction, const ObserverGains& gains,
                               double margin, double settle_s, const std::string& scalar) {
   if (segments.empty()) throw std::invalid_argument("calibration: no recording to calibrate on");
+  if (friction.size() != segments.front().joints()) {
+    throw std::invalid_argument("calibration: " + std::to_string(friction.size()) + " friction parameter sets for " +
+                                std::to_string(segments.front().joints()) + " joints");
+  }
   for (const auto& rec : segments) {
     for (const int c : rec.collision) {
       if (c != 0) throw std::invalid_argument("calibration needs a collision-free recording (its collision column is not all 0)");

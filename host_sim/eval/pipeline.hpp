@@ -22,6 +22,10 @@ namespace jg::eval {
 void write_friction_json(const std::string& path, const std::vector<ident::IdentificationResult>& r,
                          const std::vector<int>& joint_ids, const nlohmann::json& extra = nlohmann::json::object());
 std::vector<LuGreParams<double>> read_friction_json(const std::string& path);
+/// The same, matched to `joint_ids` by each entry's "joint" number (file order when the
+/// entries have none): a file for other joints, with fewer or more of them, or with a
+/// joint twice is refused, naming the file and the joint.
+std::vector<LuGreParams<double>> read_friction_json(const std::string& path, const std::vector<int>& joint_ids);
 
 struct Thresholds {
   std::vector<double> threshold;               ///< with friction compensation, while moving [N·m]
@@ -35,6 +39,8 @@ struct Thresholds {
 void write_threshold_json(const std::string& path, const Thresholds& t, const std::vector<int>& joint_ids,
                           const nlohmann::json& extra = nlohmann::json::object());
 Thresholds read_threshold_json(const std::string& path);
+/// Matched to `joint_ids` like read_friction_json.
+Thresholds read_threshold_json(const std::string& path, const std::vector<int>& joint_ids);
 
 /// The measured torque per joint, of the recording's torque kind (rec.torque_kind):
 /// tau_j or tau_m columns, or currents x K_I of the model. Apply the model to it through

@@ -96,5 +96,22 @@ for c in replay calibrate diagnose; do
   grep -q "^wrote" "$W/nd.txt" && bad "$c --json into a missing folder must not say wrote"
 done
 
+# Friction and threshold files are matched by joint number, not by position.
+python3 - "$F3" "$W/fr_ordered.json" "$W/fr_reversed.json" "$W/fr_two.json" <<'PY' || bad "could not write the friction variants"
+import json, sys
+j = json.load(open(sys.argv[1]))
+j["joints"][0]["tau_c"] = 3.0  # joint 1 differs from the others: the order matters
+json.dump(j, open(sys.argv[2], "w"))
+json.dump({"joints": j["joints"][::-1]}, open(sys.argv[3], "w"))
+json.dump({"joints": j["joints"][:2]}, open(sys.argv[4], "w"))
+PY
+"$J" calibrate "$D/one_joint_moving.csv" --model "$R3" --friction "$W/fr_ordered.json" --json "$W/c1.json" > /dev/null 2>&1 || bad "calibrate, ordered friction"
+"$J" calibrate "$D/one_joint_moving.csv" --model "$R3" --friction "$W/fr_reversed.json" --json "$W/c2.json" > /dev/null 2>&1 || bad "calibrate, reversed friction"
+cmp -s "$W/c1.json" "$W/c2.json" || bad "friction entries listed 3,2,1 must give the same thresholds as 1,2,3"
+"$J" calibrate "$D/one_joint_moving.csv" --model "$R3" --friction "$W/fr_two.json" --json "$W/c3.json" > "$W/c3.txt" 2>&1
+[ $? = 1 ] || bad "2 friction entries for 3 joints must be refused"
+grep -q "fr_two.json: field 'joints': 2 entries" "$W/c3.txt" || { bad "friction count: message"; cat "$W/c3.txt"; }
+[ ! -e "$W/c3.json" ] || bad "a refused calibration wrote its JSON"
+
 [ "$fail" = 0 ] && echo "odd recordings OK"
 exit "$fail"
