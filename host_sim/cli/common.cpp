@@ -5,6 +5,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "io/atomic_write.hpp"
 #include "tuning/observer_tuning.hpp"
 
 namespace jg::cli {
@@ -124,25 +125,6 @@ nlohmann::json resampling_json(const io::RegularizeReport& r) {
   return j;
 }
 
-void write_json_file(const std::string& path, const nlohmann::json& j) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw std::runtime_error(path + ": cannot write (does its folder exist?)");
-    out << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
-    out.flush();
-    if (!out) {
-      out.close();
-      std::remove(tmp.c_str());
-      throw std::runtime_error(path + ": write failed");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot write: " + ec.message());
-  }
-}
+void write_json_file(const std::string& path, const nlohmann::json& j) { io::write_json_atomic(path, j); }
 
 }  // namespace jg::cli

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "io/atomic_write.hpp"
 #include "dynamics/rigid_body_identification.hpp"
 #include "dynamics/uniform_grid.hpp"
 #include "io/recording.hpp"
@@ -26,25 +27,7 @@ nlohmann::json link_json(const dyn::LinkParams& p) {
 }
 
 /// Both outputs are prepared in full, written to temporary files, then renamed.
-void write_text_atomically(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) throw io::FormatError(path + ": cannot open for writing");
-    f << text;
-    f.flush();
-    if (!f) {
-      std::filesystem::remove(tmp);
-      throw io::FormatError(path + ": write failed");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw io::FormatError(path + ": cannot rename the temporary file into place");
-  }
-}
+
 
 }  // namespace
 
@@ -188,7 +171,7 @@ int run_identify_rigid(const io::Recording& rec, const std::string& recording, c
     std::printf("wrote %s\n", o.model_out.c_str());
   }
   if (!json.empty()) {
-    write_text_atomically(json, out.dump(2) + "\n");
+    io::write_text_atomic(json, out.dump(2) + "\n");
     std::printf("wrote %s\n", json.c_str());
   }
   return 0;

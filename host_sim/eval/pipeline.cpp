@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "io/atomic_write.hpp"
 #include "eval/firmware_estimator.hpp"
 #include "jointguard/detection/detector.hpp"
 #include "robot/torque_kind.hpp"
@@ -34,24 +35,7 @@ nlohmann::json read_json(const std::string& path) {
   }
 }
 
-void write_json_atomic(const std::string& path, const nlohmann::json& j) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw std::runtime_error(path + ": cannot write (does its folder exist?)");
-    out << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
-    out.flush();
-    if (!out) {
-      out.close();
-      std::remove(tmp.c_str());
-      throw std::runtime_error(path + ": write failed");
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot write (rename failed)");
-  }
-}
+using io::write_json_atomic;
 
 double field(const nlohmann::json& j, const char* key, const std::string& path, std::size_t index) {
   if (!j.contains(key) || !j[key].is_number()) {

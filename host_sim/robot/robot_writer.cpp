@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "io/atomic_write.hpp"
 #include "io/recording.hpp"
 
 namespace jg::robot {
@@ -67,27 +68,7 @@ std::string robot_yaml(const RobotModel& m, const std::string& header) {
 }
 
 void write_robot(const std::string& path, const RobotModel& model, const std::string& header) {
-  const std::string text = robot_yaml(model, header);
-  const std::filesystem::path target(path);
-  const std::filesystem::path tmp = target.string() + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) throw io::FormatError(path + ": cannot open for writing");
-    f << text;
-    f.flush();
-    if (!f) {
-      f.close();
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      throw io::FormatError(path + ": write failed");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, target, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw io::FormatError(path + ": cannot rename the temporary file into place");
-  }
+  io::write_text_atomic(path, robot_yaml(model, header));
 }
 
 }  // namespace jg::robot
