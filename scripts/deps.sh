@@ -2,7 +2,7 @@
 # Installs the Debian 12 packages the project needs, only those missing.
 set -euo pipefail
 packages=(
-  cmake make g++ git
+  cmake make g++ git python3
   libgtest-dev libgmock-dev libbenchmark-dev
   libeigen3-dev libcli11-dev nlohmann-json3-dev libyaml-cpp-dev liborocos-kdl-dev liburdfdom-dev libkdl-parser-dev
   gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm
