@@ -9,6 +9,8 @@
 namespace jg::can {
 namespace {
 
+constexpr std::size_t kMaxDbcLine = 1024;
+
 [[noreturn]] void fail(const std::string& path, int line, const std::string& what) {
   throw std::runtime_error(path + ":" + std::to_string(line) + ": " + what);
 }
@@ -37,6 +39,11 @@ Dbc read_dbc(const std::string& path) {
   while (std::getline(f, text)) {
     ++line;
     if (!text.empty() && text.back() == '\r') text.pop_back();
+    // std::regex matches by recursion: a line of tens of kB overflows the stack. A DBC line
+    // is a message or a signal definition, far shorter than this.
+    if (text.size() > kMaxDbcLine) {
+      fail(path, line, "line of " + std::to_string(text.size()) + " characters (at most " + std::to_string(kMaxDbcLine) + ")");
+    }
     std::smatch m;
     if (std::regex_match(text, m, bo)) {
       DbcMessage msg;

@@ -31,7 +31,7 @@ Command add_simulate(CLI::App& app) {
   cmd->add_option("scenario", opt->scenario, "Scenario file (YAML, see docs/scenarios.md)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--out", opt->out, "Recording to write (CSV; a .json side file is written beside it)")->required();
   auto* seed = cmd->add_option("--seed", opt->seed, "Override the scenario's seed");
-  cmd->add_option("--duration", opt->duration_s, "Override the duration [s]")->check(CLI::PositiveNumber);
+  cmd->add_option("--duration", opt->duration_s, "Override the duration [s]")->check(CLI::Range(1e-6, 2592000.0));
   cmd->add_option("--bus", opt->hil.bus,
                   "sim: run the joint drives' firmware in the loop on the simulated CAN FD bus (needs --threshold)")
       ->check(CLI::IsMember({"none", "sim"}))->capture_default_str();

@@ -137,8 +137,14 @@ Scenario load_scenario(const std::string& path, unsigned long long seed_override
   if (!(st.control_rate_hz > 0.0) || st.control_rate_hz > 100000.0) root.fail("control_rate_hz", "expected 0 < rate <= 100000");
   st.plant.plant_rate_hz = root.number("plant_rate_hz", std::max(2000.0, 2.0 * st.control_rate_hz));
   if (!(st.plant.plant_rate_hz >= st.control_rate_hz)) root.fail("plant_rate_hz", "must be >= control_rate_hz");
+  // Bounds that keep a run finite (a typo of 1e9 Hz or 1e12 s would hang or take GBs):
+  // 1 MHz covers the stiffest elastic gear; 30 days of simulated time.
+  if (st.plant.plant_rate_hz > 1e6) root.fail("plant_rate_hz", "expected <= 1000000");
   st.duration_s = root.number("duration_s", 0.0);
-  if (st.duration_s < 0.0) root.fail("duration_s", "expected >= 0");
+  if (st.duration_s < 0.0 || st.duration_s > 30.0 * 86400.0) root.fail("duration_s", "expected 0 .. 2592000 (30 days)");
+  if (st.duration_s * st.control_rate_hz > 2e8) {
+    root.fail("duration_s", "the recording would have more than 2e8 rows at control_rate_hz; shorten it or lower the rate");
+  }
   st.plant.links = s.model.links;
   st.trajectory = parse_trajectory(root.child("trajectory"), n, seed_used);
 

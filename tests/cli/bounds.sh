@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Bad input that used to hang or crash (issue 14): a 40 kB DBC line (std::regex recursion),
+# plant_rate_hz 1e9 and duration_s 1e12 in a scenario, --duration 1e12. Each must exit 1
+# (file, line and field named) or 2 (bad command line), quickly, writing nothing.
+# Usage: bounds.sh <jointguard> <source dir>
+set -euo pipefail
+J="$1"
+SRC="$(cd "$2" && pwd)"
+W=$(mktemp -d)
+trap 'rm -rf "$W"' EXIT
+cd "$SRC"
+expect() {  # expect RC NEEDLE -- command...
+  local want="$1" needle="$2"
+  shift 3
+  set +e
+  timeout 60 "$@" > "$W/out.txt" 2> "$W/err.txt"
+  local rc=$?
+  set -e
+  if [ "$rc" != "$want" ] || ! grep -q -- "$needle" "$W/err.txt"; then
+    echo "expected exit $want with '$needle' from: $*; got $rc"
+    cat "$W/err.txt"
+    exit 1
+  fi
+}
+{ echo 'VERSION ""'; echo 'BO_ 16 sync: 8 master'; printf ' SG_ x : 0|8@1+ (1,0) [0|1] "'; head -c 40000 /dev/zero | tr '\0' 'a'; echo '" node'; } > "$W/long.dbc"
+echo "(0.000000) vcan0 010#00" > "$W/capture.log"
+expect 1 "long.dbc:3" -- "$J" decode "$W/capture.log" --dbc "$W/long.dbc"
+sed 's/^control_rate_hz: 1000$/control_rate_hz: 1000\nplant_rate_hz: 1e9/' scenarios/paper_excitation.yaml > "$W/fast.yaml"
+sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/fast.yaml"
+expect 1 "plant_rate_hz" -- "$J" simulate "$W/fast.yaml" --out "$W/never.csv"
+sed 's/^control_rate_hz: 1000$/control_rate_hz: 1000\nduration_s: 1e12/' scenarios/paper_excitation.yaml > "$W/long.yaml"
+sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/long.yaml"
+expect 1 "duration_s" -- "$J" simulate "$W/long.yaml" --out "$W/never.csv"
+expect 2 "duration" -- "$J" simulate scenarios/paper_excitation.yaml --duration 1e12 --out "$W/never.csv"
+[ ! -e "$W/never.csv" ] || { echo "a refused run wrote its recording"; exit 1; }
+echo "bounds: ok"
