@@ -205,6 +205,22 @@ TestArm backlash_arm(const TestArm& arm, int joint) {
   return a;
 }
 
+namespace {
+/// RMS of a residual over the diagnosis's held-out blocks.
+double heldout_rms_of(const std::vector<double>& residual) {
+  const auto held = heldout_mask(residual.size(), DiagnoseOptions{});
+  double acc = 0.0;
+  std::size_t cnt = 0;
+  for (std::size_t k = 0; k < residual.size(); ++k) {
+    if (held[k]) {
+      acc += residual[k] * residual[k];
+      ++cnt;
+    }
+  }
+  return cnt ? std::sqrt(acc / static_cast<double>(cnt)) : 0.0;
+}
+}  // namespace
+
 CaseOutcome run_case(const ConcealedCase& c, const TestArm& arm_in) {
   std::mt19937_64 rng(c.seed);
   TestArm arm = c.effect == "backlash" ? backlash_arm(arm_in, c.joint) : arm_in;
@@ -252,6 +268,7 @@ CaseOutcome run_case(const ConcealedCase& c, const TestArm& arm_in) {
   for (const auto& f : nominal.plant.friction) m.friction.push_back(f.lugre);
   const auto signals = signals_from_pair(r, s, m);
   out.arm = diagnose_arm(signals, {}, &model);
+  out.heldout_raw = heldout_rms_of(signals[static_cast<std::size_t>(std::max(1, c.joint) - 1)].residual);
   for (const auto& sig : without_arm_causes(signals, out.arm)) out.joints.push_back(diagnose_joint(sig));
   if (c.effect == "none" && !out.arm.findings.empty()) out.false_claim = true;
   // A payload belongs to the last link but shows on every joint it loads: it is named
@@ -280,16 +297,7 @@ CaseOutcome run_case(const ConcealedCase& c, const TestArm& arm_in) {
   const auto again = sim::run_simulation(resim).recording;
   const auto sig2 = signals_from_pair(r, again, m);
   const auto& sj = sig2[static_cast<std::size_t>(std::max(1, c.joint) - 1)];
-  const auto held = heldout_mask(sj.size(), DiagnoseOptions{});
-  double acc = 0.0;
-  std::size_t cnt = 0;
-  for (std::size_t k = 0; k < sj.size(); ++k) {
-    if (held[k]) {
-      acc += sj.residual[k] * sj.residual[k];
-      ++cnt;
-    }
-  }
-  out.resim_heldout = cnt ? std::sqrt(acc / static_cast<double>(cnt)) : 0.0;
+  out.resim_heldout = heldout_rms_of(sj.residual);
   out.resim_noise = noise_level(sj.residual);
   return out;
 }

@@ -42,7 +42,8 @@ struct CaseOutcome {
   ArmDiagnosis arm;          ///< arm-level causes (payload), fitted once across the joints
   bool named = false;        ///< the effect named on its joint
   bool false_claim = false;  ///< (matched pairs) anything claimed
-  double heldout_before = 0, heldout_after = 0, noise = 0;  ///< on the effect's joint
+  double heldout_before = 0, heldout_after = 0, noise = 0;  ///< on the effect's joint (after the arm level)
+  double heldout_raw = 0;  ///< on the effect's joint before anything was fitted (arm level included)
   /// The loop closed: the nominal simulation re-run with the findings applied
   /// (model_out.hpp, fresh sensor noise) against the "real" recording, on the effect's joint.
   double resim_heldout = 0, resim_noise = 0;
