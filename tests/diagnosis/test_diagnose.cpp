@@ -2,6 +2,7 @@
 // amplitude and a "simulated" one from the nominal model, each with its own sensor noise.
 #include <gtest/gtest.h>
 #include <cmath>
+#include <random>
 
 #include "diagnosis/diagnose.hpp"
 #include "diagnosis/pairing.hpp"
@@ -107,4 +108,57 @@ TEST(Diagnose, StartOffsetColumnsAreZeroAtRestAtTheFirstPosition) {
   EXPECT_NEAR(coulomb.columns[0][500], 1.0, 1e-12);  // sign at rest is zero: nothing to subtract
   const auto offset = jg::diag::make_candidate("current_offset", {}, s);
   EXPECT_NEAR(offset.columns[0][1000], 1.0, 1e-12);
+}
+
+// --- Real-arm rules (issue 13): one cause once, plausible parameters only. ---
+namespace {
+jg::diag::JointSignals synthetic_joint(double (*residual_of)(double t, double dq), unsigned seed) {
+  jg::diag::JointSignals s;
+  s.joint = 1;
+  s.dt = 0.002;
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, 0.05);
+  for (int k = 0; k < 5000; ++k) {
+    const double t = k * s.dt;
+    s.t.push_back(t);
+    s.q.push_back(0.6 * std::sin(2.0 * M_PI * 0.2 * t));
+    s.dq.push_back(0.6 * 2.0 * M_PI * 0.2 * std::cos(2.0 * M_PI * 0.2 * t));
+    s.ddq.push_back(-0.6 * std::pow(2.0 * M_PI * 0.2, 2) * std::sin(2.0 * M_PI * 0.2 * t));
+    s.tau_model.push_back(10.0 + 5.0 * std::sin(s.q.back()));  // a gravity-like modelled torque
+    s.residual.push_back(residual_of(t, s.dq.back()) + noise(rng));
+    s.tau_real.push_back(s.tau_model.back() + s.residual.back());
+  }
+  return s;
+}
+}  // namespace
+
+TEST(DiagnoseRealArmRules, NegativeFrictionLevelIsNotClaimed) {
+  // Less friction than none: the residual is a negative Coulomb shape and the model has no
+  // friction, so a Coulomb level of -0.5 N·m would be claimed by the fit alone.
+  const auto s = synthetic_joint([](double, double dq) { return dq > 0.0 ? -0.5 : (dq < 0.0 ? 0.5 : 0.0); }, 3);
+  const auto d = jg::diag::diagnose_joint(s);
+  for (const auto& f : d.findings) {
+    if (f.effect == "coulomb") {
+      EXPECT_GE(f.params.at("delta_tau_c"), 0.0) << f.text;
+    }
+  }
+  bool noted = false;
+  for (const auto& n : d.notes) noted = noted || n.find("not physically plausible") != std::string::npos;
+  EXPECT_TRUE(noted) << "the implausible fit is not reported";
+}
+
+TEST(DiagnoseRealArmRules, NoTorqueConstantOnAJointTorqueSensor) {
+  // 8 % of the modelled torque missing: a torque-constant error for a current, not for a
+  // torque sensor's reading.
+  auto s = synthetic_joint([](double, double) { return 0.0; }, 4);
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    s.residual[k] += -0.08 * s.tau_model[k];
+    s.tau_real[k] = s.tau_model[k] + s.residual[k];
+  }
+  const auto motor = jg::diag::diagnose_joint(s);
+  bool named = false;
+  for (const auto& f : motor.findings) named = named || f.effect == "torque_constant";
+  EXPECT_TRUE(named) << "with a motor current the scale error is a torque constant";
+  s.joint_torque_sensor = true;
+  for (const auto& f : jg::diag::diagnose_joint(s).findings) EXPECT_NE(f.effect, "torque_constant");
 }
