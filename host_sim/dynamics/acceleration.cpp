@@ -48,18 +48,6 @@ std::vector<double> local_line(const std::vector<double>& x, double dt, double s
       sx += wi * x[static_cast<std::size_t>(m)];
     }
     const double ub = su / sw, xb = sx / sw;
-    if (!slope) {
-      // Level of the local line at u = 0 (not the plain weighted mean: unbiased at the ends).
-      double suu = 0.0, sux = 0.0;
-      for (std::ptrdiff_t m = a; m <= b; ++m) {
-        const double wi = w[static_cast<std::size_t>(std::abs(m - k))];
-        const double du = static_cast<double>(m - k) - ub;
-        suu += wi * du * du;
-        sux += wi * du * (x[static_cast<std::size_t>(m)] - xb);
-      }
-      out[static_cast<std::size_t>(k)] = suu > 0.0 ? xb - (sux / suu) * ub : xb;
-      continue;
-    }
     double suu = 0.0, sux = 0.0;
     for (std::ptrdiff_t m = a; m <= b; ++m) {
       const double wi = w[static_cast<std::size_t>(std::abs(m - k))];
@@ -67,7 +55,13 @@ std::vector<double> local_line(const std::vector<double>& x, double dt, double s
       suu += wi * du * du;
       sux += wi * du * (x[static_cast<std::size_t>(m)] - xb);
     }
-    out[static_cast<std::size_t>(k)] = suu > 0.0 ? sux / suu / dt : 0.0;
+    // The local line's slope, or its level at u = 0 (not the plain weighted mean: unbiased
+    // at the ends).
+    if (slope) {
+      out[static_cast<std::size_t>(k)] = suu > 0.0 ? sux / suu / dt : 0.0;
+    } else {
+      out[static_cast<std::size_t>(k)] = suu > 0.0 ? xb - (sux / suu) * ub : xb;
+    }
   }
   return out;
 }
