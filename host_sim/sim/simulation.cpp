@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace jg::sim {
 
@@ -88,6 +89,16 @@ SimulationResult run_simulation(const SimulationSetup& setup, const ControlOverr
       rec.collision[uk] = contact_link;
     }
     plant.advance(dt, sensors.produced_torque(current_cmd), contact);
+    {
+      // A run that diverges (a gear stiffer than the plant rate resolves, an unphysical
+      // model) must not write NaN rows and report success: stop with the reason.
+      const auto& st = plant.state();
+      if (!st.q.allFinite() || !st.qd.allFinite() || !st.theta.allFinite() || !st.theta_dot.allFinite()) {
+        throw std::runtime_error("the simulation diverged at t = " + std::to_string(t + dt) +
+                                 " s (the plant's state is not finite): a joint stiffer than plant_rate_hz resolves, or a "
+                                 "model that is not physical; raise plant_rate_hz or check the robot file");
+      }
+    }
     external = plant.external_torque();
     contact_link = plant.contact_link();
     result.peak_contact_force_n = std::max(result.peak_contact_force_n, plant.peak_contact_force());

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Bad input that used to hang or crash (issue 14): a 40 kB DBC line (std::regex recursion),
-# plant_rate_hz 1e9 and duration_s 1e12 in a scenario, --duration 1e12. Each must exit 1
+# plant_rate_hz 1e9 and duration_s 1e12 in a scenario, --duration 1e12, a diverging stiff gear. Each must exit 1
 # (file, line and field named) or 2 (bad command line), quickly, writing nothing.
 # Usage: bounds.sh <jointguard> <source dir>
 set -euo pipefail
@@ -32,5 +32,9 @@ sed 's/^control_rate_hz: 1000$/control_rate_hz: 1000\nduration_s: 1e12/' scenari
 sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/long.yaml"
 expect 1 "duration_s" -- "$J" simulate "$W/long.yaml" --out "$W/never.csv"
 expect 2 "duration" -- "$J" simulate scenarios/paper_excitation.yaml --duration 1e12 --out "$W/never.csv"
+# Gears of 3e6 N·m/rad at the default plant rate diverge: exit 1, no NaN recording.
+sed 's/^control_rate_hz: 1000$/control_rate_hz: 1000\nelasticity: {stiffness_nm_per_rad: [3e6, 3e6, 3e6]}/' scenarios/paper_excitation.yaml > "$W/stiff.yaml"
+sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/stiff.yaml"
+expect 1 "diverged" -- "$J" simulate "$W/stiff.yaml" --out "$W/never.csv"
 [ ! -e "$W/never.csv" ] || { echo "a refused run wrote its recording"; exit 1; }
 echo "bounds: ok"
