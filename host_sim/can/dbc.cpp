@@ -1,5 +1,7 @@
 #include "can/dbc.hpp"
 
+#include <charconv>
+#include <cstdint>
 #include <cstdlib>
 #include <fstream>
 #include <regex>
@@ -13,6 +15,26 @@ constexpr std::size_t kMaxDbcLine = 1024;
 
 [[noreturn]] void fail(const std::string& path, int line, const std::string& what) {
   throw std::runtime_error(path + ":" + std::to_string(line) + ": " + what);
+}
+
+/// An unsigned number of at most 32 bits from the DBC or a capture (decimal or hex), or a
+/// failure naming the file, line and field: std::stoul's "stoul" told the user nothing.
+std::uint32_t number(const std::string& text, int base, const std::string& path, int line, const char* field) {
+  std::uint64_t v = 0;
+  const auto res = std::from_chars(text.data(), text.data() + text.size(), v, base);
+  if (res.ec != std::errc() || res.ptr != text.data() + text.size() || v > 0xFFFFFFFFULL) {
+    fail(path, line, std::string(field) + " '" + text.substr(0, 40) + "' is not a number of at most 32 bits");
+  }
+  return static_cast<std::uint32_t>(v);
+}
+
+/// Input quoted in a message: printable ASCII only (others as '?'), at most 80 characters,
+/// so that a binary file does not write raw bytes to the terminal.
+std::string printable(const std::string& text) {
+  std::string out;
+  for (const char c : text.substr(0, 80)) out.push_back(c >= 0x20 && c < 0x7F ? c : '?');
+  if (text.size() > 80) out += "...";
+  return out;
 }
 
 int hex_digit(char c) {
@@ -47,9 +69,9 @@ Dbc read_dbc(const std::string& path) {
     std::smatch m;
     if (std::regex_match(text, m, bo)) {
       DbcMessage msg;
-      msg.id = static_cast<std::uint32_t>(std::stoul(m[1]));
+      msg.id = number(m[1], 10, path, line, "message identifier");
       msg.name = m[2];
-      msg.length = static_cast<unsigned>(std::stoul(m[3]));
+      msg.length = number(m[3], 10, path, line, "message length");
       msg.sender = m[4];
       if (msg.length > 64) fail(path, line, "message " + msg.name + ": length " + std::to_string(msg.length) + " > 64");
       if (dbc.messages.count(msg.id) != 0) fail(path, line, "identifier " + std::to_string(msg.id) + " defined twice");
@@ -59,8 +81,8 @@ Dbc read_dbc(const std::string& path) {
       if (!std::regex_match(text, m, sg)) fail(path, line, "cannot read the signal definition");
       DbcSignal s;
       s.name = m[1];
-      s.start = static_cast<unsigned>(std::stoul(m[2]));
-      s.size = static_cast<unsigned>(std::stoul(m[3]));
+      s.start = number(m[2], 10, path, line, "signal start bit");
+      s.size = number(m[3], 10, path, line, "signal size");
       s.little_endian = m[4] == "1";
       s.is_signed = m[5] == "-";
       s.factor = std::strtod(m[6].str().c_str(), nullptr);
@@ -72,10 +94,10 @@ Dbc read_dbc(const std::string& path) {
       }
       current->signals.push_back(s);
     } else if (std::regex_match(text, m, ba)) {
-      const auto id = static_cast<std::uint32_t>(std::stoul(m[1]));
+      const auto id = number(m[1], 10, path, line, "VFrameFormat identifier");
       auto it = dbc.messages.find(id);
       if (it == dbc.messages.end()) fail(path, line, "VFrameFormat for unknown message " + std::to_string(id));
-      it->second.fd = std::stoul(m[2]) >= 14;
+      it->second.fd = number(m[2], 10, path, line, "VFrameFormat value") >= 14;
     } else if (text.rfind("BO_ ", 0) == 0) {
       fail(path, line, "cannot read the message definition");
     } else if (!text.empty() && text[0] != ' ') {
@@ -119,18 +141,18 @@ std::vector<CapturedFrame> read_candump_log(const std::string& path) {
     std::istringstream in(text);
     std::string stamp, iface, body;
     if (!(in >> stamp >> iface >> body) || stamp.size() < 3 || stamp.front() != '(' || stamp.back() != ')') {
-      fail(path, line, "not a candump -L line: '" + text + "'");
+      fail(path, line, "not a candump -L line: '" + printable(text) + "'");
     }
     CapturedFrame c;
     c.t = std::strtod(stamp.c_str() + 1, nullptr);
     c.interface = iface;
     const auto hash = body.find('#');
-    if (hash == std::string::npos || hash == 0) fail(path, line, "frame without '#': '" + body + "'");
+    if (hash == std::string::npos || hash == 0) fail(path, line, "frame without '#': '" + printable(body) + "'");
     const std::string id = body.substr(0, hash);
     for (const char ch : id) {
-      if (hex_digit(ch) < 0) fail(path, line, "identifier '" + id + "' is not hexadecimal");
+      if (hex_digit(ch) < 0) fail(path, line, "identifier '" + printable(id) + "' is not hexadecimal");
     }
-    c.frame.id = static_cast<std::uint32_t>(std::stoul(id, nullptr, 16));
+    c.frame.id = number(id, 16, path, line, "identifier");
     c.frame.extended = id.size() > 3;
     std::size_t pos = hash + 1;
     if (pos < body.size() && body[pos] == '#') {
@@ -140,7 +162,7 @@ std::vector<CapturedFrame> read_candump_log(const std::string& path) {
       fail(path, line, "remote frames are not part of the joint protocol");
     }
     const std::string hex = pos <= body.size() ? body.substr(pos) : std::string();
-    if (hex.size() % 2 != 0 || hex.size() / 2 > 64) fail(path, line, "payload '" + hex + "' is not whole bytes (at most 64)");
+    if (hex.size() % 2 != 0 || hex.size() / 2 > 64) fail(path, line, "payload '" + printable(hex) + "' is not whole bytes (at most 64)");
     for (std::size_t i = 0; i < hex.size(); i += 2) {
       const int hi = hex_digit(hex[i]), lo = hex_digit(hex[i + 1]);
       if (hi < 0 || lo < 0) fail(path, line, "payload byte '" + hex.substr(i, 2) + "' is not hexadecimal");

@@ -45,7 +45,11 @@ Command add_decode(CLI::App& app) {
               const hal::CanFrame& f = frames[i].frame;
               const auto it = dbc.messages.find(f.id);
               std::string problem;
-              if (it == dbc.messages.end()) {
+              if (f.extended) {
+                char id[16];
+                std::snprintf(id, sizeof id, "0x%08X", f.id);
+                problem = std::string("identifier ") + id + " is extended (29 bits); the joint protocol's are 11 bits";
+              } else if (it == dbc.messages.end()) {
                 char id[16];
                 std::snprintf(id, sizeof id, "0x%03X", f.id);
                 problem = std::string("identifier ") + id + " is not in the DBC";

@@ -37,4 +37,12 @@ sed 's/^control_rate_hz: 1000$/control_rate_hz: 1000\nelasticity: {stiffness_nm_
 sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/stiff.yaml"
 expect 1 "diverged" -- "$J" simulate "$W/stiff.yaml" --out "$W/never.csv"
 [ ! -e "$W/never.csv" ] || { echo "a refused run wrote its recording"; exit 1; }
+# An extended identifier is not the 11-bit cycle sync; binary input is not echoed raw.
+printf '(0.000000) vcan0 00000010#00\n' > "$W/ext.log"
+set +e
+"$J" decode "$W/ext.log" > "$W/ext.txt" 2>&1
+set -e
+grep -q "0 cycles" "$W/ext.txt" && grep -q "is extended" "$W/ext.txt" || { echo "extended 0x10 counted as a sync"; cat "$W/ext.txt"; exit 1; }
+printf '(0.000000) vcan0 \x01\x02\xff#00\n' > "$W/bin.log"
+expect 1 "'???' is not hexadecimal" -- "$J" decode "$W/bin.log"
 echo "bounds: ok"
