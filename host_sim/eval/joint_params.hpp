@@ -21,8 +21,15 @@ JointEstimatorParams<S> joint_params(const FirmwareEstimatorConfig& c, std::size
     throw std::invalid_argument(joint + "link constants do not fit the scalar: " + to_string(e));
   }
   p.compensate_friction = c.compensate_friction && j < c.friction.size();
-  if (p.compensate_friction && discretize(c.friction[j], c.dt, p.friction) != Error::ok) {
-    throw std::invalid_argument(joint + "LuGre parameters do not fit the scalar");
+  if (p.compensate_friction) {
+    if (const Error e = discretize(c.friction[j], c.dt, p.friction); e != Error::ok) {
+      // Name the values: the user fixes them in the friction file's entry for this joint.
+      const auto& f = c.friction[j];
+      throw std::invalid_argument(joint + "the friction file's LuGre parameters (sigma0 " + std::to_string(f.sigma0) + ", sigma1 " +
+                                  std::to_string(f.sigma1) + ", sigma2 " + std::to_string(f.sigma2) + ", tau_c " +
+                                  std::to_string(f.tau_c) + ", tau_s " + std::to_string(f.tau_s) + ", w_s " + std::to_string(f.w_s) +
+                                  ") do not fit the firmware scalar at dt = " + std::to_string(c.dt) + " s: " + to_string(e));
+    }
   }
   if (discretize(c.observer, c.dt, p.observer) != Error::ok) {
     throw std::invalid_argument("observer gains do not fit the scalar at this sample time");
