@@ -1,6 +1,8 @@
 #include "cli/common.hpp"
 
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -123,6 +125,19 @@ nlohmann::json resampling_json(const io::RegularizeReport& r) {
   j["dropped_segments"] = spans(r.dropped);
   j["summary"] = r.summary();
   return j;
+}
+
+CLI::Validator finite_range(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0' || !std::isfinite(v) || v < lo || v > hi) {
+          return "'" + text + "' is not a finite number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+        }
+        return std::string();
+      },
+      "FINITE in [" + std::to_string(lo) + " - " + std::to_string(hi) + "]");
 }
 
 void write_json_file(const std::string& path, const nlohmann::json& j) { io::write_json_atomic(path, j); }

@@ -29,6 +29,9 @@ void check_scalar(const std::string& scalar);
 /// name), next to every --model.
 void add_model_selection(CLI::App* cmd, robot::LoadOptions& o);
 
+/// A finite number within [lo, hi] (CLI::Range lets NaN through: every comparison is false).
+CLI::Validator finite_range(double lo, double hi);
+
 /// How a subcommand reads a recording: --torque-kind, --rate, --max-gap. Every recording
 /// is regularized by time stamp (io/regularize.hpp) and the command says what was done.
 struct RecordingOptions {

@@ -62,7 +62,7 @@ Command add_evaluate(CLI::App& app) {
   cmd->add_option("--count", o->count, "Collisions in a campaign")->capture_default_str()->check(CLI::Range(1, 100000));
   cmd->add_option("--free-run", o->free_run_s, "Collision-free run for false alarms [s] (default 120 s paper, 600 s campaign)");
   cmd->add_option("--calibration", o->calibration_s, "Collision-free run the thresholds are calibrated on [s]")->capture_default_str()->check(CLI::Range(10.0, 86400.0));
-  cmd->add_option("--margin", o->margin, "Threshold margin above the observed band [N·m]")->capture_default_str();
+  cmd->add_option("--margin", o->margin, "Threshold margin above the observed band [N·m]")->capture_default_str()->check(finite_range(0.0, 1000.0));
   cmd->add_option("--debounce", o->debounce, "Cycles over threshold before a detection")->capture_default_str()->check(CLI::Range(1, 50));
   cmd->add_option("--reaction", o->reaction, "Reaction on detection")->check(CLI::IsMember({"none", "stop", "zero_gravity"}))->capture_default_str();
   cmd->add_option("--json", o->json, "Write the runs and summary here (contract format)");

@@ -95,7 +95,7 @@ Command add_calibrate(CLI::App& app) {
   add_model_selection(cmd, o->model_options);
   cmd->add_option("--friction", o->friction, "Friction JSON from identify")->required()->check(CLI::ExistingFile);
   cmd->add_option("--json", o->json, "Write the thresholds here (contract format)");
-  cmd->add_option("--margin", o->margin, "Safety margin added to the band [N·m]")->capture_default_str();
+  cmd->add_option("--margin", o->margin, "Safety margin added to the band [N·m]")->capture_default_str()->check(finite_range(0.0, 1000.0));
   o->input.add_to(cmd);
   o->observer.add_to(cmd);
   return {cmd, [o]() {

@@ -45,4 +45,10 @@ set -e
 grep -q "0 cycles" "$W/ext.txt" && grep -q "is extended" "$W/ext.txt" || { echo "extended 0x10 counted as a sync"; cat "$W/ext.txt"; exit 1; }
 printf '(0.000000) vcan0 \x01\x02\xff#00\n' > "$W/bin.log"
 expect 1 "'???' is not hexadecimal" -- "$J" decode "$W/bin.log"
+# --margin nan or negative: a bad command line (exit 2), no thresholds written.
+expect 2 "margin" -- "$J" calibrate tests/data/recordings/held_arm.csv --model models/ref3.yaml \
+  --friction tests/data/recordings/ref3_friction.json --margin nan --json "$W/never.json"
+expect 2 "margin" -- "$J" calibrate tests/data/recordings/held_arm.csv --model models/ref3.yaml \
+  --friction tests/data/recordings/ref3_friction.json --margin -100 --json "$W/never.json"
+[ ! -e "$W/never.json" ] || { echo "a refused calibration wrote its thresholds"; exit 1; }
 echo "bounds: ok"
