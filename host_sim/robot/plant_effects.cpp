@@ -18,20 +18,6 @@ std::map<std::string, double> number_map(const io::YamlFields& f, const std::str
   return out;
 }
 
-/// Coefficients and settings each effect needs to be simulated (sim/apply_effects.cpp).
-struct Needs {
-  const char* effect;
-  std::size_t coefficients;
-  const char* setting;  ///< nullptr: none
-};
-constexpr Needs kNeeds[] = {
-    {"coulomb", 1, nullptr},           {"viscous", 1, nullptr},          {"stribeck", 1, nullptr},
-    {"presliding", 1, nullptr},        {"asymmetric_friction", 1, nullptr}, {"position_ripple", 2, "periods_per_rev"},
-    {"temperature_drift", 1, "time_constant_s"}, {"load_dependent_friction", 1, nullptr}, {"inertia_error", 1, nullptr},
-    {"torque_constant", 1, nullptr},   {"current_offset", 1, nullptr},   {"time_delay", 1, nullptr},
-    {"backlash", 0, nullptr},          {"joint_elasticity", 0, nullptr}, {"payload", 4, nullptr},
-    {"link_inertial_error", 4, "link"}};
-
 std::string exact(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.17g", v);
@@ -49,6 +35,49 @@ void write_map(std::ostream& out, const char* key, const std::map<std::string, d
 }
 }  // namespace
 
+EffectProblem simulation_problem(const PlantEffect& p) {
+  const bool model_curve = p.setting.count("model_curve") != 0U;
+  struct Needs {
+    const char* effect;
+    std::size_t coefficients;
+    const char* setting;  ///< nullptr: none
+  };
+  // The generic Stribeck and Dahl shapes carry their nonlinear setting; the model-curve
+  // instances (changes of the nominal LuGre) do not.
+  const Needs needs[] = {
+      {"coulomb", 1, nullptr},
+      {"viscous", 1, nullptr},
+      {"stribeck", 1, model_curve ? nullptr : "w_s"},
+      {"presliding", 1, p.setting.count("sigma0_ratio") != 0U ? nullptr : "displacement_rad"},
+      {"asymmetric_friction", 1, nullptr},
+      {"position_ripple", 2, "periods_per_rev"},
+      {"temperature_drift", 1, "time_constant_s"},
+      {"load_dependent_friction", 1, nullptr},
+      {"inertia_error", 1, nullptr},
+      {"torque_constant", 1, nullptr},
+      {"current_offset", 1, nullptr},
+      {"time_delay", 1, nullptr},
+      {"backlash", 0, nullptr},
+      {"joint_elasticity", 0, nullptr},
+      {"payload", 4, nullptr},
+      {"link_inertial_error", 4, "link"}};
+  const Needs* need = nullptr;
+  for (const auto& n : needs) {
+    if (p.effect == n.effect) need = &n;
+  }
+  if (need == nullptr) return {"effect", "'" + p.effect + "' is not an effect the plant can simulate"};
+  if (p.coefficients.size() < need->coefficients) {
+    return {"coefficients", "'" + p.effect + "' needs " + std::to_string(need->coefficients) + " coefficient(s)"};
+  }
+  if (need->setting != nullptr && p.setting.count(need->setting) == 0U) {
+    return {"setting", "'" + p.effect + "' needs setting '" + need->setting + "'"};
+  }
+  if ((p.effect == "payload" || p.effect == "link_inertial_error") != (p.joint == 0)) {
+    return {"joint", "'" + p.effect + "' belongs to " + (p.joint == 0 ? "a joint (1..n)" : "the arm (joint 0)")};
+  }
+  return {};
+}
+
 std::vector<PlantEffect> read_plant_effects(const io::YamlFields& root, std::size_t joints) {
   std::vector<PlantEffect> out;
   if (!root.has("plant_effects")) return out;
@@ -62,20 +91,8 @@ std::vector<PlantEffect> read_plant_effects(const io::YamlFields& root, std::siz
     p.setting = number_map(e, "setting");
     if (e.has("coefficients")) p.coefficients = e.numbers("coefficients");
     p.params = number_map(e, "params");
-    const Needs* need = nullptr;
-    for (const auto& n : kNeeds) {
-      if (p.effect == n.effect) need = &n;
-    }
-    if (need == nullptr) e.fail("effect", "'" + p.effect + "' is not an effect the plant can simulate");
-    if (p.coefficients.size() < need->coefficients) {
-      e.fail("coefficients", "'" + p.effect + "' needs " + std::to_string(need->coefficients) + " coefficient(s)");
-    }
-    if (need->setting != nullptr && p.setting.count(need->setting) == 0U) {
-      e.fail("setting", "'" + p.effect + "' needs setting '" + need->setting + "'");
-    }
-    if ((p.effect == "payload" || p.effect == "link_inertial_error") != (p.joint == 0)) {
-      e.fail("joint", "'" + p.effect + "' belongs to " + (p.joint == 0 ? "a joint (1..n)" : "the arm (joint 0)"));
-    }
+    const EffectProblem problem = simulation_problem(p);
+    if (!problem.field.empty()) e.fail(problem.field, problem.what);
     out.push_back(std::move(p));
   }
   return out;

@@ -24,6 +24,14 @@ struct PlantEffect {
   std::map<std::string, double> params;     ///< physical parameters, as reported
 };
 
+/// What keeps an effect from being simulated: the field at fault and why (an empty field:
+/// nothing). One check for the file reader and for sim/apply_effects.cpp.
+struct EffectProblem {
+  std::string field;
+  std::string what;
+};
+[[nodiscard]] EffectProblem simulation_problem(const PlantEffect& effect);
+
 /// Reads the `plant_effects` list of a robot file (strict: unknown keys, non-finite numbers
 /// and joints outside 0..n refused with file, line and field).
 std::vector<PlantEffect> read_plant_effects(const io::YamlFields& root, std::size_t joints);

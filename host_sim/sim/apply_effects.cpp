@@ -22,16 +22,9 @@ void apply_effect(const robot::PlantEffect& e, std::size_t j, int joint, Simulat
   auto& drive = s.sensors.drives[j];
   const auto& b = e.coefficients;
   const bool model_curve = e.setting.count("model_curve") != 0U;
-  // A file may be edited by hand: the coefficients and settings each effect needs.
-  const std::size_t need = e.effect == "position_ripple" ? 2 : 1;
-  const char* key = e.effect == "position_ripple"     ? "periods_per_rev"
-                    : e.effect == "temperature_drift" ? "time_constant_s"
-                    : e.effect == "stribeck" && !model_curve ? "w_s"
-                    : e.effect == "presliding" && e.setting.count("sigma0_ratio") == 0U ? "displacement_rad"
-                                                                                         : nullptr;
-  if (b.size() < need || (key != nullptr && e.setting.count(key) == 0U)) {
-    r.not_modelled.push_back(joint_text(joint, e.effect + ": needs " + std::to_string(need) + " coefficient(s)" +
-                                                   (key != nullptr ? std::string(" and setting '") + key + "'" : "")));
+  // Effects made in memory (the diagnosis's) are checked as the file reader checks them.
+  if (const robot::EffectProblem problem = robot::simulation_problem(e); !problem.field.empty()) {
+    r.not_modelled.push_back(joint_text(joint, problem.what));
     return;
   }
   std::ostringstream os;
@@ -99,8 +92,6 @@ void apply_effect(const robot::PlantEffect& e, std::size_t j, int joint, Simulat
   } else if (e.effect == "time_delay") {
     delays.push_back(-b[0]);
     return;  // one delay for all drives' current channels, set below
-  } else if (e.effect == "backlash" || e.effect == "joint_elasticity") {
-    return;  // from the deflection channel's findings (apply_findings)
   } else {
     r.not_modelled.push_back(joint_text(joint, e.effect + ": the plant has no setting for it"));
     return;
