@@ -128,7 +128,7 @@ typedef union {
 jg_scalar jg_scalar_from_double(double value, jg_error* error);
 double jg_scalar_to_double(jg_scalar value);
 const char* jg_scalar_name(void);    /* "float" or "q16.16" */
-const char* jg_error_name(jg_error); /* "ok", "not_finite", ... */
+const char* jg_error_name(jg_error error); /* "ok", "not_finite", ... */
 
 /* ---- one joint's estimation cycle (no bus: the caller moves the messages) ---- */
 /* Converts the configuration (range checks) into params and resets the state. On error

@@ -79,31 +79,30 @@ template <class T, class Storage>
 T* object_in(Storage* s) noexcept {
   static_assert(sizeof(T) <= sizeof(Storage), "the object does not fit the C API's storage: raise JG_*_BYTES");
   static_assert(alignof(T) <= alignof(Storage), "the C API's storage is not aligned enough for the object");
-  // NOLINTNEXTLINE(cppcoreguidelines-pro-type-reinterpret-cast): the union is the object's storage
-  return std::launder(reinterpret_cast<T*>(s->bytes));
+  return std::launder(static_cast<T*>(static_cast<void*>(s)));
 }
 template <class T, class Storage>
 const T* object_in(const Storage* s) noexcept {
   static_assert(sizeof(T) <= sizeof(Storage), "the object does not fit the C API's storage: raise JG_*_BYTES");
-  // NOLINTNEXTLINE(cppcoreguidelines-pro-type-reinterpret-cast): the union is the object's storage
-  return std::launder(reinterpret_cast<const T*>(s->bytes));
+  return std::launder(static_cast<const T*>(static_cast<const void*>(s)));
 }
 
 /// The C port as a HAL backend: the drive is a template on it, like on every other port.
 class CallbackPort {
  public:
   explicit CallbackPort(const jg_can_port& ops) noexcept : ops_(ops) {}
-  jg::hal::CanStatus send(const jg::hal::CanFrame& f) noexcept {
+  // const: the port only forwards to the board's callbacks (its own state is the ops table).
+  [[nodiscard]] jg::hal::CanStatus send(const jg::hal::CanFrame& f) const noexcept {
     jg_can_frame c{};
     c.id = f.id;
     c.length = f.length;
     c.fd = f.fd;
     c.extended = f.extended;
     c.timestamp_us = f.timestamp_us;
-    std::memcpy(c.data, f.data, f.length <= 64U ? f.length : 64U);
+    std::memcpy(static_cast<void*>(c.data), static_cast<const void*>(f.data), f.length <= 64U ? f.length : 64U);
     return static_cast<jg::hal::CanStatus>(ops_.send(ops_.context, &c));
   }
-  bool receive(jg::hal::CanFrame& f) noexcept {
+  bool receive(jg::hal::CanFrame& f) const noexcept {
     jg_can_frame c{};
     if (!ops_.receive(ops_.context, &c)) {
       return false;
@@ -113,22 +112,22 @@ class CallbackPort {
     f.fd = c.fd;
     f.extended = c.extended;
     f.timestamp_us = c.timestamp_us;
-    std::memcpy(f.data, c.data, f.length);
+    std::memcpy(static_cast<void*>(f.data), static_cast<const void*>(c.data), f.length);
     return true;
   }
   [[nodiscard]] jg::hal::CanErrorState error_state() const noexcept {
     return ops_.error_state == nullptr ? jg::hal::CanErrorState::error_active
                                        : static_cast<jg::hal::CanErrorState>(ops_.error_state(ops_.context));
   }
-  void set_filters(const jg::hal::CanFilter* filters, std::size_t n) noexcept {
+  void set_filters(const jg::hal::CanFilter* filters, std::size_t n) const noexcept {
     if (ops_.set_filters == nullptr) {
       return;
     }
     constexpr std::size_t kMax = 8;
     jg_can_filter c[kMax]{};
-    const std::size_t count = n < kMax ? n : kMax;
-    for (std::size_t i = 0; i < count; ++i) {
-      c[i] = {filters[i].match, filters[i].mask};
+    std::size_t count = 0;
+    for (; count < n && count < kMax; ++count) {
+      c[count] = {filters[count].match, filters[count].mask};
     }
     ops_.set_filters(ops_.context, static_cast<const jg_can_filter*>(c), count);
   }
@@ -176,7 +175,7 @@ jg_error make_params(const jg_joint_config& c, Params& p) noexcept {
       return c_error(e);
     }
   }
-  if (static_cast<int>(c.observer) < 0 || static_cast<int>(c.observer) > 3) {
+  if (static_cast<unsigned>(c.observer) > 3U) {
     return JG_BAD_CONFIG;
   }
   const jg::ObserverGains g{static_cast<jg::ObserverKind>(c.observer), c.gain_k1, c.gain_k2, c.gain_k3};
@@ -215,7 +214,7 @@ extern "C" {
 
 jg_scalar jg_scalar_from_double(double value, jg_error* error) {
   jg::NumericStatus st{};
-  const Scalar s = jg::convert<Scalar>(value, st);
+  const auto s = jg::convert<Scalar>(value, st);
   if (error != nullptr) {
     *error = st.not_finite != 0U ? JG_NOT_FINITE : (st.saturated != 0U ? JG_OUT_OF_RANGE : JG_OK);
   }
@@ -242,8 +241,8 @@ jg_error jg_joint_init(const jg_joint_config* config, jg_joint_params* params, j
   if (const jg_error e = make_params(*config, p); e != JG_OK) {
     return e;
   }
-  ::new (static_cast<void*>(params->bytes)) Params(p);
-  ::new (static_cast<void*>(state->bytes)) State{};
+  ::new (static_cast<void*>(params)) Params(p);
+  ::new (static_cast<void*>(state)) State{};
   return JG_OK;
 }
 
@@ -298,7 +297,7 @@ jg_scalar jg_joint_friction_torque(const jg_joint_state* state) {
 
 void jg_joint_reset_detector(jg_joint_state* state) {
   if (state != nullptr) {
-    State* s = object_in<State>(state);
+    auto* s = object_in<State>(state);
     jg::reset_detector(s->detector);
     s->flagged = false;
   }
@@ -327,7 +326,7 @@ jg_error jg_drive_init(jg_drive* drive, const jg_drive_config* config, const jg_
   d.node.fault_cycles = config->fault_cycles == 0U ? std::uint8_t{5} : config->fault_cycles;
   d.node.max_age_cycles = config->max_age_cycles == 0U ? std::uint8_t{2} : config->max_age_cycles;
   d.sensors_over_can = config->sensors_over_can;
-  ::new (static_cast<void*>(drive->bytes)) DriveObject(*port, d, p, g);
+  ::new (static_cast<void*>(drive)) DriveObject(*port, d, p, g);
   return JG_OK;
 }
 
