@@ -19,4 +19,6 @@ for preset in cortex-m4 cortex-m7; do
   cmake --preset "${preset}" >/dev/null
   cmake --build --preset "${preset}"
 done
+echo "=== package: install the cortex-m4 build, build the example drive firmware against it"
+bash tests/package/build_example.sh build/cortex-m4
 echo "jointguard: all test presets passed"
