@@ -92,6 +92,7 @@ Command add_evaluate(CLI::App& app) {
             eval::RunSplit split;
             split.jobs = o->jobs == 0 ? eval::default_jobs() : o->jobs;
             if (!o->shard.empty()) parse_shard(o->shard, split.shard, split.shards);
+            c.jobs = split.jobs;
             if (!o->shard.empty() && o->json.empty()) throw std::invalid_argument("--shard needs --json (the part's file)");
             const double free_s = o->free_run_s > 0.0 ? o->free_run_s : (o->scenario == "campaign" ? 600.0 : 120.0);
             Progress bar("evaluate");

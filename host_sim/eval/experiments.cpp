@@ -163,6 +163,7 @@ Preparation prepare(ExperimentConfig& c, double margin_nm, const std::function<v
   p.excitation = sim::run_simulation(ex).recording;
   ident::GaSettings ga;
   ga.seed = c.seed;
+  ga.threads = std::max(1, c.jobs);
   p.identification = identify_recording(p.excitation, c.model, ObserverGains{ObserverKind::first_order, c.gains.k1, 0, 0}, ga,
                                         [&](double f) { if (progress) progress(0.8 * f); });
   c.friction.clear();

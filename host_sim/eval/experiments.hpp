@@ -29,6 +29,8 @@ struct ExperimentConfig {
   unsigned long long seed = 1;
   /// Collision-free random motion the thresholds are calibrated on [s].
   double calibration_s = 3600.0;
+  /// Threads for the identification's independent GA runs (the result does not depend on it).
+  int jobs = 2;
 };
 
 /// A simulation set-up on the model at the configured rate with realistic sensors and the
