@@ -8,6 +8,7 @@ packages=(
   gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm
   clang clang-tidy cppcheck
   qemu-system-x86 can-utils iproute2 busybox-static cpio xz-utils
+  parallel slurm-wlm munge
   chromium
 )
 missing=()

@@ -21,6 +21,7 @@ Command add_identify(CLI::App& app);
 Command add_calibrate(CLI::App& app);
 Command add_replay(CLI::App& app);
 Command add_evaluate(CLI::App& app);
+Command add_merge(CLI::App& app);
 Command add_diagnose(CLI::App& app);
 Command add_bench(CLI::App& app);
 Command add_node(CLI::App& app);

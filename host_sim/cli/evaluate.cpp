@@ -1,6 +1,7 @@
 // `jointguard evaluate`: the paper's experiments or a campaign on the simulated arm with
 // the firmware core in the loop; JSON per ../shared/CONTRACT.md.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -8,8 +9,10 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/evaluate_output.hpp"
 #include "cli/progress.hpp"
 #include "eval/experiments.hpp"
+#include "eval/parallel.hpp"
 #include "io/yaml_fields.hpp"
 #include "sim/scenario.hpp"
 
@@ -20,7 +23,8 @@ namespace {
 struct EvaluateOptions {
   std::string scenario = "paper", model = JG_DEFAULT_MODEL, json, scalar = "float", reaction = "stop";
   double rate = 1000.0, margin = 0.5, free_run_s = 0.0, calibration_s = 3600.0;
-  int count = 50, debounce = 1;
+  int count = 50, debounce = 1, jobs = 0;
+  std::string shard;
   unsigned long long seed = 1;
   ObserverOptions observer;
   robot::LoadOptions model_options;
@@ -32,18 +36,6 @@ Reaction reaction_of(const std::string& s) {
   return Reaction::stop;
 }
 
-nlohmann::json run_json(const eval::RunResult& r) {
-  nlohmann::json j{{"name", r.name}, {"t_collision", r.t_collision}, {"link_true", r.link_true},
-                   {"link_isolated", r.link_isolated}, {"peak_force", r.peak_force_n},
-                   {"max_true_torque_over_threshold", r.max_true_ratio},
-                   {"max_true_torque_over_moving_threshold", r.max_true_ratio_moving}};
-  j["t_detected"] = r.t_detected ? nlohmann::json(*r.t_detected) : nlohmann::json(nullptr);
-  j["delay"] = r.t_detected ? nlohmann::json(*r.t_detected - r.t_collision) : nlohmann::json(nullptr);
-  j["t_threshold_crossed"] = r.t_threshold ? nlohmann::json(*r.t_threshold) : nlohmann::json(nullptr);
-  j["delay_after_threshold_crossed"] =
-      r.t_detected && r.t_threshold ? nlohmann::json(*r.t_detected - *r.t_threshold) : nlohmann::json(nullptr);
-  return j;
-}
 }  // namespace
 
 Command add_evaluate(CLI::App& app) {
@@ -65,7 +57,20 @@ Command add_evaluate(CLI::App& app) {
   cmd->add_option("--margin", o->margin, "Threshold margin above the observed band [N·m]")->capture_default_str()->check(finite_range(0.0, 1000.0));
   cmd->add_option("--debounce", o->debounce, "Cycles over threshold before a detection")->capture_default_str()->check(CLI::Range(1, 50));
   cmd->add_option("--reaction", o->reaction, "Reaction on detection")->check(CLI::IsMember({"none", "stop", "zero_gravity"}))->capture_default_str();
-  cmd->add_option("--json", o->json, "Write the runs and summary here (contract format)");
+  cmd->add_option("--json", o->json, "Write the runs and summary here (contract format; with --shard: this part)");
+  cmd->add_option("--jobs", o->jobs, "Threads for the independent runs (0: all cores); the output does not depend on it")
+      ->capture_default_str()->check(CLI::Range(0, 1024));
+  cmd->add_option("--shard", o->shard, "K/N: run only the K-th of N disjoint parts and write a partial JSON "
+                                       "for `jointguard merge` (every part prepares the same thresholds)")
+      ->check([](const std::string& text) {
+        int k = 0, n = 0;
+        try {
+          parse_shard(text, k, n);
+        } catch (const std::invalid_argument& e) {
+          return std::string(e.what());
+        }
+        return std::string();
+      });
   o->observer.add_to(cmd);
   return {cmd, [o]() {
             eval::ExperimentConfig c;
@@ -84,66 +89,66 @@ Command add_evaluate(CLI::App& app) {
             c.debounce_cycles = o->debounce;
             c.calibration_s = o->calibration_s;
             c.reaction = reaction_of(o->reaction);
+            eval::RunSplit split;
+            split.jobs = o->jobs == 0 ? eval::default_jobs() : o->jobs;
+            if (!o->shard.empty()) parse_shard(o->shard, split.shard, split.shards);
+            c.jobs = split.jobs;
+            if (!o->shard.empty() && o->json.empty()) throw std::invalid_argument("--shard needs --json (the part's file)");
+            const double free_s = o->free_run_s > 0.0 ? o->free_run_s : (o->scenario == "campaign" ? 600.0 : 120.0);
             Progress bar("evaluate");
             eval::prepare(c, o->margin, [&](double f) { bar.update(0.3 * f); });
-            std::vector<eval::RunResult> runs;
+            EvaluateFigures fig;
+            std::size_t runs_total = 1;
             if (o->scenario == "paper") {
-              runs = eval::paper_experiments(c, false);
+              fig.runs = eval::paper_experiments(c, false, split);
+              runs_total = std::min<std::size_t>(3, c.model.joints.size());
             } else if (o->scenario == "campaign") {
-              runs = eval::campaign(c, o->count, {2, 3}, [&](double f) { bar.update(0.3 + 0.5 * f); });
-            } else {
+              fig.runs = eval::campaign(c, o->count, {2, 3}, [&](double f) { bar.update(0.3 + 0.5 * f); }, split);
+              runs_total = static_cast<std::size_t>(o->count);
+            } else if (split.takes(0)) {
               auto est = eval::estimator_for(c);
               const eval::DetectionConfig d = eval::detection_for(c);
-              runs.push_back(eval::run_detection(scenario->setup, *est, d, scenario->setup.meta.scenario, false));
+              fig.runs.push_back(eval::run_detection(scenario->setup, *est, d, scenario->setup.meta.scenario, false));
             }
-            const double free_s = o->free_run_s > 0.0 ? o->free_run_s : (o->scenario == "campaign" ? 600.0 : 120.0);
-            int alarms = 0;
-            std::vector<double> alarm_times;
-            const double per_hour = eval::false_alarms_per_hour(c, free_s, alarms, {}, &alarm_times);
+            fig.free_run = eval::free_run_segments(c, free_s, split, [&](double f) { bar.update(0.8 + 0.2 * f); });
+            fig.free_run_s = free_s;
             bar.finish();
-            const eval::Summary sum = eval::summarize(runs);
-            std::printf("%-28s %9s %9s %9s %6s %9s\n", "run", "t_coll", "t_det", "delay ms", "link", "peak N");
-            for (const auto& r : runs) {
-              std::printf("%-28s %9.3f %9s %9s %3d->%d %9.1f\n", r.name.c_str(), r.t_collision,
-                          r.t_detected ? std::to_string(*r.t_detected).substr(0, 7).c_str() : "-",
-                          r.t_detected ? std::to_string(1000.0 * (*r.t_detected - r.t_collision)).substr(0, 6).c_str() : "missed",
-                          r.link_true, r.link_isolated, r.peak_force_n);
+            fig.config = {{"threshold", c.thresholds}, {"threshold_low_speed_extra", c.low_speed_extra},
+                          {"threshold_low_speed_width", c.low_speed_width}, {"calibration_s", c.calibration_s},
+                          {"margin", o->margin}, {"rate", c.rate_hz}, {"scalar", c.scalar},
+                          {"observer", to_string(c.gains.kind)}, {"gains", {c.gains.k1, c.gains.k2, c.gains.k3}}};
+            if (!o->shard.empty()) {
+              const auto segments = static_cast<std::size_t>(std::max(1.0, std::ceil(free_s / eval::kFreeRunSegmentS - 1e-9)));
+              const nlohmann::json identity = {{"scenario", o->scenario}, {"count", o->count}, {"seed", o->seed},
+                                               {"model", c.model.name}, {"debounce", o->debounce}, {"reaction", o->reaction}};
+              write_json_file(o->json, partial_json(fig, split.shard, split.shards, runs_total, segments, identity));
+              std::printf("part %d/%d: %zu runs, %zu free-run segments; wrote %s (combine the parts with jointguard merge)\n",
+                          split.shard, split.shards, fig.runs.size(), fig.free_run.size(), o->json.c_str());
+              return 0;
             }
-            std::printf("detected %d/%d; of those whose true torque exceeds 1.5x the threshold in effect: %d/%d "
-                        "(1.5x the moving threshold: %d/%d); isolation %d/%d\n",
-                        sum.detected, sum.runs, sum.detectable_found, sum.detectable, sum.detectable_moving_found,
-                        sum.detectable_moving, sum.isolated, sum.runs);
-            std::printf("delay min/median/max %.1f/%.1f/%.1f ms; false alarms %d in %.0f s (%.2f per hour)", 1e3 * sum.delay_min,
-                        1e3 * sum.delay_median, 1e3 * sum.delay_max, alarms, free_s, per_hour);
-            for (const double t : alarm_times) std::printf(" %.3f", t);
-            std::printf("\n");
-            std::printf("after the true torque crosses the threshold in effect: %d of %d detections within 10 ms; "
-                        "median/95th percentile/max %.1f/%.1f/%.1f ms\n",
-                        sum.after_crossing_within_10ms, sum.after_crossing, 1e3 * sum.after_crossing_median,
-                        1e3 * sum.after_crossing_p95, 1e3 * sum.after_crossing_max);
+            print_figures(fig);
             if (!o->json.empty()) {
-              nlohmann::json j;
-              j["runs"] = nlohmann::json::array();
-              for (const auto& r : runs) j["runs"].push_back(run_json(r));
-              const double n = std::max(1, sum.runs);
-              j["summary"] = {{"detection_rate", sum.detected / n},
-                              {"isolation_accuracy", sum.isolated / n},
-                              {"detection_rate_over_1p5x_threshold", sum.detectable ? static_cast<double>(sum.detectable_found) / sum.detectable : 1.0},
-                              {"over_1p5x_threshold", {{"collisions", sum.detectable}, {"detected", sum.detectable_found}}},
-                              {"over_1p5x_moving_threshold", {{"collisions", sum.detectable_moving}, {"detected", sum.detectable_moving_found}}},
-                              {"delay_min", sum.delay_min}, {"delay_median", sum.delay_median}, {"delay_max", sum.delay_max},
-                              {"after_threshold_crossed", {{"detections", sum.after_crossing},
-                                                           {"within_10ms", sum.after_crossing_within_10ms},
-                                                           {"median", sum.after_crossing_median},
-                                                           {"p95", sum.after_crossing_p95},
-                                                           {"max", sum.after_crossing_max}}},
-                              {"false_alarms_per_hour", per_hour}, {"false_alarm_run_s", free_s}, {"false_alarm_times", alarm_times}, {"threshold", c.thresholds},
-                              {"threshold_low_speed_extra", c.low_speed_extra}, {"threshold_low_speed_width", c.low_speed_width},
-                              {"calibration_s", c.calibration_s}, {"margin", o->margin}, {"rate", c.rate_hz}, {"scalar", c.scalar},
-                              {"observer", to_string(c.gains.kind)}, {"gains", {c.gains.k1, c.gains.k2, c.gains.k3}}};
-              std::ofstream(o->json) << j.dump(2) << '\n';
+              write_json_file(o->json, evaluate_json(fig));
               std::printf("wrote %s\n", o->json.c_str());
             }
+            return 0;
+          }};
+}
+
+Command add_merge(CLI::App& app) {
+  auto paths = std::make_shared<std::vector<std::string>>();
+  auto json = std::make_shared<std::string>();
+  auto* cmd = app.add_subcommand("merge",
+                                 "Combine the partial JSON files of `evaluate --shard K/N` (one per shard) into the JSON\n"
+                                 "of one run: the same bytes as the unsharded command writes.\n"
+                                 "Example: jointguard merge out/part1.json out/part2.json --json out/campaign.json");
+  cmd->add_option("parts", *paths, "The parts (every shard once)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--json", *json, "Write the combined JSON here")->required();
+  return {cmd, [paths, json]() {
+            const EvaluateFigures fig = merge_partials(*paths);
+            print_figures(fig);
+            write_json_file(*json, evaluate_json(fig));
+            std::printf("merged %zu parts; wrote %s\n", paths->size(), json->c_str());
             return 0;
           }};
 }

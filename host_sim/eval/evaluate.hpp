@@ -30,6 +30,7 @@ struct Trace {
 
 struct RunResult {
   std::string name;
+  int index = 0;                           ///< position in its campaign (0-based): the merge order
   double t_collision = 0.0;                ///< start of the first scheduled collision [s]
   std::optional<double> t_threshold;       ///< first time the true |tau_ext| exceeds the threshold in effect
   std::optional<double> t_detected;

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <random>
 
 #include "eval/firmware_estimator.hpp"
+#include "eval/parallel.hpp"
 #include "models/paper_friction.hpp"
 
 namespace jg::eval {
@@ -161,6 +163,7 @@ Preparation prepare(ExperimentConfig& c, double margin_nm, const std::function<v
   p.excitation = sim::run_simulation(ex).recording;
   ident::GaSettings ga;
   ga.seed = c.seed;
+  ga.threads = std::max(1, c.jobs);
   p.identification = identify_recording(p.excitation, c.model, ObserverGains{ObserverKind::first_order, c.gains.k1, 0, 0}, ga,
                                         [&](double f) { if (progress) progress(0.8 * f); });
   c.friction.clear();
@@ -173,7 +176,7 @@ Preparation prepare(ExperimentConfig& c, double margin_nm, const std::function<v
   return p;
 }
 
-std::vector<RunResult> paper_experiments(const ExperimentConfig& c, bool traces) {
+std::vector<RunResult> paper_experiments(const ExperimentConfig& c, bool traces, const RunSplit& split) {
   // The paper's occurrence times: waist 7.104 s, shoulder 5.872 s, elbow 5.912 s, during
   // a pick task (move to a workpiece lower left and back).
   struct Spec {
@@ -193,8 +196,13 @@ std::vector<RunResult> paper_experiments(const ExperimentConfig& c, bool traces)
     work(1) += 0.45;  // lower
     work(2) -= 0.5;
   }
-  for (const Spec& s : specs) {
-    if (s.link > static_cast<int>(c.model.joints.size())) continue;
+  std::vector<std::size_t> chosen;
+  for (std::size_t k = 0; k < std::size(specs); ++k) {
+    if (specs[k].link <= static_cast<int>(c.model.joints.size()) && split.takes(k)) chosen.push_back(k);
+  }
+  std::vector<RunResult> slots(chosen.size());
+  parallel_for(chosen.size(), split.jobs, [&](std::size_t slot) {
+    const Spec& s = specs[chosen[slot]];
     auto traj = sim::make_pick_task(home, work, 2);
     sim::SimulationSetup setup = base_setup(c, std::shared_ptr<const sim::Trajectory>(std::move(traj)), c.seed * 101 + static_cast<unsigned long long>(s.link));
     sim::CollisionEvent e;
@@ -221,14 +229,15 @@ std::vector<RunResult> paper_experiments(const ExperimentConfig& c, bool traces)
     setup.duration_s = s.t + 1.5;
     auto est = estimator_for(c);
     const DetectionConfig d = detection_for(c);
-    out.push_back(run_detection(setup, *est, d, s.name, traces));
-  }
+    slots[slot] = run_detection(setup, *est, d, s.name, traces);
+    slots[slot].index = static_cast<int>(chosen[slot]);
+  });
+  for (auto& r : slots) out.push_back(std::move(r));
   return out;
 }
 
 std::vector<RunResult> campaign(const ExperimentConfig& c, int count, const std::vector<int>& links,
-                                const std::function<void(double)>& progress) {
-  std::vector<RunResult> out;
+                                const std::function<void(double)>& progress, const RunSplit& split) {
   std::mt19937_64 rng(c.seed * 7919 + 5);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const auto home = home_of(c.model);
@@ -245,39 +254,74 @@ std::vector<RunResult> campaign(const ExperimentConfig& c, int count, const std:
   spec.t_max = 1e9;  // each collision gets its own run; only the draw order matters
   spec.spacing_s = 3.0;
   const auto events = sim::draw_campaign(spec, c.model.reaches());
+  // Every draw in index order first, so that run i is the same whoever runs it.
+  std::vector<double> t_start(events.size());
+  for (double& t : t_start) t = 2.5 + 0.5 * unit(rng);
+  std::vector<std::size_t> chosen;
   for (std::size_t i = 0; i < events.size(); ++i) {
+    if (split.takes(i)) chosen.push_back(i);
+  }
+  std::vector<RunResult> out(chosen.size());
+  parallel_for(chosen.size(), split.jobs, [&](std::size_t slot) {
+    const std::size_t i = chosen[slot];
     sim::CollisionEvent e = events[i];
-    e.t_start = 2.5 + 0.5 * unit(rng);
+    e.t_start = t_start[i];
     auto moves = sim::make_random_moves(home, lower, upper, 0.8, 8.0, c.seed * 1000 + i);
     sim::SimulationSetup setup = base_setup(c, std::shared_ptr<const sim::Trajectory>(std::move(moves)), c.seed * 2000 + i);
     setup.collisions = {e};
     setup.duration_s = e.t_start + std::max(1.0, e.duration_s + e.rise_s + 0.5);
     auto est = estimator_for(c);
     const DetectionConfig d = detection_for(c);
-    out.push_back(run_detection(setup, *est, d, "campaign " + std::to_string(i + 1) + " (" + sim::to_string(e.profile) + ")", false));
-    if (progress) progress(static_cast<double>(i + 1) / static_cast<double>(events.size()));
-  }
+    out[slot] = run_detection(setup, *est, d, "campaign " + std::to_string(i + 1) + " (" + sim::to_string(e.profile) + ")", false);
+    out[slot].index = static_cast<int>(i);
+  }, progress);
   return out;
 }
 
-double false_alarms_per_hour(const ExperimentConfig& c, double seconds, int& alarms,
-                             const std::function<void(double)>& progress, std::vector<double>* times) {
+std::vector<FreeRunSegment> free_run_segments(const ExperimentConfig& c, double seconds, const RunSplit& split,
+                                              const std::function<void(double)>& progress) {
   const auto home = home_of(c.model);
   sim::JointVector lower = home, upper = home;
   for (Eigen::Index j = 0; j < lower.size(); ++j) {
     lower(j) -= 0.7;
     upper(j) += 0.7;
   }
-  auto moves = sim::make_random_moves(home, lower, upper, 0.8, seconds + 5.0, c.seed * 31 + 7);
-  sim::SimulationSetup setup = base_setup(c, std::shared_ptr<const sim::Trajectory>(std::move(moves)), c.seed * 37 + 11);
-  setup.duration_s = seconds;
-  auto est = estimator_for(c);
-  DetectionConfig d = detection_for(c);
-  d.reaction = Reaction::none;
-  (void)progress;
-  const RunResult r = run_detection(setup, *est, d, "collision-free", false);
-  alarms = static_cast<int>(r.false_alarm_times.size());
-  if (times != nullptr) *times = r.false_alarm_times;
+  const auto segments = static_cast<std::size_t>(std::max(1.0, std::ceil(seconds / kFreeRunSegmentS - 1e-9)));
+  std::vector<std::size_t> chosen;
+  for (std::size_t k = 0; k < segments; ++k) {
+    if (split.takes(k)) chosen.push_back(k);
+  }
+  std::vector<FreeRunSegment> out(chosen.size());
+  parallel_for(chosen.size(), split.jobs, [&](std::size_t slot) {
+    const std::size_t k = chosen[slot];
+    const double start = kFreeRunSegmentS * static_cast<double>(k);
+    const double length = std::min(kFreeRunSegmentS, seconds - start);
+    // Segment 0 keeps the seeds of the single run this replaced; the others are apart from
+    // every other seed of the evaluation (a large odd stride).
+    const unsigned long long stride = 1000003ULL * k;
+    auto moves = sim::make_random_moves(home, lower, upper, 0.8, length + 5.0, c.seed * 31 + 7 + stride);
+    sim::SimulationSetup setup = base_setup(c, std::shared_ptr<const sim::Trajectory>(std::move(moves)), c.seed * 37 + 11 + stride);
+    setup.duration_s = length;
+    auto est = estimator_for(c);
+    DetectionConfig d = detection_for(c);
+    d.reaction = Reaction::none;
+    const RunResult r = run_detection(setup, *est, d, "collision-free", false);
+    FreeRunSegment& seg = out[slot];
+    seg.index = static_cast<int>(k);
+    seg.seconds = length;
+    for (const double t : r.false_alarm_times) seg.alarm_times.push_back(start + t);
+  }, progress);
+  return out;
+}
+
+double false_alarms_per_hour(const ExperimentConfig& c, double seconds, int& alarms,
+                             const std::function<void(double)>& progress, std::vector<double>* times, int jobs) {
+  RunSplit split;
+  split.jobs = jobs;
+  std::vector<double> all;
+  for (const auto& seg : free_run_segments(c, seconds, split, progress)) all.insert(all.end(), seg.alarm_times.begin(), seg.alarm_times.end());
+  alarms = static_cast<int>(all.size());
+  if (times != nullptr) *times = all;
   return static_cast<double>(alarms) * 3600.0 / seconds;
 }
 

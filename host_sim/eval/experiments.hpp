@@ -29,6 +29,8 @@ struct ExperimentConfig {
   unsigned long long seed = 1;
   /// Collision-free random motion the thresholds are calibrated on [s].
   double calibration_s = 3600.0;
+  /// Threads for the identification's independent GA runs (the result does not depend on it).
+  int jobs = 2;
 };
 
 /// A simulation set-up on the model at the configured rate with realistic sensors and the
@@ -48,16 +50,42 @@ Thresholds calibrate(const ExperimentConfig& c, double margin_nm);
 
 Preparation prepare(ExperimentConfig& c, double margin_nm, const std::function<void(double)>& progress = {});
 
+/// Which of a campaign's independent runs this process does, and on how many threads.
+/// Shard k of n (1-based) takes the indices i with i % n == k - 1 (campaign collisions and
+/// free-run segments alike); every run is seeded from its index, so the union of the shards'
+/// runs is the whole campaign whatever the split and the thread count.
+struct RunSplit {
+  int jobs = 1;
+  int shard = 1, shards = 1;
+  [[nodiscard]] bool takes(std::size_t index) const {
+    return static_cast<int>(index % static_cast<std::size_t>(shards)) == shard - 1;
+  }
+};
+
 /// The paper's three collisions (waist, shoulder, elbow) during the pick task.
-std::vector<RunResult> paper_experiments(const ExperimentConfig& c, bool traces);
+std::vector<RunResult> paper_experiments(const ExperimentConfig& c, bool traces, const RunSplit& split = {});
 
 /// Random collisions (seeded) on `links`, each in its own short run from random motion.
+/// Runs of other shards are left out; the result is in index order.
 std::vector<RunResult> campaign(const ExperimentConfig& c, int count, const std::vector<int>& links,
-                                const std::function<void(double)>& progress = {});
+                                const std::function<void(double)>& progress = {}, const RunSplit& split = {});
 
-/// Collision-free random motion for `seconds`: detections per hour.
+/// The collision-free run is made of independent segments of kFreeRunSegmentS (the last one
+/// shorter), each from rest at home with its own motion and noise seeded from its index
+/// (segment 0 is the run a free run up to one segment long always was).
+inline constexpr double kFreeRunSegmentS = 600.0;
+struct FreeRunSegment {
+  int index = 0;
+  double seconds = 0.0;
+  std::vector<double> alarm_times;  ///< [s] from the start of the whole free run
+};
+std::vector<FreeRunSegment> free_run_segments(const ExperimentConfig& c, double seconds, const RunSplit& split = {},
+                                              const std::function<void(double)>& progress = {});
+
+/// Collision-free random motion for `seconds` (all segments): detections per hour.
 double false_alarms_per_hour(const ExperimentConfig& c, double seconds, int& alarms,
-                             const std::function<void(double)>& progress = {}, std::vector<double>* times = nullptr);
+                             const std::function<void(double)>& progress = {}, std::vector<double>* times = nullptr,
+                             int jobs = 1);
 
 std::unique_ptr<Estimator> estimator_for(const ExperimentConfig& c);
 /// The detector settings of a configuration (thresholds, band, debounce, reaction).

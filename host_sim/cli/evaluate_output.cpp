@@ -1,0 +1,215 @@
+#include "cli/evaluate_output.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <set>
+#include <stdexcept>
+
+namespace jg::cli {
+namespace {
+nlohmann::json optional_json(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); }
+
+nlohmann::json run_json(const eval::RunResult& r) {
+  nlohmann::json j{{"name", r.name}, {"index", r.index}, {"t_collision", r.t_collision}, {"link_true", r.link_true},
+                   {"link_isolated", r.link_isolated}, {"peak_force", r.peak_force_n},
+                   {"max_true_torque_over_threshold", r.max_true_ratio},
+                   {"max_true_torque_over_moving_threshold", r.max_true_ratio_moving}};
+  j["t_detected"] = optional_json(r.t_detected);
+  j["delay"] = r.t_detected ? nlohmann::json(*r.t_detected - r.t_collision) : nlohmann::json(nullptr);
+  j["t_threshold_crossed"] = optional_json(r.t_threshold);
+  j["delay_after_threshold_crossed"] =
+      r.t_detected && r.t_threshold ? nlohmann::json(*r.t_detected - *r.t_threshold) : nlohmann::json(nullptr);
+  return j;
+}
+
+std::optional<double> optional_of(const nlohmann::json& j, const char* key) {
+  const auto& v = j.at(key);
+  if (v.is_null()) return std::nullopt;
+  return v.get<double>();
+}
+
+eval::RunResult run_from_json(const nlohmann::json& j) {
+  eval::RunResult r;
+  r.name = j.at("name").get<std::string>();
+  r.index = j.at("index").get<int>();
+  r.t_collision = j.at("t_collision").get<double>();
+  r.t_detected = optional_of(j, "t_detected");
+  r.t_threshold = optional_of(j, "t_threshold_crossed");
+  r.link_true = j.at("link_true").get<int>();
+  r.link_isolated = j.at("link_isolated").get<int>();
+  r.peak_force_n = j.at("peak_force").get<double>();
+  r.max_true_ratio = j.at("max_true_torque_over_threshold").get<double>();
+  r.max_true_ratio_moving = j.at("max_true_torque_over_moving_threshold").get<double>();
+  return r;
+}
+
+struct FreeRunTotals {
+  int alarms = 0;
+  std::vector<double> times;
+};
+FreeRunTotals totals_of(const std::vector<eval::FreeRunSegment>& segments) {
+  FreeRunTotals t;
+  for (const auto& s : segments) t.times.insert(t.times.end(), s.alarm_times.begin(), s.alarm_times.end());
+  t.alarms = static_cast<int>(t.times.size());
+  return t;
+}
+}  // namespace
+
+nlohmann::json evaluate_json(const EvaluateFigures& f) {
+  const eval::Summary sum = eval::summarize(f.runs);
+  const FreeRunTotals fr = totals_of(f.free_run);
+  nlohmann::json j;
+  j["runs"] = nlohmann::json::array();
+  for (const auto& r : f.runs) j["runs"].push_back(run_json(r));
+  const double n = std::max(1, sum.runs);
+  nlohmann::json s = f.config;
+  s.update({{"detection_rate", sum.detected / n},
+            {"isolation_accuracy", sum.isolated / n},
+            {"detection_rate_over_1p5x_threshold", sum.detectable ? static_cast<double>(sum.detectable_found) / sum.detectable : 1.0},
+            {"over_1p5x_threshold", {{"collisions", sum.detectable}, {"detected", sum.detectable_found}}},
+            {"over_1p5x_moving_threshold", {{"collisions", sum.detectable_moving}, {"detected", sum.detectable_moving_found}}},
+            {"delay_min", sum.delay_min}, {"delay_median", sum.delay_median}, {"delay_max", sum.delay_max},
+            {"after_threshold_crossed", {{"detections", sum.after_crossing},
+                                         {"within_10ms", sum.after_crossing_within_10ms},
+                                         {"median", sum.after_crossing_median},
+                                         {"p95", sum.after_crossing_p95},
+                                         {"max", sum.after_crossing_max}}},
+            {"false_alarms_per_hour", f.free_run_s > 0.0 ? static_cast<double>(fr.alarms) * 3600.0 / f.free_run_s : 0.0},
+            {"false_alarm_run_s", f.free_run_s}, {"false_alarm_times", fr.times},
+            {"false_alarm_segments", f.free_run.size()}, {"false_alarm_segment_s", eval::kFreeRunSegmentS}});
+  j["summary"] = s;
+  return j;
+}
+
+void print_figures(const EvaluateFigures& f) {
+  const eval::Summary sum = eval::summarize(f.runs);
+  const FreeRunTotals fr = totals_of(f.free_run);
+  std::printf("%-28s %9s %9s %9s %6s %9s\n", "run", "t_coll", "t_det", "delay ms", "link", "peak N");
+  for (const auto& r : f.runs) {
+    std::printf("%-28s %9.3f %9s %9s %3d->%d %9.1f\n", r.name.c_str(), r.t_collision,
+                r.t_detected ? std::to_string(*r.t_detected).substr(0, 7).c_str() : "-",
+                r.t_detected ? std::to_string(1000.0 * (*r.t_detected - r.t_collision)).substr(0, 6).c_str() : "missed",
+                r.link_true, r.link_isolated, r.peak_force_n);
+  }
+  std::printf("detected %d/%d; of those whose true torque exceeds 1.5x the threshold in effect: %d/%d "
+              "(1.5x the moving threshold: %d/%d); isolation %d/%d\n",
+              sum.detected, sum.runs, sum.detectable_found, sum.detectable, sum.detectable_moving_found,
+              sum.detectable_moving, sum.isolated, sum.runs);
+  const double per_hour = f.free_run_s > 0.0 ? fr.alarms * 3600.0 / f.free_run_s : 0.0;
+  std::printf("delay min/median/max %.1f/%.1f/%.1f ms; false alarms %d in %.0f s (%.2f per hour)", 1e3 * sum.delay_min,
+              1e3 * sum.delay_median, 1e3 * sum.delay_max, fr.alarms, f.free_run_s, per_hour);
+  for (const double t : fr.times) std::printf(" %.3f", t);
+  std::printf("\n");
+  std::printf("after the true torque crosses the threshold in effect: %d of %d detections within 10 ms; "
+              "median/95th percentile/max %.1f/%.1f/%.1f ms\n",
+              sum.after_crossing_within_10ms, sum.after_crossing, 1e3 * sum.after_crossing_median,
+              1e3 * sum.after_crossing_p95, 1e3 * sum.after_crossing_max);
+}
+
+nlohmann::json partial_json(const EvaluateFigures& f, int shard, int shards, std::size_t runs_total,
+                            std::size_t segments_total, const nlohmann::json& identity) {
+  nlohmann::json p;
+  p["jointguard_partial"] = {{"shard", shard}, {"shards", shards}, {"runs_total", runs_total},
+                             {"segments_total", segments_total}, {"free_run_s", f.free_run_s},
+                             {"identity", identity}, {"config", f.config}};
+  p["runs"] = nlohmann::json::array();
+  for (const auto& r : f.runs) p["runs"].push_back(run_json(r));
+  p["free_run"] = nlohmann::json::array();
+  for (const auto& s : f.free_run) {
+    p["free_run"].push_back({{"index", s.index}, {"seconds", s.seconds}, {"alarm_times", s.alarm_times}});
+  }
+  return p;
+}
+
+EvaluateFigures merge_partials(const std::vector<std::string>& paths) {
+  if (paths.empty()) throw std::invalid_argument("merge: no partial files given");
+  EvaluateFigures out;
+  nlohmann::json first_head;
+  std::string first_path;
+  std::set<int> shards_seen, run_indices, segment_indices;
+  int shards = 0;
+  std::size_t runs_total = 0, segments_total = 0;
+  for (const auto& path : paths) {
+    std::ifstream in(path);
+    if (!in) throw std::invalid_argument(path + ": cannot open");
+    nlohmann::json p;
+    try {
+      p = nlohmann::json::parse(in);
+      const auto& head = p.at("jointguard_partial");
+      const int shard = head.at("shard").get<int>();
+      const int n = head.at("shards").get<int>();
+      if (first_path.empty()) {
+        first_head = head;
+        first_path = path;
+        shards = n;
+        runs_total = head.at("runs_total").get<std::size_t>();
+        segments_total = head.at("segments_total").get<std::size_t>();
+        out.config = head.at("config");
+        out.free_run_s = head.at("free_run_s").get<double>();
+      } else {
+        for (const char* key : {"shards", "runs_total", "segments_total", "free_run_s", "identity", "config"}) {
+          if (head.at(key) != first_head.at(key)) {
+            throw std::invalid_argument("field '" + std::string(key) + "' differs from " + first_path +
+                                        "'s: the parts are not of one campaign (same command, other --shard)");
+          }
+        }
+      }
+      if (shard < 1 || shard > n) throw std::invalid_argument("shard " + std::to_string(shard) + " outside 1.." + std::to_string(n));
+      if (!shards_seen.insert(shard).second) {
+        throw std::invalid_argument("shard " + std::to_string(shard) + "/" + std::to_string(n) + " given twice");
+      }
+      for (const auto& r : p.at("runs")) {
+        eval::RunResult run = run_from_json(r);
+        if (!run_indices.insert(run.index).second) throw std::invalid_argument("run index " + std::to_string(run.index) + " twice");
+        out.runs.push_back(std::move(run));
+      }
+      for (const auto& s : p.at("free_run")) {
+        eval::FreeRunSegment seg;
+        seg.index = s.at("index").get<int>();
+        seg.seconds = s.at("seconds").get<double>();
+        seg.alarm_times = s.at("alarm_times").get<std::vector<double>>();
+        if (!segment_indices.insert(seg.index).second) throw std::invalid_argument("free-run segment " + std::to_string(seg.index) + " twice");
+        out.free_run.push_back(std::move(seg));
+      }
+    } catch (const nlohmann::json::exception& e) {
+      throw std::invalid_argument(path + ": not a partial evaluation file (" + std::string(e.what()) + ")");
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(path + ": " + e.what());
+    }
+  }
+  if (static_cast<int>(shards_seen.size()) != shards) {
+    std::string missing;
+    for (int k = 1; k <= shards; ++k) {
+      if (shards_seen.count(k) == 0U) missing += (missing.empty() ? "" : ", ") + std::to_string(k);
+    }
+    throw std::invalid_argument("merge: shard(s) " + missing + " of " + std::to_string(shards) + " missing");
+  }
+  if (out.runs.size() != runs_total || out.free_run.size() != segments_total) {
+    throw std::invalid_argument("merge: the parts hold " + std::to_string(out.runs.size()) + " runs and " +
+                                std::to_string(out.free_run.size()) + " free-run segments, the campaign has " +
+                                std::to_string(runs_total) + " and " + std::to_string(segments_total));
+  }
+  std::sort(out.runs.begin(), out.runs.end(), [](const auto& a, const auto& b) { return a.index < b.index; });
+  std::sort(out.free_run.begin(), out.free_run.end(), [](const auto& a, const auto& b) { return a.index < b.index; });
+  return out;
+}
+
+void parse_shard(const std::string& text, int& shard, int& shards) {
+  const auto slash = text.find('/');
+  try {
+    if (slash == std::string::npos) throw std::invalid_argument("no '/'");
+    std::size_t used_k = 0, used_n = 0;
+    const std::string k = text.substr(0, slash), n = text.substr(slash + 1);
+    shard = std::stoi(k, &used_k);
+    shards = std::stoi(n, &used_n);
+    if (used_k != k.size() || used_n != n.size()) throw std::invalid_argument("trailing characters");
+  } catch (const std::exception&) {
+    throw std::invalid_argument("--shard: expected K/N (e.g. 2/8), got '" + text + "'");
+  }
+  if (shards < 1 || shards > 100000 || shard < 1 || shard > shards) {
+    throw std::invalid_argument("--shard " + text + ": need 1 <= K <= N <= 100000");
+  }
+}
+
+}  // namespace jg::cli
