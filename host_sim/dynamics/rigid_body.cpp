@@ -5,16 +5,11 @@
 
 namespace jg::sim {
 namespace {
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d s;
-  s << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-  return s;
-}
 const Eigen::Vector3d kAxis(0.0, 0.0, 1.0);
 }  // namespace
 
 ArmDynamics::ArmDynamics(std::vector<PlantLink> links, Eigen::Vector3d gravity)
-    : links_(std::move(links)), gravity_(std::move(gravity)) {
+    : links_(std::move(links)), gravity_(std::move(gravity)), alpha_trig_(links_.size()) {
   if (links_.empty() || links_.size() > static_cast<std::size_t>(kPlantMaxJoints)) {
     throw std::invalid_argument("ArmDynamics: 1 to 7 links supported");
   }
@@ -23,11 +18,19 @@ ArmDynamics::ArmDynamics(std::vector<PlantLink> links, Eigen::Vector3d gravity)
       throw std::invalid_argument("ArmDynamics: negative mass or rotor inertia");
     }
   }
+  for (std::size_t i = 0; i < links_.size(); ++i) {
+    alpha_trig_[i] = {links_[i].alpha_prev, std::cos(links_[i].alpha_prev), std::sin(links_[i].alpha_prev)};
+  }
 }
 
 void ArmDynamics::link_transform(int i, double q, Eigen::Matrix3d& R, Eigen::Vector3d& p) const {
   const PlantLink& l = links_[static_cast<std::size_t>(i)];
-  const double ca = std::cos(l.alpha_prev), sa = std::sin(l.alpha_prev);
+  // cos/sin of the constant twist once per link (constructor), not per call; computed here
+  // only when a caller has changed the twist through link(i) since (no cache written on a
+  // const path: one ArmDynamics may be read from several threads).
+  const AlphaTrig& a = alpha_trig_[static_cast<std::size_t>(i)];
+  const bool fresh = a.alpha == l.alpha_prev;
+  const double ca = fresh ? a.cos : std::cos(l.alpha_prev), sa = fresh ? a.sin : std::sin(l.alpha_prev);
   const double th = q + l.theta_offset;
   const double ct = std::cos(th), st = std::sin(th);
   // RotX(alpha) * RotZ(theta)
@@ -101,14 +104,20 @@ JointMatrix ArmDynamics::crba(const Transforms& t) const {
   Eigen::Matrix3d I = Eigen::Matrix3d::Zero();
   for (int i = n - 1; i >= 0; --i) {
     if (i + 1 < n) {  // move the composite of i+1.. into frame i
+      // Parallel-axis shift by p of a body with first moment Rh and mass m, with
+      // [a]x[b]x = b a^T - (a.b) 1 instead of products of skew matrices:
+      //   -[Rh]x[p]x - [p]x[Rh]x - m [p]x[p]x = 2 (p.Rh) 1 - p Rh^T - Rh p^T + m (|p|^2 1 - p p^T)
+      const Eigen::Vector3d& pi = p[i + 1];
       const Eigen::Vector3d Rh = R[i + 1] * h;
-      const Eigen::Matrix3d sp = skew(p[i + 1]), sRh = skew(Rh);
-      I = R[i + 1] * I * R[i + 1].transpose() - sRh * sp - sp * sRh - m * sp * sp;
-      h = Rh + m * p[i + 1];
+      const Eigen::Matrix3d pRh = pi * Rh.transpose();
+      I = R[i + 1] * I * R[i + 1].transpose() - pRh - pRh.transpose() - m * (pi * pi.transpose());
+      I.diagonal().array() += 2.0 * pi.dot(Rh) + m * pi.squaredNorm();
+      h = Rh + m * pi;
     }
     const PlantLink& l = links_[static_cast<std::size_t>(i)];
-    const Eigen::Matrix3d sc = skew(l.com);
-    I += l.inertia_com - l.mass * sc * sc;
+    // Own link about its origin: I_com - m [c]x[c]x = I_com + m (|c|^2 1 - c c^T).
+    I += l.inertia_com - l.mass * (l.com * l.com.transpose());
+    I.diagonal().array() += l.mass * l.com.squaredNorm();
     h += l.mass * l.com;
     m += l.mass;
     // Force and moment (about origin i) on the composite for a unit acceleration of joint i.

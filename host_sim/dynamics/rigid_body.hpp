@@ -8,6 +8,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <limits>
 #include <vector>
 
 namespace jg::sim {
@@ -70,6 +71,11 @@ class ArmDynamics {
   void link_transform(int i, double q, Eigen::Matrix3d& parent_R_i, Eigen::Vector3d& parent_p_i) const;
   std::vector<PlantLink> links_;
   Eigen::Vector3d gravity_;
+  /// cos/sin of each link's alpha_prev, for the alpha they were computed from.
+  struct AlphaTrig {
+    double alpha = std::numeric_limits<double>::quiet_NaN(), cos = 1.0, sin = 0.0;
+  };
+  std::vector<AlphaTrig> alpha_trig_;
 };
 
 }  // namespace jg::sim
