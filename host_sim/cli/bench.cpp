@@ -11,7 +11,8 @@
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <regex>
+#include <algorithm>
+#include <cstdlib>
 #include <sstream>
 
 #include "cli/commands.hpp"
@@ -24,13 +25,17 @@
 
 namespace jg::cli {
 namespace {
-std::string run_capture(const std::string& command) {
+std::string run_capture(const std::string& command, int* status = nullptr) {
   std::string out;
   FILE* p = ::popen(command.c_str(), "r");
-  if (p == nullptr) return out;
+  if (p == nullptr) {
+    if (status != nullptr) *status = -1;
+    return out;
+  }
   std::array<char, 4096> buf{};
   while (std::fgets(buf.data(), buf.size(), p) != nullptr) out += buf.data();
-  ::pclose(p);
+  const int rc = ::pclose(p);
+  if (status != nullptr) *status = rc;
   return out;
 }
 
@@ -48,38 +53,69 @@ McuFigures measure_mcu(const std::string& elf, const std::string& core_lib) {
     std::istringstream ls(line);
     std::string a, t, name;
     ls >> a >> t >> name;
-    if (name == "jg_bench_begin" || name == "jg_bench_end") addr[name] = std::stoul(a, nullptr, 16);
+    if (name == "jg_bench_begin" || name == "jg_bench_end" || name == "jg_bench_section") addr[name] = std::stoul(a, nullptr, 16);
   }
   const auto log = std::filesystem::temp_directory_path() / ("jg_trace_" + std::to_string(::getpid()) + ".log");
   const std::string cmd = "qemu-system-arm -M mps2-an386 -nographic -monitor none -serial none "
                           "-semihosting-config enable=on,target=native -singlestep -d nochain,exec -D " +
-                          log.string() + " -kernel " + elf + " > /dev/null 2>&1";
-  if (std::system(cmd.c_str()) != 0 || addr.size() != 2) {
-    f.note = "qemu run failed";
+                          log.string() + " -kernel " + elf + " 2>&1";
+  int status = 0;
+  const std::string console = run_capture(cmd, &status);
+  if (status != 0 || addr.size() != 3) {
+    std::filesystem::remove(log);
+    f.note = "qemu run failed: " + console;
     return f;
   }
+  // One trace line per instruction (-singlestep): "Trace N: 0x... [xxxxxxxx/PC/...]".
+  // Sections open at jg_bench_section; within a section every begin/end pair is one cycle.
   std::ifstream in(log);
-  const std::regex pc_re(R"(\[[0-9a-f]+/([0-9a-f]+)/)");
-  std::vector<long> begins, ends;
-  long index = 0;
-  for (std::string line; std::getline(in, line);) {
-    if (line.rfind("Trace", 0) != 0) continue;
-    std::smatch m;
-    if (std::regex_search(line, m, pc_re)) {
-      const unsigned long pc = std::stoul(m[1].str(), nullptr, 16);
-      if (pc == addr["jg_bench_begin"]) begins.push_back(index);
-      if (pc == addr["jg_bench_end"]) ends.push_back(index);
+  std::vector<std::vector<long>> cycles;  // [section][cycle] instructions
+  long index = 0, begin = -1;
+  for (std::string line; std::getline(in, line); ++index) {
+    const auto open = line.find('[');
+    if (line.rfind("Trace", 0) != 0 || open == std::string::npos) continue;
+    const auto slash = line.find('/', open);
+    if (slash == std::string::npos) continue;
+    const unsigned long pc = std::strtoul(line.c_str() + slash + 1, nullptr, 16);
+    if (pc == addr["jg_bench_section"]) {
+      cycles.emplace_back();
+    } else if (pc == addr["jg_bench_begin"]) {
+      begin = index;
+    } else if (pc == addr["jg_bench_end"] && begin >= 0 && !cycles.empty()) {
+      // Lines strictly between the two markers, less the call into jg_bench_end.
+      cycles.back().push_back(index - begin - 2);
+      begin = -1;
     }
-    ++index;
   }
   std::filesystem::remove(log);
-  if (begins.size() < 2 || ends.size() < 2) {
+  if (cycles.size() < 4 || cycles[0].empty() || cycles[1].empty() || cycles[2].empty() || cycles[3].empty()) {
     f.note = "markers not found in the trace";
     return f;
   }
-  constexpr double kCycles = 20.0;  // tests/mcu/cycle_bench.cpp
-  f.float_insns = static_cast<double>(ends[0] - begins[0] - 2) / kCycles;
-  f.q_insns = static_cast<double>(ends[1] - begins[1] - 2) / kCycles;
+  const auto mean = [](const std::vector<long>& v) {
+    double sum = 0.0;
+    for (const long x : v) sum += static_cast<double>(x);
+    return sum / static_cast<double>(v.size());
+  };
+  const auto worst = [](const std::vector<long>& v) { return static_cast<double>(*std::max_element(v.begin(), v.end())); };
+  constexpr double kEstimatorCycles = 20.0;  // tests/mcu/cycle_bench.cpp: one pair around 20 cycles
+  f.float_insns = mean(cycles[0]) / kEstimatorCycles;
+  f.q_insns = mean(cycles[1]) / kEstimatorCycles;
+  f.float_drive_insns = mean(cycles[2]);
+  f.q_drive_insns = mean(cycles[3]);
+  f.float_drive_max = worst(cycles[2]);
+  f.q_drive_max = worst(cycles[3]);
+  // "stack drive_float N" / "stack drive_q N" from the bench's console (stack painting).
+  std::istringstream con(console);
+  for (std::string line; std::getline(con, line);) {
+    std::istringstream ls(line);
+    std::string word, name;
+    long bytes = -1;
+    if (ls >> word >> name >> bytes && word == "stack") {
+      if (name == "drive_float") f.float_stack = bytes;
+      if (name == "drive_q") f.q_stack = bytes;
+    }
+  }
   std::istringstream sz(run_capture("arm-none-eabi-size -t " + core_lib));
   for (std::string line; std::getline(sz, line);) {
     if (line.find("(TOTALS)") != std::string::npos) {
@@ -87,7 +123,8 @@ McuFigures measure_mcu(const std::string& elf, const std::string& core_lib) {
       ls >> f.text >> f.data >> f.bss;
     }
   }
-  f.ok = true;
+  f.ok = f.float_stack > 0 && f.q_stack > 0;
+  if (!f.ok) f.note = "stack figures missing from the bench's console output";
   return f;
 }
 

@@ -7,7 +7,10 @@
 namespace jg::cli {
 
 struct McuFigures {
-  double float_insns = 0, q_insns = 0;
+  double float_insns = 0, q_insns = 0;              ///< estimator cycle, mean
+  double float_drive_insns = 0, q_drive_insns = 0;  ///< drive cycle (JointDrive::poll), mean
+  double float_drive_max = 0, q_drive_max = 0;      ///< drive cycle, worst measured (the event's)
+  long float_stack = 0, q_stack = 0;                ///< drive cycle's stack depth, painted [B]
   long text = 0, data = 0, bss = 0;
   bool ok = false;
   std::string note;  ///< why the figures are missing when !ok

@@ -31,13 +31,21 @@ class RelayPort {
   explicit RelayPort(Port& out) noexcept : out_(out) {}
   hal::CanStatus send(const hal::CanFrame& f) noexcept { return out_.send(f); }
   bool receive(hal::CanFrame& f) noexcept {
-    if (count_ == 0U) {
+    const hal::CanFrame* next = peek();
+    if (next == nullptr) {
       return false;
     }
-    f = inbox_[head_];
-    head_ = (head_ + 1U) % Capacity;
-    --count_;
+    hal::copy_frame(f, *next);
+    pop();
     return true;
+  }
+  /// Zero-copy receive (hal::has_peek_v): the node decodes straight out of the inbox.
+  [[nodiscard]] const hal::CanFrame* peek() const noexcept { return count_ == 0U ? nullptr : &inbox_[head_]; }
+  void pop() noexcept {
+    if (count_ > 0U) {
+      head_ = (head_ + 1U) % Capacity;
+      --count_;
+    }
   }
   [[nodiscard]] hal::CanErrorState error_state() const noexcept { return out_.error_state(); }
   void set_filters(const hal::CanFilter* /*filters*/, std::size_t /*n*/) noexcept {}  // the drive routes
@@ -46,7 +54,7 @@ class RelayPort {
     if (count_ == Capacity) {
       return false;
     }
-    inbox_[(head_ + count_) % Capacity] = f;
+    hal::copy_frame(inbox_[(head_ + count_) % Capacity], f);
     ++count_;
     return true;
   }
@@ -118,12 +126,17 @@ class JointDrive {
   /// CAN, its sample) are in. Returns true when a cycle ran.
   bool poll() noexcept {
     bool ran = false;
-    hal::CanFrame f{};
-    while (port_.receive(f)) {
-      route(f);
-      if (ready_to_run()) {
-        run_cycle();
-        ran = true;
+    if constexpr (hal::has_peek_v<Port>) {
+      // Zero-copy: routed (and relayed, once) straight out of the port's queue.
+      for (const hal::CanFrame* f = port_.peek(); f != nullptr; f = port_.peek()) {
+        route(*f);
+        port_.pop();
+        ran = run_if_ready() || ran;
+      }
+    } else {
+      while (port_.receive(rx_)) {
+        route(rx_);
+        ran = run_if_ready() || ran;
       }
     }
     return ran;
@@ -169,6 +182,14 @@ class JointDrive {
     }
   }
 
+  bool run_if_ready() noexcept {
+    if (!ready_to_run()) {
+      return false;
+    }
+    run_cycle();
+    return true;
+  }
+
   [[nodiscard]] bool ready_to_run() const noexcept {
     if (!sync_pending_ || !has_sample_) {
       return false;
@@ -202,11 +223,11 @@ class JointDrive {
   }
 
   void publish(protocol::MessageKind kind, std::uint8_t seq, const protocol::StatusMessage<S>& status) noexcept {
-    hal::CanFrame f{};
-    f.fd = true;  // 8 bytes in the data phase: a third of the classic frame's wire time
-    f.id = protocol::frame_id(kind, config_.node.joint);
-    f.length = protocol::encode_status(status, seq, static_cast<std::uint8_t*>(f.data));
-    if (port_.send(f) != hal::CanStatus::ok) {
+    // tx_ is reused: every frame it carries is 8 bytes, all written here (no zeroing).
+    tx_.fd = true;  // 8 bytes in the data phase: a third of the classic frame's wire time
+    tx_.id = protocol::frame_id(kind, config_.node.joint);
+    tx_.length = protocol::encode_status(status, seq, static_cast<std::uint8_t*>(tx_.data));
+    if (port_.send(tx_) != hal::CanStatus::ok) {
       ++counters_.send_failures;
     }
   }
@@ -221,6 +242,7 @@ class JointDrive {
   std::uint32_t pending_cycle_ = 0, last_cycle_ = 0;
   bool has_sample_ = false, sync_pending_ = false, synced_ = false, event_sent_ = false;
   DriveCounters counters_{};
+  hal::CanFrame rx_{}, tx_{};  ///< frame buffers kept across cycles: no per-frame zeroing
 };
 
 }  // namespace jg

@@ -95,38 +95,46 @@ class JointNode {
  private:
   template <class Encode>
   void send(protocol::MessageKind kind, Encode&& encode) noexcept {
-    hal::CanFrame f{};
-    f.id = protocol::frame_id(kind, config_.joint);
-    f.fd = true;
-    f.length = encode(static_cast<std::uint8_t*>(f.data));
-    if (port_.send(f) != hal::CanStatus::ok) {
+    // tx_ is reused: every frame it carries is 48 bytes, all written by the encoder.
+    tx_.id = protocol::frame_id(kind, config_.joint);
+    tx_.fd = true;
+    tx_.length = encode(static_cast<std::uint8_t*>(tx_.data));
+    if (port_.send(tx_) != hal::CanStatus::ok) {
       ++counters_.send_failures;
     }
   }
 
   void receive_all() noexcept {
-    hal::CanFrame f{};
-    while (port_.receive(f)) {
-      const std::uint32_t parent_id = protocol::frame_id(protocol::MessageKind::outward, static_cast<std::uint8_t>(config_.joint - 1U));
-      const std::uint32_t child_id = protocol::frame_id(protocol::MessageKind::inward, static_cast<std::uint8_t>(config_.joint + 1U));
-      std::uint8_t seq = 0;
-      if (config_.joint > 1U && f.id == parent_id) {
-        OutwardMessage<S> m{};
-        const protocol::FrameError e = protocol::decode_outward(static_cast<const std::uint8_t*>(f.data), f.length, m, seq);
-        if (accept(e, seq, parent_seq_)) {
-          from_parent_ = m;
-          since_parent_ = 0;
-        }
-      } else if (config_.joint < config_.joints && f.id == child_id) {
-        InwardMessage<S> m{};
-        const protocol::FrameError e = protocol::decode_inward(static_cast<const std::uint8_t*>(f.data), f.length, m, seq);
-        if (accept(e, seq, child_seq_)) {
-          from_child_ = m;
-          since_child_ = 0;
-        }
-      } else {
-        ++counters_.foreign;  // not for this node: never decoded
+    if constexpr (hal::has_peek_v<Port>) {
+      for (const hal::CanFrame* f = port_.peek(); f != nullptr; f = port_.peek()) {
+        take(*f);
+        port_.pop();
       }
+    } else {
+      while (port_.receive(rx_)) {
+        take(rx_);
+      }
+    }
+  }
+
+  /// Checks a frame in place and, when it is accepted, reads it straight into the
+  /// neighbour's message (a rejected frame leaves the last good message untouched).
+  void take(const hal::CanFrame& f) noexcept {
+    const std::uint32_t parent_id = protocol::frame_id(protocol::MessageKind::outward, static_cast<std::uint8_t>(config_.joint - 1U));
+    const std::uint32_t child_id = protocol::frame_id(protocol::MessageKind::inward, static_cast<std::uint8_t>(config_.joint + 1U));
+    const auto* data = static_cast<const std::uint8_t*>(f.data);
+    if (config_.joint > 1U && f.id == parent_id) {
+      if (accept(protocol::check_outward(data, f.length), data[0], parent_seq_)) {
+        protocol::read_outward(data, from_parent_);
+        since_parent_ = 0;
+      }
+    } else if (config_.joint < config_.joints && f.id == child_id) {
+      if (accept(protocol::check_inward(data, f.length), data[0], child_seq_)) {
+        protocol::read_inward(data, from_child_);
+        since_child_ = 0;
+      }
+    } else {
+      ++counters_.foreign;  // not for this node: never decoded
     }
   }
 
@@ -167,6 +175,7 @@ class JointNode {
   std::uint8_t warmup_left_ = static_cast<std::uint8_t>(config_.joints + 1U);
   bool comm_fault_ = false, paced_ = false;
   NodeCounters counters_{};
+  hal::CanFrame rx_{}, tx_{};  ///< frame buffers kept across cycles: no per-frame zeroing
 };
 
 }  // namespace jg
