@@ -130,14 +130,59 @@ McuFigures measure_mcu(const std::string& elf, const std::string& core_lib) {
 
 Command add_bench(CLI::App& app) {
   auto json = std::make_shared<std::string>();
+  auto firmware_only = std::make_shared<bool>(false);
   auto* cmd = app.add_subcommand("bench",
                                  "Measure the firmware's instructions per joint cycle on the Cortex-M4F (qemu), its size,\n"
                                  "the simulation's speed and the identification time.\n"
                                  "Example: jointguard bench --json out/bench.json");
   cmd->add_option("--json", *json, "Write the figures here (contract format)");
-  return {cmd, [json]() {
+  cmd->add_flag("--firmware-only", *firmware_only,
+                "Only the Cortex-M4F figures (no host simulation or identification timing); exit 1 when they cannot be measured");
+  return {cmd, [json, firmware_only]() {
             const std::string mcu = mcu_build_dir();
             const McuFigures m = measure_mcu(mcu + "/toolchain/mcu/jg_cycle_bench.elf", mcu + "/firmware/libjg_core.a");
+            const auto firmware_json = [&m]() {
+              const auto scalar = [](double joint, double drive, double drive_max, long stack) {
+                return nlohmann::json{{"instructions_per_joint_cycle", joint},
+                                      {"instructions_per_drive_cycle", drive},
+                                      {"instructions_per_drive_cycle_max", drive_max},
+                                      {"stack_bytes", stack}};
+              };
+              return nlohmann::json{
+                  {"target", "cortex-m4"},
+                  {"scalar",
+                   {{"float", scalar(m.float_insns, m.float_drive_insns, m.float_drive_max, m.float_stack)},
+                    {"q", scalar(m.q_insns, m.q_drive_insns, m.q_drive_max, m.q_stack)}}},
+                  {"text", m.text}, {"data", m.data}, {"bss", m.bss}, {"measured", m.ok}, {"note", m.note},
+                  {"definitions",
+                   {{"joint_cycle", "estimator: outward + inward step, LuGre, observer, detector (mean of 20)"},
+                    {"drive_cycle", "JointDrive::poll of joint 2 of 3 over the loopback port: sync, both neighbour frames "
+                                    "checked and decoded, estimator, both frames encoded, status frame, one collision "
+                                    "event (mean and worst of 20)"},
+                    {"stack_bytes", "deepest stack of a drive cycle, measured by stack painting under qemu"}}}};
+            };
+            const auto print_firmware = [&m]() {
+              if (m.ok) {
+                std::printf("Cortex-M4F (instructions counted under qemu):\n"
+                            "  estimator cycle (outward + inward + LuGre + observer + detector): float %.0f, Q16.16 %.0f\n"
+                            "  drive cycle (JointDrive::poll: sync, 2 neighbour frames, estimator, 2 frames, status, event):\n"
+                            "    float %.0f (worst %.0f), Q16.16 %.0f (worst %.0f)\n"
+                            "  drive cycle stack (painted): float %ld B, Q16.16 %ld B\n"
+                            "  core text %ld, data %ld, bss %ld bytes\n",
+                            m.float_insns, m.q_insns, m.float_drive_insns, m.float_drive_max, m.q_drive_insns, m.q_drive_max,
+                            m.float_stack, m.q_stack, m.text, m.data, m.bss);
+              } else {
+                std::printf("Cortex-M4F figures unavailable: %s\n", m.note.c_str());
+              }
+            };
+            if (*firmware_only) {
+              print_firmware();
+              if (!json->empty()) {
+                std::ofstream(*json) << nlohmann::json{{"firmware", firmware_json()}}.dump(2) << '\n';
+                std::printf("wrote %s\n", json->c_str());
+              }
+              return m.ok ? 0 : 1;
+            }
             // Host: 60 s of the reference arm at 1 kHz (plant, sensors, controller), recording off.
             eval::ExperimentConfig c;
             c.model = robot::load_robot(JG_DEFAULT_MODEL);
@@ -161,21 +206,12 @@ Command add_bench(CLI::App& app) {
             const auto t1 = std::chrono::steady_clock::now();
             (void)ident::run_ga(s, ident::GaSettings{}, ident::SearchRanges{}, 1, cost);
             const double ga_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
-            if (m.ok) {
-              std::printf("Cortex-M4F, one joint's full cycle (outward + inward + LuGre + observer + detector):\n"
-                          "  float %.0f instructions, Q16.16 %.0f instructions\n  core text %ld, data %ld, bss %ld bytes\n",
-                          m.float_insns, m.q_insns, m.text, m.data, m.bss);
-            } else {
-              std::printf("Cortex-M4F figures unavailable: %s\n", m.note.c_str());
-            }
+            print_firmware();
             std::printf("host: simulation %.0fx real time (3-joint arm, 1 kHz control, 2 kHz plant); one paper-sized GA run %.3f s\n",
                         r.simulated_s / sim_wall, ga_s);
             if (!json->empty()) {
               nlohmann::json j;
-              j["firmware"] = {{"target", "cortex-m4"},
-                               {"scalar", {{"float", {{"instructions_per_joint_cycle", m.float_insns}}},
-                                           {"q", {{"instructions_per_joint_cycle", m.q_insns}}}}},
-                               {"text", m.text}, {"data", m.data}, {"bss", m.bss}, {"measured", m.ok}, {"note", m.note}};
+              j["firmware"] = firmware_json();
               j["host"] = {{"sim_realtime_factor", r.simulated_s / sim_wall}, {"identify_seconds", ga_s},
                            {"identify_definition", "one GA run, population 200 x 300 generations, 1251 samples"}};
               std::ofstream(*json) << j.dump(2) << '\n';
