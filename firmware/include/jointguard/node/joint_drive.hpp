@@ -5,9 +5,10 @@
 // current ADC via set_sample), in the in-process simulation and as a SocketCAN process
 // (samples from the plant's sensor frames, `sensors_over_can`).
 //
-// Frame routing: the drive owns the port; neighbour momentum frames are relayed to the
-// node's inbox (the node validates them), sensor and sync frames are validated here, every
-// other identifier is counted as foreign and never decoded.
+// Frame routing: the drive owns the port; neighbour momentum frames are handed to the node
+// as they arrive (JointNode::deliver validates them and reads them in place), sensor and
+// sync frames are validated here, every other identifier is counted as foreign and never
+// decoded.
 //
 // Pairing sync and sample: on a real bus the sync (0x010) wins arbitration over sensor
 // frames (0x06j) queued at the same time, so with sensors over CAN the cycle runs when both
@@ -23,8 +24,9 @@
 
 namespace jg {
 
-/// The node's side of the drive's port: receives from a fixed-capacity inbox the drive
-/// fills, sends straight to the drive's port.
+/// The node's side of the drive's port: sends straight to the drive's port; receives from a
+/// fixed-capacity inbox (the drive hands frames to the node directly, so its inbox stays
+/// empty unless a caller pushes frames).
 template <class Port, std::size_t Capacity = 8>
 class RelayPort {
  public:
@@ -75,7 +77,7 @@ struct DriveCounters {
   std::uint32_t sensor_rejected = 0;    ///< sensor frames with wrong length or CRC
   std::uint32_t sync_rejected = 0;      ///< sync frames with wrong length or CRC
   std::uint32_t stale_syncs = 0;        ///< sync for a cycle not newer than the last one
-  std::uint32_t inbox_overruns = 0;     ///< neighbour frames lost (inbox full)
+  std::uint32_t inbox_overruns = 0;     ///< neighbour frames lost (inbox full); 0 since frames are delivered as they arrive
   std::uint32_t foreign = 0;            ///< identifiers not for this drive (never decoded)
   std::uint32_t send_failures = 0;      ///< status or event frames the port refused
 };
@@ -142,7 +144,9 @@ class JointDrive {
     return ran;
   }
 
-  [[nodiscard]] const JointNode<S, RelayPort<Port>>& node() const noexcept { return node_; }
+  /// The drive's node: its port only sends (frames are delivered), a one-frame inbox.
+  using Node = JointNode<S, RelayPort<Port, 1>>;
+  [[nodiscard]] const Node& node() const noexcept { return node_; }
   [[nodiscard]] const DriveCounters& counters() const noexcept { return counters_; }
   [[nodiscard]] std::uint32_t last_cycle() const noexcept { return last_cycle_; }
   [[nodiscard]] const protocol::StatusMessage<S>& last_status() const noexcept { return status_; }
@@ -174,9 +178,7 @@ class JointDrive {
       }
     } else if (!f.extended && (f.id == protocol::frame_id(protocol::MessageKind::outward, static_cast<std::uint8_t>(j - 1U)) ||
                                f.id == protocol::frame_id(protocol::MessageKind::inward, static_cast<std::uint8_t>(j + 1U)))) {
-      if (!relay_.push(f)) {
-        ++counters_.inbox_overruns;
-      }
+      node_.deliver(f);  // checked and read in place, no copy into an inbox
     } else {
       ++counters_.foreign;
     }
@@ -234,8 +236,8 @@ class JointDrive {
 
   DriveConfig config_;
   Port& port_;
-  RelayPort<Port> relay_;
-  JointNode<S, RelayPort<Port>> node_;
+  RelayPort<Port, 1> relay_;
+  Node node_;
   protocol::SensorMessage<S> sample_{};
   protocol::StatusMessage<S> status_{};
   std::uint8_t sample_seq_ = 0, stale_run_ = 0;

@@ -55,10 +55,9 @@ class JointNode {
     if ((has_parent && parent_seq_.started && since_parent_ > 1U) || (has_child && child_seq_.started && since_child_ > 1U)) {
       ++counters_.missed_cycles;
     }
-    OutwardMessage<S> to_child{};
-    (void)joint_outward(params_, state_, q, dq, from_parent_, to_child);
-    InwardMessage<S> to_parent{};
-    const bool flag = joint_inward_and_estimate(params_, state_, dq, motor_torque, from_child_, to_parent);
+    // to_child_/to_parent_ are members: written whole every cycle, never zeroed per cycle.
+    (void)joint_outward(params_, state_, q, dq, from_parent_, to_child_);
+    const bool flag = joint_inward_and_estimate(params_, state_, dq, motor_torque, from_child_, to_parent_);
     // Start-up: the chain's terms need one cycle per link to reach every node. Until then
     // the estimate is meaningless; the observer starts afresh once the chain is filled.
     const bool heard = (!has_parent || parent_seq_.started) && (!has_child || child_seq_.started);
@@ -71,10 +70,10 @@ class JointNode {
       state_.external_torque = S{};
     }
     if (has_child) {
-      send(protocol::MessageKind::outward, [&](std::uint8_t* b) { return protocol::encode_outward(to_child, sequence_, b); });
+      send(protocol::MessageKind::outward, [&](std::uint8_t* b) { return protocol::encode_outward(to_child_, sequence_, b); });
     }
     if (has_parent) {
-      send(protocol::MessageKind::inward, [&](std::uint8_t* b) { return protocol::encode_inward(to_parent, sequence_, b); });
+      send(protocol::MessageKind::inward, [&](std::uint8_t* b) { return protocol::encode_inward(to_parent_, sequence_, b); });
     }
     ++sequence_;
     return warmup_left_ == 0U && flag;
@@ -86,6 +85,13 @@ class JointNode {
     sequence_ = sequence;
     paced_ = true;
   }
+
+  /// A frame handed over as it arrives (JointDrive routes neighbour frames here instead of
+  /// queueing them): checked and, when accepted, read straight into the neighbour's
+  /// message, exactly as the frames this node receives from its port at the next cycle.
+  /// Between cycles the node's sequence number is already the next cycle's (cycle() ends
+  /// with ++sequence_), so a frame's age is judged as it would be at that cycle.
+  void deliver(const hal::CanFrame& f) noexcept { take(f); }
 
   [[nodiscard]] const JointEstimatorState<S>& state() const noexcept { return state_; }
   [[nodiscard]] bool communication_fault() const noexcept { return comm_fault_; }
@@ -169,6 +175,8 @@ class JointNode {
   Port& port_;
   OutwardMessage<S> from_parent_{};
   InwardMessage<S> from_child_{};
+  OutwardMessage<S> to_child_{};
+  InwardMessage<S> to_parent_{};
   protocol::SequenceTracker parent_seq_{}, child_seq_{};
   std::uint32_t since_parent_ = 0, since_child_ = 0;
   std::uint8_t sequence_ = 0;

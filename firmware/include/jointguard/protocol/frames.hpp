@@ -20,6 +20,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 
 #include "jointguard/dynamics/momentum_recursion.hpp"
 #include "jointguard/numeric/qmath.hpp"
@@ -130,17 +131,28 @@ constexpr void from_wire(std::int32_t raw, S& out) noexcept {
     out = static_cast<S>(q16::from_raw(raw).to_float());
   }
 }
-constexpr void put_i32(std::uint8_t* p, std::int32_t v) noexcept {
+/// Little-endian int32 at any alignment. On little-endian targets one (unaligned) store or
+/// load: the Cortex-M3/M4/M7/M33 allow unaligned LDR/STR, and memcpy lets the compiler
+/// pick byte accesses where they do not (M0).
+inline void put_i32(std::uint8_t* p, std::int32_t v) noexcept {
   const auto u = static_cast<std::uint32_t>(v);
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+  std::memcpy(p, &u, 4);
+#else
   for (unsigned i = 0; i < 4U; ++i) {
     p[i] = static_cast<std::uint8_t>(u >> (8U * i));
   }
+#endif
 }
-constexpr std::int32_t get_i32(const std::uint8_t* p) noexcept {
+inline std::int32_t get_i32(const std::uint8_t* p) noexcept {
   std::uint32_t u = 0;
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+  std::memcpy(&u, p, 4);
+#else
   for (unsigned i = 0; i < 4U; ++i) {
     u |= static_cast<std::uint32_t>(p[i]) << (8U * i);
   }
+#endif
   return static_cast<std::int32_t>(u);
 }
 /// CRC after the `used` payload bytes, zeros up to the frame length; returns the length.
@@ -324,7 +336,7 @@ constexpr FrameError decode_status(const std::uint8_t* buf, std::uint8_t length,
 }
 
 /// Cycle sync from the master (0x010): starts cycle `cycle` on every node.
-constexpr std::uint8_t encode_sync(std::uint32_t cycle, std::uint8_t* buf) noexcept {
+inline std::uint8_t encode_sync(std::uint32_t cycle, std::uint8_t* buf) noexcept {
   buf[0] = static_cast<std::uint8_t>(cycle & 0xFFU);
   detail::put_i32(buf + 1, static_cast<std::int32_t>(cycle));
   buf[5] = 0U;
@@ -332,7 +344,7 @@ constexpr std::uint8_t encode_sync(std::uint32_t cycle, std::uint8_t* buf) noexc
   return detail::finish(buf, 7U, kSyncFrameLength);
 }
 
-constexpr FrameError decode_sync(const std::uint8_t* buf, std::uint8_t length, std::uint32_t& cycle) noexcept {
+inline FrameError decode_sync(const std::uint8_t* buf, std::uint8_t length, std::uint32_t& cycle) noexcept {
   if (const FrameError e = detail::check(buf, length, 7U, kSyncFrameLength); e != FrameError::ok) {
     return e;
   }
