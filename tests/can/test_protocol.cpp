@@ -39,6 +39,27 @@ TEST(Protocol, Crc8TableEqualsTheBitwiseDefinitionOnEveryLengthAndPattern) {
   static_assert(kCrc8AutosarTable[0] == 0x00 && kCrc8AutosarTable[1] == 0x2F, "table entry = polynomial for 1");
 }
 
+TEST(Protocol, FloatToWireEqualsQ16FromFloatEverywhere) {
+  // Every float pattern with a stride (all exponents, signs, both sides of each rounding
+  // tie and of the saturation bound), plus the exact ties and bounds.
+  const auto same = [](float v) {
+    jg::NumericStatus ignored{};
+    return jg::protocol::detail::float_to_wire(v) == jg::q16::from_float(v, ignored).raw();
+  };
+  for (std::uint64_t bits = 0; bits <= 0xFFFFFFFFULL; bits += 997ULL) {
+    const auto b = static_cast<std::uint32_t>(bits);
+    float v = 0.0F;
+    std::memcpy(&v, &b, 4);
+    ASSERT_TRUE(same(v)) << "bits " << std::hex << b;
+  }
+  for (const float v : {0.5F / 65536.0F, -0.5F / 65536.0F, 1.5F / 65536.0F, -1.5F / 65536.0F, 32767.99998F, 32768.0F,
+                        -32768.0F, 1e30F, -1e30F, std::numeric_limits<float>::infinity(),
+                        -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN(),
+                        std::numeric_limits<float>::denorm_min()}) {
+    EXPECT_TRUE(same(v)) << v;
+  }
+}
+
 TEST(Protocol, OutwardRoundTripQ16IsExactAndFloatWithinOneLsb) {
   jg::OutwardMessage<jg::q16> q{};
   q.angular_velocity = {jg::q16::from_double(1.5), jg::q16::from_double(-2.25), jg::q16::from_double(0.001)};

@@ -114,13 +114,32 @@ inline constexpr std::array<std::uint8_t, 256> kCrc8AutosarTable = detail::crc8_
 }
 
 namespace detail {
+/// float -> Q16.16 wire word, the same value as q16::from_float (round to nearest, ties
+/// toward +inf; saturated to the symmetric int32 range; NaN -> 0) without its status
+/// counting: one range test on the common path instead of nested compares (tests/can checks
+/// the equality on a dense sweep of float patterns).
+inline std::int32_t float_to_wire(float v) noexcept {
+  constexpr float kMaxF = 2147483520.0F;  // largest float below 2^31
+  const float scaled = v * 65536.0F;
+  if (!(scaled < kMaxF && scaled > -kMaxF)) {  // rare: saturation or NaN
+    if (jg::detail::is_nan(v)) {
+      return 0;
+    }
+    return scaled > 0.0F ? jg::detail::kRawMax : jg::detail::kRawMin;
+  }
+  auto truncated = static_cast<std::int32_t>(scaled);             // toward zero
+  const float fraction = scaled - static_cast<float>(truncated);  // exact
+  truncated += fraction >= 0.5F ? 1 : 0;
+  truncated -= fraction < -0.5F ? 1 : 0;
+  return truncated;
+}
+
 template <class S>
 constexpr std::int32_t to_wire(S v) noexcept {
   if constexpr (is_q_v<S>) {
     return q_cast<q16>(v).raw();
   } else {
-    NumericStatus ignored{};  // saturates; non-finite values never reach here (node checks)
-    return q16::from_float(static_cast<float>(v), ignored).raw();
+    return float_to_wire(static_cast<float>(v));  // saturates; non-finite values never reach here (node checks)
   }
 }
 template <class S>
