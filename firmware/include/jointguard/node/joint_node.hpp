@@ -61,10 +61,15 @@ class JointNode {
     // Start-up: the chain's terms need one cycle per link to reach every node. Until then
     // the estimate is meaningless; the observer starts afresh once the chain is filled.
     const bool heard = (!has_parent || parent_seq_.started) && (!has_child || child_seq_.started);
-    if (warmup_left_ > 0U && heard && --warmup_left_ == 0U) {
-      state_.observer = ObserverState<S>{};
-      state_.detector = JointDetectorState{};
-      state_.flagged = false;
+    // MISRA C++ / C 13.5: no side effect in the right operand of && (the decrement is its
+    // own statement, taken only on a cycle where the chain has been heard).
+    if (warmup_left_ > 0U && heard) {
+      --warmup_left_;
+      if (warmup_left_ == 0U) {
+        state_.observer = ObserverState<S>{};
+        state_.detector = JointDetectorState{};
+        state_.flagged = false;
+      }
     }
     if (warmup_left_ > 0U) {
       state_.external_torque = S{};

@@ -40,14 +40,16 @@ inline void copy_frame(CanFrame& to, const CanFrame& from) noexcept {
   to.fd = from.fd;
   to.extended = from.extended;
   to.timestamp_us = from.timestamp_us;
+  auto* dst = static_cast<std::uint8_t*>(to.data);
+  const auto* src = static_cast<const std::uint8_t*>(from.data);
   if (from.length <= 8U) {
-    std::memcpy(to.data, from.data, 8);
+    std::memcpy(dst, src, 8);
   } else if (from.length <= 16U) {
-    std::memcpy(to.data, from.data, 16);
+    std::memcpy(dst, src, 16);
   } else if (from.length <= 48U) {
-    std::memcpy(to.data, from.data, 48);
+    std::memcpy(dst, src, 48);
   } else {
-    std::memcpy(to.data, from.data, 64);
+    std::memcpy(dst, src, 64);
   }
 }
 
