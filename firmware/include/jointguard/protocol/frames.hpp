@@ -58,7 +58,7 @@ inline constexpr std::uint8_t kSyncFrameLength = 8;
 inline constexpr std::uint16_t kSyncId = 0x010;
 
 [[nodiscard]] constexpr std::uint16_t frame_id(MessageKind kind, std::uint8_t joint) noexcept {
-  return static_cast<std::uint16_t>((static_cast<std::uint16_t>(kind) << 4U) | (joint & 0x0FU));
+  return static_cast<std::uint16_t>((static_cast<unsigned>(kind) << 4U) | (static_cast<unsigned>(joint) & 0x0FU));
 }
 [[nodiscard]] constexpr MessageKind kind_of(std::uint32_t id) noexcept { return static_cast<MessageKind>((id >> 4U) & 0x7FU); }
 [[nodiscard]] constexpr std::uint8_t joint_of(std::uint32_t id) noexcept { return static_cast<std::uint8_t>(id & 0x0FU); }
@@ -70,7 +70,8 @@ inline constexpr std::uint16_t kSyncId = 0x010;
   for (std::uint8_t i = 0; i < length; ++i) {
     crc = static_cast<std::uint8_t>(crc ^ data[i]);
     for (int bit = 0; bit < 8; ++bit) {
-      crc = (crc & 0x80U) != 0U ? static_cast<std::uint8_t>((crc << 1U) ^ 0x2FU) : static_cast<std::uint8_t>(crc << 1U);
+      crc = (crc & 0x80U) != 0U ? static_cast<std::uint8_t>((static_cast<unsigned>(crc) << 1U) ^ 0x2FU)
+                              : static_cast<std::uint8_t>(static_cast<unsigned>(crc) << 1U);
     }
   }
   return static_cast<std::uint8_t>(crc ^ 0xFFU);
@@ -83,7 +84,8 @@ constexpr std::array<std::uint8_t, 256> crc8_autosar_table() noexcept {
   for (unsigned v = 0; v < 256U; ++v) {
     auto crc = static_cast<std::uint8_t>(v);
     for (int bit = 0; bit < 8; ++bit) {
-      crc = (crc & 0x80U) != 0U ? static_cast<std::uint8_t>((crc << 1U) ^ 0x2FU) : static_cast<std::uint8_t>(crc << 1U);
+      crc = (crc & 0x80U) != 0U ? static_cast<std::uint8_t>((static_cast<unsigned>(crc) << 1U) ^ 0x2FU)
+                              : static_cast<std::uint8_t>(static_cast<unsigned>(crc) << 1U);
     }
     t[v] = crc;
   }
