@@ -41,7 +41,7 @@ std::string run_capture(const std::string& command, int* status = nullptr) {
 
 }  // namespace
 
-McuFigures measure_mcu(const std::string& elf, const std::string& core_lib) {
+McuFigures measure_mcu(const std::string& elf, const std::string& core_lib, const std::string& machine) {
   McuFigures f;
   if (!std::filesystem::exists(elf)) {
     f.note = "cycle benchmark ELF not built (" + elf + "): build the host preset with the arm toolchain installed";
@@ -56,7 +56,7 @@ McuFigures measure_mcu(const std::string& elf, const std::string& core_lib) {
     if (name == "jg_bench_begin" || name == "jg_bench_end" || name == "jg_bench_section") addr[name] = std::stoul(a, nullptr, 16);
   }
   const auto log = std::filesystem::temp_directory_path() / ("jg_trace_" + std::to_string(::getpid()) + ".log");
-  const std::string cmd = "qemu-system-arm -M mps2-an386 -nographic -monitor none -serial none "
+  const std::string cmd = "qemu-system-arm -M " + machine + " -nographic -monitor none -serial none "
                           "-semihosting-config enable=on,target=native -singlestep -d nochain,exec -D " +
                           log.string() + " -kernel " + elf + " 2>&1";
   int status = 0;
@@ -116,7 +116,7 @@ McuFigures measure_mcu(const std::string& elf, const std::string& core_lib) {
       if (name == "drive_q") f.q_stack = bytes;
     }
   }
-  std::istringstream sz(run_capture("arm-none-eabi-size -t " + core_lib));
+  std::istringstream sz(core_lib.empty() ? std::string() : run_capture("arm-none-eabi-size -t " + core_lib));
   for (std::string line; std::getline(sz, line);) {
     if (line.find("(TOTALS)") != std::string::npos) {
       std::istringstream ls(line);
@@ -141,14 +141,32 @@ Command add_bench(CLI::App& app) {
   return {cmd, [json, firmware_only]() {
             const std::string mcu = mcu_build_dir();
             const McuFigures m = measure_mcu(mcu + "/toolchain/mcu/jg_cycle_bench.elf", mcu + "/firmware/libjg_core.a");
-            const auto firmware_json = [&m]() {
-              const auto scalar = [](double joint, double drive, double drive_max, long stack) {
-                return nlohmann::json{{"instructions_per_joint_cycle", joint},
-                                      {"instructions_per_drive_cycle", drive},
-                                      {"instructions_per_drive_cycle_max", drive_max},
-                                      {"stack_bytes", stack}};
-              };
-              return nlohmann::json{
+            // The FPU-less Cortex-M3 and the Armv8-M Cortex-M33, when their cross builds exist.
+            struct Other {
+              const char* cpu;
+              const char* machine;
+              McuFigures figures;
+            };
+            std::vector<Other> others;
+            for (const auto& [cpu, machine] : {std::pair{"cortex-m3", "mps2-an385"}, std::pair{"cortex-m33", "mps2-an505"}}) {
+              const std::string elf = mcu_build_dir(cpu) + "/toolchain/mcu/jg_cycle_bench.elf";
+              if (std::filesystem::exists(elf)) others.push_back({cpu, machine, measure_mcu(elf, "", machine)});
+            }
+            const auto scalar = [](double joint, double drive, double drive_max, long stack) {
+              return nlohmann::json{{"instructions_per_joint_cycle", joint},
+                                    {"instructions_per_drive_cycle", drive},
+                                    {"instructions_per_drive_cycle_max", drive_max},
+                                    {"stack_bytes", stack}};
+            };
+            const auto firmware_json = [&m, &others, &scalar]() {
+              nlohmann::json targets = nlohmann::json::object();
+              for (const Other& o : others) {
+                const McuFigures& f = o.figures;
+                targets[o.cpu] = {{"machine", o.machine}, {"measured", f.ok}, {"note", f.note},
+                                  {"scalar", {{"float", scalar(f.float_insns, f.float_drive_insns, f.float_drive_max, f.float_stack)},
+                                              {"q", scalar(f.q_insns, f.q_drive_insns, f.q_drive_max, f.q_stack)}}}};
+              }
+              return nlohmann::json{{"targets", targets},
                   {"target", "cortex-m4"},
                   {"scalar",
                    {{"float", scalar(m.float_insns, m.float_drive_insns, m.float_drive_max, m.float_stack)},
@@ -161,7 +179,18 @@ Command add_bench(CLI::App& app) {
                                     "event (mean and worst of 20)"},
                     {"stack_bytes", "deepest stack of a drive cycle, measured by stack painting under qemu"}}}};
             };
-            const auto print_firmware = [&m]() {
+            const auto print_firmware = [&m, &others]() {
+              for (const Other& o : others) {
+                const McuFigures& f = o.figures;
+                if (f.ok) {
+                  std::printf("%s (qemu -M %s): estimator float %.0f, Q16.16 %.0f; drive cycle float %.0f (worst %.0f), "
+                              "Q16.16 %.0f (worst %.0f); stack float %ld B, Q16.16 %ld B\n",
+                              o.cpu, o.machine, f.float_insns, f.q_insns, f.float_drive_insns, f.float_drive_max, f.q_drive_insns,
+                              f.q_drive_max, f.float_stack, f.q_stack);
+                } else {
+                  std::printf("%s figures unavailable: %s\n", o.cpu, f.note.c_str());
+                }
+              }
               if (m.ok) {
                 std::printf("Cortex-M4F (instructions counted under qemu):\n"
                             "  estimator cycle (outward + inward + LuGre + observer + detector): float %.0f, Q16.16 %.0f\n"
@@ -181,7 +210,9 @@ Command add_bench(CLI::App& app) {
                 std::ofstream(*json) << nlohmann::json{{"firmware", firmware_json()}}.dump(2) << '\n';
                 std::printf("wrote %s\n", json->c_str());
               }
-              return m.ok ? 0 : 1;
+              bool all = m.ok;
+              for (const Other& o : others) all = all && o.figures.ok;
+              return all ? 0 : 1;
             }
             // Host: 60 s of the reference arm at 1 kHz (plant, sensors, controller), recording off.
             eval::ExperimentConfig c;

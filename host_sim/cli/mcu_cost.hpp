@@ -16,10 +16,11 @@ struct McuFigures {
   std::string note;  ///< why the figures are missing when !ok
 };
 
-/// Runs the cycle benchmark ELF under qemu-system-arm and sizes the core library.
-McuFigures measure_mcu(const std::string& elf, const std::string& core_lib);
+/// Runs the cycle benchmark ELF under qemu-system-arm -M machine and sizes the core library
+/// (an empty core_lib: no size figures).
+McuFigures measure_mcu(const std::string& elf, const std::string& core_lib, const std::string& machine = "mps2-an386");
 
 /// The cycle benchmark ELF and the core library of this build's Cortex-M4F cross build.
-inline std::string mcu_build_dir() { return std::string(JG_BUILD_DIR) + "/mcu-cortex-m4"; }
+inline std::string mcu_build_dir(const std::string& cpu = "cortex-m4") { return std::string(JG_BUILD_DIR) + "/mcu-" + cpu; }
 
 }  // namespace jg::cli
