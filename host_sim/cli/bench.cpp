@@ -12,6 +12,8 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <algorithm>
+#include <functional>
+#include <regex>
 #include <cstdlib>
 #include <sstream>
 
@@ -37,6 +39,87 @@ std::string run_capture(const std::string& command, int* status = nullptr) {
   const int rc = ::pclose(p);
   if (status != nullptr) *status = rc;
   return out;
+}
+
+// Worst-case stack of `root` from the ELF's disassembly: each function's frame is the sum
+// of its stack-pointer decrements (push/stmdb sp!: 4 B a register, vpush: 8 B a double
+// register, sub sp: the immediate; summed over every path, an upper bound), plus the
+// deepest of the functions it calls (bl, and b to another function: a tail call), along
+// the call graph. It covers newlib's prebuilt code, which -fstack-usage cannot. Indirect
+// calls and recursion on the path make the result unknown (-1, note says where).
+long static_stack(const std::string& elf, const std::string& root, std::string& note) {
+  struct Function {
+    long frame = 0;
+    std::vector<std::string> callees;
+    bool indirect = false;
+  };
+  std::map<std::string, Function> functions;
+  std::istringstream dis(run_capture("arm-none-eabi-objdump -d --no-show-raw-insn -C " + elf));
+  const std::regex head_re(R"(^[0-9a-f]+ <(.+)>:$)");
+  const std::regex regs_re(R"(\s(?:push|stmdb\s+sp!,)\s*\{([^}]*)\})");
+  const std::regex vpush_re(R"(\svpush\s*\{([^}]*)\})");
+  const std::regex sub_re(R"(\ssub(?:w|\.w)?\s+sp,\s*(?:sp,\s*)?#(\d+))");
+  // The target's name may itself contain '<' and '>' (templates): all up to the last '>'.
+  const std::regex call_re(R"(\s(bl|b(?:\.w|\.n)?)\s+[0-9a-f]+\s+<(.+?)(\+0x[0-9a-f]+)?>\s*$)");
+  const std::regex indirect_re(R"(\sblx\s+r)");
+  const auto count_regs = [](const std::string& list, long per) {
+    long n = 0;
+    std::istringstream items(list);
+    for (std::string item; std::getline(items, item, ',');) {
+      const auto dash = item.find('-');
+      if (dash == std::string::npos) {
+        ++n;
+      } else {  // d8-d15
+        const auto digits = [](const std::string& t) { return std::stol(t.substr(t.find_first_of("0123456789"))); };
+        n += digits(item.substr(dash + 1)) - digits(item.substr(0, dash)) + 1;
+      }
+    }
+    return n * per;
+  };
+  Function* current = nullptr;
+  std::string current_name;
+  for (std::string line; std::getline(dis, line);) {
+    std::smatch m;
+    if (std::regex_match(line, m, head_re)) {
+      current_name = m[1].str();
+      current = &functions[current_name];
+      continue;
+    }
+    if (current == nullptr || line.find(':') == std::string::npos) continue;
+    if (std::regex_search(line, m, regs_re)) current->frame += count_regs(m[1].str(), 4);
+    if (std::regex_search(line, m, vpush_re)) current->frame += count_regs(m[1].str(), 8);
+    if (std::regex_search(line, m, sub_re)) current->frame += std::stol(m[1].str());
+    if (std::regex_search(line, m, indirect_re)) current->indirect = true;
+    if (std::regex_search(line, m, call_re) && m[2].str() != current_name) current->callees.push_back(m[2].str());
+  }
+  std::map<std::string, long> memo;
+  std::vector<std::string> path;
+  std::function<long(const std::string&)> depth = [&](const std::string& name) -> long {
+    if (const auto it = memo.find(name); it != memo.end()) return it->second;
+    if (std::find(path.begin(), path.end(), name) != path.end()) {
+      note = "recursion through " + name;
+      return -1;
+    }
+    const auto f = functions.find(name);
+    if (f == functions.end()) {
+      note = "no code for " + name;
+      return -1;
+    }
+    if (f->second.indirect) {
+      note = "indirect call in " + name;
+      return -1;
+    }
+    path.push_back(name);
+    long deepest = 0;
+    for (const std::string& c : f->second.callees) {
+      const long d = depth(c);
+      if (d < 0) return -1;
+      deepest = std::max(deepest, d);
+    }
+    path.pop_back();
+    return memo[name] = f->second.frame + deepest;
+  };
+  return depth(root);
 }
 
 }  // namespace
@@ -123,8 +206,12 @@ McuFigures measure_mcu(const std::string& elf, const std::string& core_lib, cons
       ls >> f.text >> f.data >> f.bss;
     }
   }
+  std::string note;
+  f.float_stack_static = static_stack(elf, "jg::JointDrive<float, jg::hal::LoopbackCan<8u> >::poll()", note);
+  f.q_stack_static = static_stack(elf, "jg::JointDrive<jg::Q<16>, jg::hal::LoopbackCan<8u> >::poll()", note);
   f.ok = f.float_stack > 0 && f.q_stack > 0;
   if (!f.ok) f.note = "stack figures missing from the bench's console output";
+  if (f.float_stack_static < 0 || f.q_stack_static < 0) f.note += (f.note.empty() ? "" : "; ") + ("static stack unknown: " + note);
   return f;
 }
 
@@ -152,41 +239,44 @@ Command add_bench(CLI::App& app) {
               const std::string elf = mcu_build_dir(cpu) + "/toolchain/mcu/jg_cycle_bench.elf";
               if (std::filesystem::exists(elf)) others.push_back({cpu, machine, measure_mcu(elf, "", machine)});
             }
-            const auto scalar = [](double joint, double drive, double drive_max, long stack) {
+            const auto scalar = [](double joint, double drive, double drive_max, long stack, long stack_static) {
               return nlohmann::json{{"instructions_per_joint_cycle", joint},
                                     {"instructions_per_drive_cycle", drive},
                                     {"instructions_per_drive_cycle_max", drive_max},
-                                    {"stack_bytes", stack}};
+                                    {"stack_bytes", stack},
+                                    {"stack_bytes_static", stack_static}};
             };
             const auto firmware_json = [&m, &others, &scalar]() {
               nlohmann::json targets = nlohmann::json::object();
               for (const Other& o : others) {
                 const McuFigures& f = o.figures;
                 targets[o.cpu] = {{"machine", o.machine}, {"measured", f.ok}, {"note", f.note},
-                                  {"scalar", {{"float", scalar(f.float_insns, f.float_drive_insns, f.float_drive_max, f.float_stack)},
-                                              {"q", scalar(f.q_insns, f.q_drive_insns, f.q_drive_max, f.q_stack)}}}};
+                                  {"scalar", {{"float", scalar(f.float_insns, f.float_drive_insns, f.float_drive_max, f.float_stack, f.float_stack_static)},
+                                              {"q", scalar(f.q_insns, f.q_drive_insns, f.q_drive_max, f.q_stack, f.q_stack_static)}}}};
               }
               return nlohmann::json{{"targets", targets},
                   {"target", "cortex-m4"},
                   {"scalar",
-                   {{"float", scalar(m.float_insns, m.float_drive_insns, m.float_drive_max, m.float_stack)},
-                    {"q", scalar(m.q_insns, m.q_drive_insns, m.q_drive_max, m.q_stack)}}},
+                   {{"float", scalar(m.float_insns, m.float_drive_insns, m.float_drive_max, m.float_stack, m.float_stack_static)},
+                    {"q", scalar(m.q_insns, m.q_drive_insns, m.q_drive_max, m.q_stack, m.q_stack_static)}}},
                   {"text", m.text}, {"data", m.data}, {"bss", m.bss}, {"measured", m.ok}, {"note", m.note},
                   {"definitions",
                    {{"joint_cycle", "estimator: outward + inward step, LuGre, observer, detector (mean of 20)"},
                     {"drive_cycle", "JointDrive::poll of joint 2 of 3 over the loopback port: sync, both neighbour frames "
                                     "checked and decoded, estimator, both frames encoded, status frame, one collision "
                                     "event (mean and worst of 20)"},
-                    {"stack_bytes", "deepest stack of a drive cycle, measured by stack painting under qemu"}}}};
+                    {"stack_bytes", "deepest stack of a drive cycle, measured by stack painting under qemu"},
+                    {"stack_bytes_static", "worst-case stack of JointDrive::poll over its call graph from the ELF's disassembly "
+                                           "(every frame's stack-pointer decrements, newlib included)"}}}};
             };
             const auto print_firmware = [&m, &others]() {
               for (const Other& o : others) {
                 const McuFigures& f = o.figures;
                 if (f.ok) {
                   std::printf("%s (qemu -M %s): estimator float %.0f, Q16.16 %.0f; drive cycle float %.0f (worst %.0f), "
-                              "Q16.16 %.0f (worst %.0f); stack float %ld B, Q16.16 %ld B\n",
+                              "Q16.16 %.0f (worst %.0f); stack float %ld B, Q16.16 %ld B (static %ld B, %ld B)\n",
                               o.cpu, o.machine, f.float_insns, f.q_insns, f.float_drive_insns, f.float_drive_max, f.q_drive_insns,
-                              f.q_drive_max, f.float_stack, f.q_stack);
+                              f.q_drive_max, f.float_stack, f.q_stack, f.float_stack_static, f.q_stack_static);
                 } else {
                   std::printf("%s figures unavailable: %s\n", o.cpu, f.note.c_str());
                 }
@@ -196,10 +286,10 @@ Command add_bench(CLI::App& app) {
                             "  estimator cycle (outward + inward + LuGre + observer + detector): float %.0f, Q16.16 %.0f\n"
                             "  drive cycle (JointDrive::poll: sync, 2 neighbour frames, estimator, 2 frames, status, event):\n"
                             "    float %.0f (worst %.0f), Q16.16 %.0f (worst %.0f)\n"
-                            "  drive cycle stack (painted): float %ld B, Q16.16 %ld B\n"
+                            "  drive cycle stack: painted float %ld B, Q16.16 %ld B; static worst case float %ld B, Q16.16 %ld B\n"
                             "  core text %ld, data %ld, bss %ld bytes\n",
                             m.float_insns, m.q_insns, m.float_drive_insns, m.float_drive_max, m.q_drive_insns, m.q_drive_max,
-                            m.float_stack, m.q_stack, m.text, m.data, m.bss);
+                            m.float_stack, m.q_stack, m.float_stack_static, m.q_stack_static, m.text, m.data, m.bss);
               } else {
                 std::printf("Cortex-M4F figures unavailable: %s\n", m.note.c_str());
               }

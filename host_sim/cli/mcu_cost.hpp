@@ -11,6 +11,7 @@ struct McuFigures {
   double float_drive_insns = 0, q_drive_insns = 0;  ///< drive cycle (JointDrive::poll), mean
   double float_drive_max = 0, q_drive_max = 0;      ///< drive cycle, worst measured (the event's)
   long float_stack = 0, q_stack = 0;                ///< drive cycle's stack depth, painted [B]
+  long float_stack_static = -1, q_stack_static = -1;  ///< JointDrive::poll, static worst case [B] (-1: unknown)
   long text = 0, data = 0, bss = 0;
   bool ok = false;
   std::string note;  ///< why the figures are missing when !ok
