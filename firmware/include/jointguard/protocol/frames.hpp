@@ -98,16 +98,30 @@ constexpr std::array<std::uint8_t, 256> crc8_autosar_table() noexcept {
 inline constexpr std::array<std::uint8_t, 256> kCrc8AutosarTable = detail::crc8_autosar_table();
 
 /// CRC-8/AUTOSAR, table-driven; the same value as crc8_autosar_bitwise for every input.
-/// Four bytes per iteration: the loop overhead (compare, branch) is paid once per word.
-[[nodiscard]] constexpr std::uint8_t crc8_autosar(const std::uint8_t* data, std::uint8_t length) noexcept {
+/// Four bytes per iteration: on little-endian targets one (unaligned) word load, then the
+/// four bytes taken from the register low byte first (about 3.5 instructions a byte on the
+/// Cortex-M4 with the loop); elsewhere byte by byte.
+inline std::uint8_t crc8_autosar(const std::uint8_t* data, std::uint8_t length) noexcept {
   unsigned crc = 0xFFU;
   const std::uint8_t* p = data;
   const std::uint8_t* const end = data + length;
-  for (; end - p >= 4; p += 4) {
+  const unsigned words = length / 4U;
+  // Frame lengths are constants where this is inlined: fully unrolled, no loop overhead.
+#pragma GCC unroll 16
+  for (unsigned i = 0; i < words; ++i, p += 4) {
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+    std::uint32_t w = 0;
+    std::memcpy(&w, p, 4);
+    crc = kCrc8AutosarTable[(crc ^ w) & 0xFFU];
+    crc = kCrc8AutosarTable[(crc ^ (w >> 8U)) & 0xFFU];
+    crc = kCrc8AutosarTable[(crc ^ (w >> 16U)) & 0xFFU];
+    crc = kCrc8AutosarTable[crc ^ (w >> 24U)];
+#else
     crc = kCrc8AutosarTable[crc ^ p[0]];
     crc = kCrc8AutosarTable[crc ^ p[1]];
     crc = kCrc8AutosarTable[crc ^ p[2]];
     crc = kCrc8AutosarTable[crc ^ p[3]];
+#endif
   }
   for (; p != end; ++p) {
     crc = kCrc8AutosarTable[crc ^ *p];
@@ -177,14 +191,14 @@ inline std::int32_t get_i32(const std::uint8_t* p) noexcept {
   return static_cast<std::int32_t>(u);
 }
 /// CRC after the `used` payload bytes, zeros up to the frame length; returns the length.
-constexpr std::uint8_t finish(std::uint8_t* buf, std::uint8_t used, std::uint8_t frame_length) noexcept {
+inline std::uint8_t finish(std::uint8_t* buf, std::uint8_t used, std::uint8_t frame_length) noexcept {
   buf[used] = crc8_autosar(buf, used);
   for (auto i = static_cast<std::uint8_t>(used + 1U); i < frame_length; ++i) {
     buf[i] = 0U;
   }
   return frame_length;
 }
-constexpr FrameError check(const std::uint8_t* buf, std::uint8_t length, std::uint8_t used, std::uint8_t frame_length) noexcept {
+inline FrameError check(const std::uint8_t* buf, std::uint8_t length, std::uint8_t used, std::uint8_t frame_length) noexcept {
   if (length != frame_length) {
     return FrameError::wrong_length;
   }
@@ -230,7 +244,7 @@ constexpr std::uint8_t encode_outward(const OutwardMessage<S>& m, std::uint8_t s
   return detail::finish(buf, detail::field_bytes(kOutwardFields), kMomentumFrameLength);
 }
 
-[[nodiscard]] constexpr FrameError check_outward(const std::uint8_t* buf, std::uint8_t length) noexcept {
+[[nodiscard]] inline FrameError check_outward(const std::uint8_t* buf, std::uint8_t length) noexcept {
   return detail::check(buf, length, detail::field_bytes(kOutwardFields), kMomentumFrameLength);
 }
 
@@ -263,7 +277,7 @@ constexpr std::uint8_t encode_inward(const InwardMessage<S>& m, std::uint8_t seq
   return detail::finish(buf, detail::field_bytes(kInwardFields), kMomentumFrameLength);
 }
 
-[[nodiscard]] constexpr FrameError check_inward(const std::uint8_t* buf, std::uint8_t length) noexcept {
+[[nodiscard]] inline FrameError check_inward(const std::uint8_t* buf, std::uint8_t length) noexcept {
   return detail::check(buf, length, detail::field_bytes(kInwardFields), kMomentumFrameLength);
 }
 
