@@ -1,9 +1,15 @@
 #!/usr/bin/env bash
 # The main job, from a fresh Debian 12 machine: installs what is missing, builds the
-# host preset and runs `jointguard demo`.
+# host preset's CLI and the Cortex-M4F cross build (so that the report carries the
+# firmware's measured cost per cycle) and runs `jointguard demo`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/deps.sh
 cmake --preset host >/dev/null
 cmake --build --preset host --target jointguard
+# The cycle-bench ELF the report measures under qemu (a target only when the arm toolchain
+# and qemu were found; scripts/deps.sh installs them).
+if cmake --build --preset host --target help | grep -q 'jg_mcu_cortex_m4'; then
+  cmake --build --preset host --target jg_mcu_cortex_m4
+fi
 ./build/host/jointguard demo --out "${1:-out}"

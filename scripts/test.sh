@@ -4,7 +4,7 @@
 #   host      float firmware scalar: unit, simulation, MCU (qemu) and static-analysis tests
 #   host-q    the same core with the Q16.16 firmware scalar
 #   host-san  AddressSanitizer + UndefinedBehaviorSanitizer
-#   cortex-m4 / cortex-m7 cross builds of the firmware (the contract's preset commands)
+#   cortex-m4 / cortex-m7 / cortex-m3 / cortex-m33 cross builds of the firmware (M4: the contract's preset)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/deps.sh
@@ -14,7 +14,7 @@ for preset in host host-q host-san; do
   cmake --build --preset "${preset}"
   ctest --preset "${preset}"
 done
-for preset in cortex-m4 cortex-m7; do
+for preset in cortex-m4 cortex-m7 cortex-m3 cortex-m33; do
   echo "=== preset ${preset}"
   cmake --preset "${preset}" >/dev/null
   cmake --build --preset "${preset}"

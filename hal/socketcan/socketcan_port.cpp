@@ -77,7 +77,7 @@ SocketCanPort::SocketCanPort(const std::string& interface, SocketCanOptions opti
   if (options.fd) {
     ifreq ifr{};
     std::strncpy(static_cast<char*>(ifr.ifr_name), interface.c_str(), IFNAMSIZ - 1);
-    // NOLINTNEXTLINE(cppcoreguidelines-pro-type-vararg): ioctl is the kernel's only way to read the MTU
+    // NOLINTNEXTLINE(cppcoreguidelines-pro-type-vararg,hicpp-vararg): ioctl is the kernel's only way to read the MTU
     if (::ioctl(fd_, SIOCGIFMTU, &ifr) == 0 && ifr.ifr_mtu != CANFD_MTU) {
       ::close(fd_);
       throw std::runtime_error("socketcan " + interface + ": not CAN FD capable (MTU " + std::to_string(ifr.ifr_mtu) +

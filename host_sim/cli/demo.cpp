@@ -267,17 +267,22 @@ int run_demo(const DemoOptions& options) {
   }
   html << "</table>\n";
   // 6. What one joint's cycle costs on the drive's MCU.
-  std::printf("[7/7] firmware cost per joint cycle on the emulated Cortex-M4F...\n");
+  std::printf("[7/7] firmware cost per estimator and drive cycle on the emulated Cortex-M4F...\n");
   const McuFigures mcu = measure_mcu(mcu_build_dir() + "/toolchain/mcu/jg_cycle_bench.elf", mcu_build_dir() + "/firmware/libjg_core.a");
-  html << "<h2>Firmware cost per joint cycle (Cortex-M4F)</h2>\n";
+  html << "<h2>Firmware cost per cycle (Cortex-M4F)</h2>\n";
   if (mcu.ok) {
-    html << "<table><tr><th>scalar</th><th>instructions per joint cycle</th><th>goal</th></tr>\n<tr><td>float</td><td>"
-         << fmt("%.0f", mcu.float_insns) << "</td><td>700</td></tr>\n<tr><td>Q16.16</td><td>" << fmt("%.0f", mcu.q_insns)
-         << "</td><td>1200</td></tr></table>\n<p class=\"note\">One joint's full cycle (outward and inward recursion step, LuGre, observer, "
-            "detector) counted instruction by instruction under <code>qemu-system-arm -M mps2-an386</code> (qemu has no cycle model); "
-            "core library: text "
+    html << "<table><tr><th>scalar</th><th>estimator cycle [instructions]</th><th>drive cycle, mean (worst) [instructions]</th>"
+            "<th>drive cycle stack [B]</th></tr>\n<tr><td>float</td><td>"
+         << fmt("%.0f", mcu.float_insns) << "</td><td>" << fmt("%.0f", mcu.float_drive_insns) << " (" << fmt("%.0f", mcu.float_drive_max)
+         << ")</td><td>" << mcu.float_stack << "</td></tr>\n<tr><td>Q16.16</td><td>" << fmt("%.0f", mcu.q_insns) << "</td><td>"
+         << fmt("%.0f", mcu.q_drive_insns) << " (" << fmt("%.0f", mcu.q_drive_max) << ")</td><td>" << mcu.q_stack
+         << "</td></tr></table>\n<p class=\"note\">Estimator cycle: one joint's outward and inward recursion step, LuGre, observer, "
+            "detector. Drive cycle: <code>JointDrive::poll</code> with the sync, both neighbours' frames checked and decoded, the "
+            "estimator, both frames encoded, the status frame and once the collision event. Counted instruction by instruction "
+            "under <code>qemu-system-arm -M mps2-an386</code> (qemu has no cycle model); stack by painting; budgets in docs/mcu.md. "
+            "Core library: text "
          << mcu.text << " B, data " << mcu.data << " B, bss " << mcu.bss
-         << " B. Reproduce: <code>build/host/jointguard bench</code>.</p>\n";
+         << " B. Reproduce: <code>build/host/jointguard bench --firmware-only</code>.</p>\n";
   } else {
     html << "<p class=\"note\">Not measured: " << report::escape(mcu.note) << "</p>\n";
   }

@@ -20,6 +20,46 @@ TEST(Protocol, Crc8AutosarCheckValue) {
   EXPECT_EQ(crc8_autosar(reinterpret_cast<const std::uint8_t*>(s), 9), 0xDF);
 }
 
+TEST(Protocol, Crc8TableEqualsTheBitwiseDefinitionOnEveryLengthAndPattern) {
+  // Pseudo-random bytes (LCG), every length 0..64 from every offset 0..3: the unrolled
+  // table loop and its tail against the bit-by-bit definition.
+  std::uint8_t buf[80];
+  std::uint32_t x = 12345U;
+  for (int round = 0; round < 50; ++round) {
+    for (auto& b : buf) {
+      x = x * 1664525U + 1013904223U;
+      b = static_cast<std::uint8_t>(x >> 24U);
+    }
+    for (std::uint8_t offset = 0; offset < 4U; ++offset) {
+      for (std::uint8_t n = 0; n <= 64U; ++n) {
+        ASSERT_EQ(crc8_autosar(buf + offset, n), crc8_autosar_bitwise(buf + offset, n)) << "length " << int{n};
+      }
+    }
+  }
+  static_assert(kCrc8AutosarTable[0] == 0x00 && kCrc8AutosarTable[1] == 0x2F, "table entry = polynomial for 1");
+}
+
+TEST(Protocol, FloatToWireEqualsQ16FromFloatEverywhere) {
+  // Every float pattern with a stride (all exponents, signs, both sides of each rounding
+  // tie and of the saturation bound), plus the exact ties and bounds.
+  const auto same = [](float v) {
+    jg::NumericStatus ignored{};
+    return jg::protocol::detail::float_to_wire(v) == jg::q16::from_float(v, ignored).raw();
+  };
+  for (std::uint64_t bits = 0; bits <= 0xFFFFFFFFULL; bits += 997ULL) {
+    const auto b = static_cast<std::uint32_t>(bits);
+    float v = 0.0F;
+    std::memcpy(&v, &b, 4);
+    ASSERT_TRUE(same(v)) << "bits " << std::hex << b;
+  }
+  for (const float v : {0.5F / 65536.0F, -0.5F / 65536.0F, 1.5F / 65536.0F, -1.5F / 65536.0F, 32767.99998F, 32768.0F,
+                        -32768.0F, 1e30F, -1e30F, std::numeric_limits<float>::infinity(),
+                        -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN(),
+                        std::numeric_limits<float>::denorm_min()}) {
+    EXPECT_TRUE(same(v)) << v;
+  }
+}
+
 TEST(Protocol, OutwardRoundTripQ16IsExactAndFloatWithinOneLsb) {
   jg::OutwardMessage<jg::q16> q{};
   q.angular_velocity = {jg::q16::from_double(1.5), jg::q16::from_double(-2.25), jg::q16::from_double(0.001)};

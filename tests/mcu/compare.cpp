@@ -1,14 +1,14 @@
-// Compares the host's and the MCU's golden outputs: the Q16.16 section must be bit for
-// bit identical; the float section within a tolerance (the MCU fuses multiply-adds and
-// uses newlib's expf/sinf/cosf, the host neither), stated in docs/fixed-point.md.
+// Compares the host's and the MCU's golden outputs (tests/mcu/compare.hpp): the Q16.16
+// section bit for bit, the float section within a tolerance (the MCU fuses multiply-adds
+// and uses newlib's expf/sinf/cosf, the host neither; docs/fixed-point.md), NaN or inf on
+// either side a failure, detector masks and the two status counters exactly.
 // Usage: jg_golden_compare <host> <mcu> <float_tolerance_nm>
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <fstream>
 #include <iterator>
-#include <vector>
+
+#include "compare.hpp"
 
 int main(int argc, char** argv) {
   if (argc != 4) {
@@ -17,53 +17,23 @@ int main(int argc, char** argv) {
   }
   auto load = [](const char* p) {
     std::ifstream in(p, std::ios::binary);
-    std::vector<unsigned char> v((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    return v;
+    return std::vector<unsigned char>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   };
-  const auto a = load(argv[1]), b = load(argv[2]);
-  const double tol = std::atof(argv[3]);
-  if (a.empty() || a.size() != b.size() || a.size() % 4 != 0) {
-    std::printf("FAIL: output sizes differ or empty (host %zu bytes, mcu %zu bytes)\n", a.size(), b.size());
+  char* end = nullptr;
+  const double tol = std::strtod(argv[3], &end);
+  if (end == argv[3] || *end != '\0' || !(tol >= 0.0) || !std::isfinite(tol)) {
+    std::fprintf(stderr, "bad tolerance '%s': a finite number >= 0\n", argv[3]);
+    return 2;
+  }
+  const jg::golden::Comparison c = jg::golden::compare(load(argv[1]), load(argv[2]), tol);
+  if (!c.failure.empty() && c.q_words == 0) {
+    std::printf("FAIL: %s\n", c.failure.c_str());
     return 1;
   }
-  const std::size_t words = a.size() / 4;
-  auto word = [](const std::vector<unsigned char>& v, std::size_t i) {
-    std::uint32_t w = 0;
-    std::memcpy(&w, v.data() + 4 * i, 4);
-    return w;
-  };
-  std::size_t marker = words;
-  for (std::size_t i = 0; i < words; ++i) {
-    if (word(a, i) == 0xF10A7000U) {
-      marker = i;
-      break;
-    }
-  }
-  if (marker == words) {
-    std::printf("FAIL: float section marker missing\n");
-    return 1;
-  }
-  std::size_t q_diff = 0;
-  for (std::size_t i = 0; i < marker; ++i) q_diff += word(a, i) != word(b, i) ? 1U : 0U;
-  double worst = 0.0;
-  std::size_t mask_diff = 0;
-  const std::size_t float_end = words - 2;  // last two words: numeric status counters
-  for (std::size_t i = marker + 1; i < float_end; ++i) {
-    // Every 13th word of a sample is the detector mask (integer), the rest floats.
-    if ((i - marker - 1) % 13 == 12) {
-      mask_diff += word(a, i) != word(b, i) ? 1U : 0U;
-      continue;
-    }
-    float fa = 0, fb = 0;
-    const std::uint32_t wa = word(a, i), wb = word(b, i);
-    std::memcpy(&fa, &wa, 4);
-    std::memcpy(&fb, &wb, 4);
-    worst = std::max(worst, static_cast<double>(std::fabs(fa - fb)));
-  }
-  std::printf("Q16.16 words compared: %zu, differing: %zu\n", marker, q_diff);
-  std::printf("float values compared: %zu, worst |host - mcu|: %.3e (tolerance %.1e), detector masks differing: %zu\n",
-              float_end - marker - 1, worst, tol, mask_diff);
-  const bool ok = q_diff == 0 && worst <= tol && mask_diff == 0;
-  std::printf("%s\n", ok ? "PASS" : "FAIL");
-  return ok ? 0 : 1;
+  std::printf("Q16.16 words compared: %zu, differing: %zu\n", c.q_words, c.q_diff);
+  std::printf("float values compared: %zu, not finite: %zu, worst |host - mcu|: %.3e (tolerance %.1e), "
+              "detector masks differing: %zu, status counters differing: %zu\n",
+              c.float_values, c.not_finite, c.worst, tol, c.mask_diff, c.tail_diff);
+  std::printf("%s\n", c.ok ? "PASS" : "FAIL");
+  return c.ok ? 0 : 1;
 }

@@ -16,15 +16,19 @@ void jg_reset_handler();
 void jg_fault_handler();
 }
 
+#if defined(__ARM_FP)
 namespace {
 constexpr std::uintptr_t kCpacr = 0xE000ED88U;  // Coprocessor Access Control Register
 }
+#endif
 
 extern "C" void jg_reset_handler() {
+#if defined(__ARM_FP)  // an FPU to enable (not on the Cortex-M3 or soft-float builds)
   // NOLINTNEXTLINE(performance-no-int-to-ptr): memory-mapped system register
   auto* cpacr = reinterpret_cast<volatile std::uint32_t*>(kCpacr);
   *cpacr = *cpacr | (0xFU << 20U);  // CP10, CP11: full access
   __asm volatile("dsb\n isb" ::: "memory");
+#endif
   const std::uint32_t* src = &_data_load;
   for (std::uint32_t* dst = &_data_start; dst < &_data_end; ++dst, ++src) {
     *dst = *src;

@@ -5,9 +5,10 @@
 // current ADC via set_sample), in the in-process simulation and as a SocketCAN process
 // (samples from the plant's sensor frames, `sensors_over_can`).
 //
-// Frame routing: the drive owns the port; neighbour momentum frames are relayed to the
-// node's inbox (the node validates them), sensor and sync frames are validated here, every
-// other identifier is counted as foreign and never decoded.
+// Frame routing: the drive owns the port; neighbour momentum frames are handed to the node
+// as they arrive (JointNode::deliver validates them and reads them in place), sensor and
+// sync frames are validated here, every other identifier is counted as foreign and never
+// decoded.
 //
 // Pairing sync and sample: on a real bus the sync (0x010) wins arbitration over sensor
 // frames (0x06j) queued at the same time, so with sensors over CAN the cycle runs when both
@@ -23,21 +24,30 @@
 
 namespace jg {
 
-/// The node's side of the drive's port: receives from a fixed-capacity inbox the drive
-/// fills, sends straight to the drive's port.
+/// The node's side of the drive's port: sends straight to the drive's port; receives from a
+/// fixed-capacity inbox (the drive hands frames to the node directly, so its inbox stays
+/// empty unless a caller pushes frames).
 template <class Port, std::size_t Capacity = 8>
 class RelayPort {
  public:
   explicit RelayPort(Port& out) noexcept : out_(out) {}
   hal::CanStatus send(const hal::CanFrame& f) noexcept { return out_.send(f); }
   bool receive(hal::CanFrame& f) noexcept {
-    if (count_ == 0U) {
+    const hal::CanFrame* next = peek();
+    if (next == nullptr) {
       return false;
     }
-    f = inbox_[head_];
-    head_ = (head_ + 1U) % Capacity;
-    --count_;
+    hal::copy_frame(f, *next);
+    pop();
     return true;
+  }
+  /// Zero-copy receive (hal::has_peek_v): the node decodes straight out of the inbox.
+  [[nodiscard]] const hal::CanFrame* peek() const noexcept { return count_ == 0U ? nullptr : &inbox_[head_]; }
+  void pop() noexcept {
+    if (count_ > 0U) {
+      head_ = (head_ + 1U) % Capacity;
+      --count_;
+    }
   }
   [[nodiscard]] hal::CanErrorState error_state() const noexcept { return out_.error_state(); }
   void set_filters(const hal::CanFilter* /*filters*/, std::size_t /*n*/) noexcept {}  // the drive routes
@@ -46,7 +56,7 @@ class RelayPort {
     if (count_ == Capacity) {
       return false;
     }
-    inbox_[(head_ + count_) % Capacity] = f;
+    hal::copy_frame(inbox_[(head_ + count_) % Capacity], f);
     ++count_;
     return true;
   }
@@ -67,7 +77,7 @@ struct DriveCounters {
   std::uint32_t sensor_rejected = 0;    ///< sensor frames with wrong length or CRC
   std::uint32_t sync_rejected = 0;      ///< sync frames with wrong length or CRC
   std::uint32_t stale_syncs = 0;        ///< sync for a cycle not newer than the last one
-  std::uint32_t inbox_overruns = 0;     ///< neighbour frames lost (inbox full)
+  std::uint32_t inbox_overruns = 0;     ///< neighbour frames lost (inbox full); 0 since frames are delivered as they arrive
   std::uint32_t foreign = 0;            ///< identifiers not for this drive (never decoded)
   std::uint32_t send_failures = 0;      ///< status or event frames the port refused
 };
@@ -118,18 +128,25 @@ class JointDrive {
   /// CAN, its sample) are in. Returns true when a cycle ran.
   bool poll() noexcept {
     bool ran = false;
-    hal::CanFrame f{};
-    while (port_.receive(f)) {
-      route(f);
-      if (ready_to_run()) {
-        run_cycle();
-        ran = true;
+    if constexpr (hal::has_peek_v<Port>) {
+      // Zero-copy: routed (and relayed, once) straight out of the port's queue.
+      for (const hal::CanFrame* f = port_.peek(); f != nullptr; f = port_.peek()) {
+        route(*f);
+        port_.pop();
+        ran = run_if_ready() || ran;
+      }
+    } else {
+      while (port_.receive(rx_)) {
+        route(rx_);
+        ran = run_if_ready() || ran;
       }
     }
     return ran;
   }
 
-  [[nodiscard]] const JointNode<S, RelayPort<Port>>& node() const noexcept { return node_; }
+  /// The drive's node: its port only sends (frames are delivered), a one-frame inbox.
+  using Node = JointNode<S, RelayPort<Port, 1>>;
+  [[nodiscard]] const Node& node() const noexcept { return node_; }
   [[nodiscard]] const DriveCounters& counters() const noexcept { return counters_; }
   [[nodiscard]] std::uint32_t last_cycle() const noexcept { return last_cycle_; }
   [[nodiscard]] const protocol::StatusMessage<S>& last_status() const noexcept { return status_; }
@@ -161,12 +178,18 @@ class JointDrive {
       }
     } else if (!f.extended && (f.id == protocol::frame_id(protocol::MessageKind::outward, static_cast<std::uint8_t>(j - 1U)) ||
                                f.id == protocol::frame_id(protocol::MessageKind::inward, static_cast<std::uint8_t>(j + 1U)))) {
-      if (!relay_.push(f)) {
-        ++counters_.inbox_overruns;
-      }
+      node_.deliver(f);  // checked and read in place, no copy into an inbox
     } else {
       ++counters_.foreign;
     }
+  }
+
+  bool run_if_ready() noexcept {
+    if (!ready_to_run()) {
+      return false;
+    }
+    run_cycle();
+    return true;
   }
 
   [[nodiscard]] bool ready_to_run() const noexcept {
@@ -202,25 +225,26 @@ class JointDrive {
   }
 
   void publish(protocol::MessageKind kind, std::uint8_t seq, const protocol::StatusMessage<S>& status) noexcept {
-    hal::CanFrame f{};
-    f.fd = true;  // 8 bytes in the data phase: a third of the classic frame's wire time
-    f.id = protocol::frame_id(kind, config_.node.joint);
-    f.length = protocol::encode_status(status, seq, static_cast<std::uint8_t*>(f.data));
-    if (port_.send(f) != hal::CanStatus::ok) {
+    // tx_ is reused: every frame it carries is 8 bytes, all written here (no zeroing).
+    tx_.fd = true;  // 8 bytes in the data phase: a third of the classic frame's wire time
+    tx_.id = protocol::frame_id(kind, config_.node.joint);
+    tx_.length = protocol::encode_status(status, seq, static_cast<std::uint8_t*>(tx_.data));
+    if (port_.send(tx_) != hal::CanStatus::ok) {
       ++counters_.send_failures;
     }
   }
 
   DriveConfig config_;
   Port& port_;
-  RelayPort<Port> relay_;
-  JointNode<S, RelayPort<Port>> node_;
+  RelayPort<Port, 1> relay_;
+  Node node_;
   protocol::SensorMessage<S> sample_{};
   protocol::StatusMessage<S> status_{};
   std::uint8_t sample_seq_ = 0, stale_run_ = 0;
   std::uint32_t pending_cycle_ = 0, last_cycle_ = 0;
   bool has_sample_ = false, sync_pending_ = false, synced_ = false, event_sent_ = false;
   DriveCounters counters_{};
+  hal::CanFrame rx_{}, tx_{};  ///< frame buffers kept across cycles: no per-frame zeroing
 };
 
 }  // namespace jg

@@ -55,26 +55,30 @@ class JointNode {
     if ((has_parent && parent_seq_.started && since_parent_ > 1U) || (has_child && child_seq_.started && since_child_ > 1U)) {
       ++counters_.missed_cycles;
     }
-    OutwardMessage<S> to_child{};
-    (void)joint_outward(params_, state_, q, dq, from_parent_, to_child);
-    InwardMessage<S> to_parent{};
-    const bool flag = joint_inward_and_estimate(params_, state_, dq, motor_torque, from_child_, to_parent);
+    // to_child_/to_parent_ are members: written whole every cycle, never zeroed per cycle.
+    (void)joint_outward(params_, state_, q, dq, from_parent_, to_child_);
+    const bool flag = joint_inward_and_estimate(params_, state_, dq, motor_torque, from_child_, to_parent_);
     // Start-up: the chain's terms need one cycle per link to reach every node. Until then
     // the estimate is meaningless; the observer starts afresh once the chain is filled.
     const bool heard = (!has_parent || parent_seq_.started) && (!has_child || child_seq_.started);
-    if (warmup_left_ > 0U && heard && --warmup_left_ == 0U) {
-      state_.observer = ObserverState<S>{};
-      state_.detector = JointDetectorState{};
-      state_.flagged = false;
+    // MISRA C++ / C 13.5: no side effect in the right operand of && (the decrement is its
+    // own statement, taken only on a cycle where the chain has been heard).
+    if (warmup_left_ > 0U && heard) {
+      --warmup_left_;
+      if (warmup_left_ == 0U) {
+        state_.observer = ObserverState<S>{};
+        state_.detector = JointDetectorState{};
+        state_.flagged = false;
+      }
     }
     if (warmup_left_ > 0U) {
       state_.external_torque = S{};
     }
     if (has_child) {
-      send(protocol::MessageKind::outward, [&](std::uint8_t* b) { return protocol::encode_outward(to_child, sequence_, b); });
+      send(protocol::MessageKind::outward, [&](std::uint8_t* b) { return protocol::encode_outward(to_child_, sequence_, b); });
     }
     if (has_parent) {
-      send(protocol::MessageKind::inward, [&](std::uint8_t* b) { return protocol::encode_inward(to_parent, sequence_, b); });
+      send(protocol::MessageKind::inward, [&](std::uint8_t* b) { return protocol::encode_inward(to_parent_, sequence_, b); });
     }
     ++sequence_;
     return warmup_left_ == 0U && flag;
@@ -87,6 +91,13 @@ class JointNode {
     paced_ = true;
   }
 
+  /// A frame handed over as it arrives (JointDrive routes neighbour frames here instead of
+  /// queueing them): checked and, when accepted, read straight into the neighbour's
+  /// message, exactly as the frames this node receives from its port at the next cycle.
+  /// Between cycles the node's sequence number is already the next cycle's (cycle() ends
+  /// with ++sequence_), so a frame's age is judged as it would be at that cycle.
+  void deliver(const hal::CanFrame& f) noexcept { take(f); }
+
   [[nodiscard]] const JointEstimatorState<S>& state() const noexcept { return state_; }
   [[nodiscard]] bool communication_fault() const noexcept { return comm_fault_; }
   [[nodiscard]] bool ready() const noexcept { return warmup_left_ == 0U; }
@@ -95,38 +106,46 @@ class JointNode {
  private:
   template <class Encode>
   void send(protocol::MessageKind kind, Encode&& encode) noexcept {
-    hal::CanFrame f{};
-    f.id = protocol::frame_id(kind, config_.joint);
-    f.fd = true;
-    f.length = encode(static_cast<std::uint8_t*>(f.data));
-    if (port_.send(f) != hal::CanStatus::ok) {
+    // tx_ is reused: every frame it carries is 48 bytes, all written by the encoder.
+    tx_.id = protocol::frame_id(kind, config_.joint);
+    tx_.fd = true;
+    tx_.length = encode(static_cast<std::uint8_t*>(tx_.data));
+    if (port_.send(tx_) != hal::CanStatus::ok) {
       ++counters_.send_failures;
     }
   }
 
   void receive_all() noexcept {
-    hal::CanFrame f{};
-    while (port_.receive(f)) {
-      const std::uint32_t parent_id = protocol::frame_id(protocol::MessageKind::outward, static_cast<std::uint8_t>(config_.joint - 1U));
-      const std::uint32_t child_id = protocol::frame_id(protocol::MessageKind::inward, static_cast<std::uint8_t>(config_.joint + 1U));
-      std::uint8_t seq = 0;
-      if (config_.joint > 1U && f.id == parent_id) {
-        OutwardMessage<S> m{};
-        const protocol::FrameError e = protocol::decode_outward(static_cast<const std::uint8_t*>(f.data), f.length, m, seq);
-        if (accept(e, seq, parent_seq_)) {
-          from_parent_ = m;
-          since_parent_ = 0;
-        }
-      } else if (config_.joint < config_.joints && f.id == child_id) {
-        InwardMessage<S> m{};
-        const protocol::FrameError e = protocol::decode_inward(static_cast<const std::uint8_t*>(f.data), f.length, m, seq);
-        if (accept(e, seq, child_seq_)) {
-          from_child_ = m;
-          since_child_ = 0;
-        }
-      } else {
-        ++counters_.foreign;  // not for this node: never decoded
+    if constexpr (hal::has_peek_v<Port>) {
+      for (const hal::CanFrame* f = port_.peek(); f != nullptr; f = port_.peek()) {
+        take(*f);
+        port_.pop();
       }
+    } else {
+      while (port_.receive(rx_)) {
+        take(rx_);
+      }
+    }
+  }
+
+  /// Checks a frame in place and, when it is accepted, reads it straight into the
+  /// neighbour's message (a rejected frame leaves the last good message untouched).
+  void take(const hal::CanFrame& f) noexcept {
+    const std::uint32_t parent_id = protocol::frame_id(protocol::MessageKind::outward, static_cast<std::uint8_t>(config_.joint - 1U));
+    const std::uint32_t child_id = protocol::frame_id(protocol::MessageKind::inward, static_cast<std::uint8_t>(config_.joint + 1U));
+    const auto* data = static_cast<const std::uint8_t*>(f.data);
+    if (config_.joint > 1U && f.id == parent_id) {
+      if (accept(protocol::check_outward(data, f.length), data[0], parent_seq_)) {
+        protocol::read_outward(data, from_parent_);
+        since_parent_ = 0;
+      }
+    } else if (config_.joint < config_.joints && f.id == child_id) {
+      if (accept(protocol::check_inward(data, f.length), data[0], child_seq_)) {
+        protocol::read_inward(data, from_child_);
+        since_child_ = 0;
+      }
+    } else {
+      ++counters_.foreign;  // not for this node: never decoded
     }
   }
 
@@ -161,12 +180,15 @@ class JointNode {
   Port& port_;
   OutwardMessage<S> from_parent_{};
   InwardMessage<S> from_child_{};
+  OutwardMessage<S> to_child_{};
+  InwardMessage<S> to_parent_{};
   protocol::SequenceTracker parent_seq_{}, child_seq_{};
   std::uint32_t since_parent_ = 0, since_child_ = 0;
   std::uint8_t sequence_ = 0;
   std::uint8_t warmup_left_ = static_cast<std::uint8_t>(config_.joints + 1U);
   bool comm_fault_ = false, paced_ = false;
   NodeCounters counters_{};
+  hal::CanFrame rx_{}, tx_{};  ///< frame buffers kept across cycles: no per-frame zeroing
 };
 
 }  // namespace jg

@@ -1,5 +1,8 @@
 // Loopback CAN port for unit tests and single-MCU bring-up: what is sent is received, in
 // order, through the acceptance filters. Fixed capacity, no allocation (firmware-safe).
+// The filters apply when a frame is sent (as a controller's filters do on reception): a
+// frame they reject is sent (CanStatus::ok) but never queued, so a node's own frames cost
+// no copy; new filters also drop the queued frames they reject (as filtering on receive would).
 #pragma once
 
 #include <cstddef>
@@ -17,24 +20,32 @@ class LoopbackCan {
     if (!valid_length(f.length, f.fd) || f.id > (f.extended ? 0x1FFFFFFFU : 0x7FFU)) {
       return CanStatus::invalid;
     }
+    if (!accepts(f.id)) {
+      return CanStatus::ok;  // on the bus, not for this receiver
+    }
     if (count_ == Capacity) {
       return CanStatus::queue_full;
     }
-    queue_[(head_ + count_) % Capacity] = f;
+    copy_frame(queue_[(head_ + count_) % Capacity], f);
     ++count_;
     return CanStatus::ok;
   }
   bool receive(CanFrame& out) noexcept {
-    while (count_ > 0U) {
-      const CanFrame& f = queue_[head_];
+    const CanFrame* f = peek();
+    if (f == nullptr) {
+      return false;
+    }
+    copy_frame(out, *f);
+    pop();
+    return true;
+  }
+  /// Zero-copy receive (has_peek_v).
+  [[nodiscard]] const CanFrame* peek() const noexcept { return count_ == 0U ? nullptr : &queue_[head_]; }
+  void pop() noexcept {
+    if (count_ > 0U) {
       head_ = (head_ + 1U) % Capacity;
       --count_;
-      if (accepts(f.id)) {
-        out = f;
-        return true;
-      }
     }
-    return false;
   }
   [[nodiscard]] CanErrorState error_state() const noexcept { return CanErrorState::error_active; }
   void set_filters(const CanFilter* filters, std::size_t n) noexcept {
@@ -44,6 +55,18 @@ class LoopbackCan {
       filters_[i] = filters[i];
     }
     n_filters_ = count;
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < count_; ++i) {
+      const std::size_t from = (head_ + i) % Capacity;
+      if (accepts(queue_[from].id)) {
+        const std::size_t to = (head_ + kept) % Capacity;
+        if (to != from) {
+          copy_frame(queue_[to], queue_[from]);
+        }
+        ++kept;
+      }
+    }
+    count_ = kept;
   }
 
  private:
@@ -65,5 +88,6 @@ class LoopbackCan {
 };
 
 static_assert(is_can_port_v<LoopbackCan<4>>, "LoopbackCan satisfies the CAN port contract");
+static_assert(has_peek_v<LoopbackCan<4>>, "LoopbackCan offers zero-copy receive");
 
 }  // namespace jg::hal
