@@ -36,6 +36,7 @@ HilResult run_hil(const sim::Scenario& scenario, const HilConfig& c) {
     dc.estimator.friction = c.friction;
     dc.node_thresholds = eval::threshold_bands(c.thresholds);
     dc.debounce_cycles = c.debounce_cycles;
+    dc.fault_specs = c.faults;
     auto est = eval::make_distributed_estimator(dc, c.scalar);
     out.run = eval::run_detection(setup, *est, d, name, true);
     const eval::BusStatistics s = est->statistics();
@@ -45,6 +46,8 @@ HilResult run_hil(const sim::Scenario& scenario, const HilConfig& c) {
     out.bus_busy_s = s.busy_s;
     out.bus_elapsed_s = s.elapsed_s;
     out.incomplete_cycles = s.incomplete_cycles;
+    for (const auto& dr : s.drives) out.drives_end.emplace_back(dr.communication_fault, dr.ready);
+    out.master_comm_fault_end = est->communication_fault();
     char bus[64];
     std::snprintf(bus, sizeof bus, "simulated CAN FD %g/%g Mbit/s", dc.timing.nominal_bps / 1e6, dc.timing.data_bps / 1e6);
     out.bus = bus;
@@ -53,8 +56,12 @@ HilResult run_hil(const sim::Scenario& scenario, const HilConfig& c) {
     mc.interface = c.interface;
     mc.joints = n;
     mc.cycle_timeout_ms = c.cycle_timeout_ms;
+    mc.period_s = 1.0 / setup.control_rate_hz;
+    check_socketcan_faults(c.faults);
+    mc.faults = c.faults;
     auto est = make_socketcan_master(mc);
     out.run = eval::run_detection(setup, *est, d, name, true);
+    out.master_comm_fault_end = est->communication_fault();
     out.events = est->events();
     out.master = est->counters();
     out.bus = "SocketCAN " + c.interface;

@@ -11,6 +11,7 @@
 #include "eval/evaluate.hpp"
 #include "eval/pipeline.hpp"
 #include "hil/bus_master.hpp"
+#include "hil/fault_spec.hpp"
 #include "sim/scenario.hpp"
 
 namespace jg::hil {
@@ -25,6 +26,7 @@ struct HilConfig {
   Reaction reaction = Reaction::stop;
   std::string interface;                      ///< empty: simulated bus in-process; else a SocketCAN interface
   int cycle_timeout_ms = 2000;
+  std::vector<FaultSpec> faults;              ///< injected mid-run (`--fault`)
 };
 
 struct HilResult {
@@ -36,6 +38,9 @@ struct HilResult {
   double bus_elapsed_s = 0.0;                 ///< simulated bus only
   std::size_t incomplete_cycles = 0;          ///< simulated bus only
   std::string bus;
+  /// In-process only: each drive's state at the end (communication fault, ready).
+  std::vector<std::pair<bool, bool>> drives_end;
+  bool master_comm_fault_end = false;         ///< the master's view at the end of the run
 };
 
 HilResult run_hil(const sim::Scenario& scenario, const HilConfig& c);

@@ -45,7 +45,8 @@ class JointNode {
       : config_(config), params_(params), port_(port), from_parent_(base_message(gravity)), from_child_(tip_message<S>()) {}
 
   /// One control cycle with this joint's measurements. Returns the collision flag.
-  bool cycle(S q, S dq, S motor_torque) noexcept {
+  /// `sample_valid` false: the sample is unusable (an input fault, as a NaN would be).
+  bool cycle(S q, S dq, S motor_torque, bool sample_valid = true) noexcept {
     receive_all();
     ++since_parent_;
     ++since_child_;
@@ -56,7 +57,7 @@ class JointNode {
       ++counters_.missed_cycles;
     }
     OutwardMessage<S> to_child{};
-    (void)joint_outward(params_, state_, q, dq, from_parent_, to_child);
+    (void)joint_outward(params_, state_, q, dq, from_parent_, to_child, sample_valid);
     InwardMessage<S> to_parent{};
     const bool flag = joint_inward_and_estimate(params_, state_, dq, motor_torque, from_child_, to_parent);
     // Start-up: the chain's terms need one cycle per link to reach every node. Until then
