@@ -94,9 +94,11 @@ int run_hil_command(const HilOptions& o) {
   if (run.t_comm_fault) std::printf("communication fault at %.3f s: the arm holds\n", *run.t_comm_fault);
   if (run.t_input_fault) std::printf("input fault at %.3f s: the arm holds\n", *run.t_input_fault);
   if (r.master.restarts > 0) std::printf("drives restarted mid-run: %llu\n", static_cast<unsigned long long>(r.master.restarts));
-  for (std::size_t j = 0; j < r.drives_end.size(); ++j) {
-    std::printf("drive %zu at the end: %s, %s\n", j + 1, r.drives_end[j].first ? "communication fault" : "no communication fault",
-                r.drives_end[j].second ? "ready" : "not ready");
+  for (std::size_t j = 0; j < r.drives.size(); ++j) {
+    const eval::DriveReport& d = r.drives[j];
+    std::printf("drive %zu at the end: %s, %s; rejected: crc %u, sequence %u, late %u, sensor %u, sync %u\n", j + 1,
+                d.communication_fault ? "communication fault" : "no communication fault", d.ready ? "ready" : "not ready", d.node.bad_crc,
+                d.node.stale, d.node.late, d.drive.sensor_rejected, d.drive.sync_rejected);
   }
   for (const auto& e : r.events) std::printf("collision event from joint %d at cycle %u (%.3f N·m)\n", e.joint, e.cycle, e.external_torque);
   std::printf("master: %llu frames received, %llu rejected, %llu out of cycle, %llu foreign\n",
@@ -132,8 +134,8 @@ int run_hil_command(const HilOptions& o) {
                 {"communication_fault_at_end", r.master_comm_fault_end}};
     j["faults"] = o.faults;
     j["drives_end"] = nlohmann::json::array();
-    for (std::size_t k = 0; k < r.drives_end.size(); ++k) {
-      j["drives_end"].push_back({{"joint", k + 1}, {"communication_fault", r.drives_end[k].first}, {"ready", r.drives_end[k].second}});
+    for (std::size_t k = 0; k < r.drives.size(); ++k) {
+      j["drives_end"].push_back({{"joint", k + 1}, {"communication_fault", r.drives[k].communication_fault}, {"ready", r.drives[k].ready}});
     }
     std::vector<double> mu_max;
     for (const auto& m : run.trace.mu) {

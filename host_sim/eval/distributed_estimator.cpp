@@ -72,7 +72,7 @@ class BusEstimator final : public DistributedEstimator {
   [[nodiscard]] bool communication_fault() const override { return master_.any_comm_fault(); }
   [[nodiscard]] bool input_fault() const override { return master_.any_input_fault(); }
   [[nodiscard]] BusStatistics statistics() const override {
-    BusStatistics s{bus_.frames_sent(), bus_.busy_time(), time_, master_.counters(), incomplete_, master_.events(), {}};
+    BusStatistics s{bus_.frames_sent(), bus_.busy_time(), time_, master_.counters(), incomplete_, master_.events(), {}, {}};
     for (const auto& d : drives_) {
       if (d) {
         s.drives.push_back({d->counters(), d->node().counters(), d->node().communication_fault(), d->node().ready()});
@@ -80,6 +80,7 @@ class BusEstimator final : public DistributedEstimator {
         s.drives.push_back({});  // off (a restart under way)
       }
     }
+    s.first_comm_fault_cycle = master_.first_comm_fault_cycle();
     return s;
   }
 

@@ -45,6 +45,7 @@ struct BusStatistics {
   std::size_t incomplete_cycles = 0;  ///< cycles whose status frames were not all in by the next cycle
   std::vector<hil::NodeEvent> events;
   std::vector<DriveReport> drives;
+  std::vector<std::int64_t> first_comm_fault_cycle;  ///< per drive, as its status reported it (-1: never)
 };
 
 class DistributedEstimator : public Estimator {

@@ -40,7 +40,7 @@ class BusMaster {
  public:
   BusMaster(Port& port, std::size_t joints)
       : port_(port), torque_(joints, 0.0), flags_(joints, 0), have_(joints, false), announced_(joints, false),
-        rejoining_(joints, false) {
+        rejoining_(joints, false), first_comm_fault_(joints, -1) {
     const hal::CanFilter filters[] = {
         {protocol::frame_id(protocol::MessageKind::status, 0), 0x7F0U},
         {protocol::frame_id(protocol::MessageKind::collision_event, 0), 0x7F0U},
@@ -122,6 +122,7 @@ class BusMaster {
       flags_[joint - 1] = m.flags;
       have_[joint - 1] = true;
       if ((m.flags & protocol::kStatusReady) != 0U) rejoining_[joint - 1] = false;
+      if ((m.flags & protocol::kStatusCommFault) != 0U && first_comm_fault_[joint - 1] < 0) first_comm_fault_[joint - 1] = cycle_;
     }
     return complete();
   }
@@ -189,6 +190,8 @@ class BusMaster {
   [[nodiscard]] bool rejoining(int joint) const { return rejoining_.at(static_cast<std::size_t>(joint - 1)); }
   /// The last send_cycle's sync went out (false: the port refused it, e.g. the link is down).
   [[nodiscard]] bool sync_sent() const { return sync_sent_; }
+  /// Per drive, the first cycle whose status carried the communication fault (-1: never).
+  [[nodiscard]] const std::vector<std::int64_t>& first_comm_fault_cycle() const { return first_comm_fault_; }
   /// Consecutive cycles so far without every drive's status.
   [[nodiscard]] unsigned missing_run() const { return missing_run_; }
   [[nodiscard]] const std::vector<NodeEvent>& events() const { return events_; }
@@ -205,6 +208,7 @@ class BusMaster {
   std::vector<double> torque_;
   std::vector<std::uint8_t> flags_;
   std::vector<bool> have_, announced_, rejoining_;
+  std::vector<std::int64_t> first_comm_fault_;
   bool started_ = false, sync_sent_ = false;
   std::vector<NodeEvent> events_;
   MasterCounters counters_{};

@@ -46,8 +46,10 @@ HilResult run_hil(const sim::Scenario& scenario, const HilConfig& c) {
     out.bus_busy_s = s.busy_s;
     out.bus_elapsed_s = s.elapsed_s;
     out.incomplete_cycles = s.incomplete_cycles;
-    for (const auto& dr : s.drives) out.drives_end.emplace_back(dr.communication_fault, dr.ready);
+    out.drives = s.drives;
+    out.first_comm_fault_cycle = s.first_comm_fault_cycle;
     out.master_comm_fault_end = est->communication_fault();
+    out.master_input_fault_end = est->input_fault();
     char bus[64];
     std::snprintf(bus, sizeof bus, "simulated CAN FD %g/%g Mbit/s", dc.timing.nominal_bps / 1e6, dc.timing.data_bps / 1e6);
     out.bus = bus;
@@ -62,6 +64,7 @@ HilResult run_hil(const sim::Scenario& scenario, const HilConfig& c) {
     auto est = make_socketcan_master(mc);
     out.run = eval::run_detection(setup, *est, d, name, true);
     out.master_comm_fault_end = est->communication_fault();
+    out.master_input_fault_end = est->input_fault();
     out.events = est->events();
     out.master = est->counters();
     out.bus = "SocketCAN " + c.interface;
