@@ -30,7 +30,9 @@ void HilOptions::add_to(CLI::App* cmd, bool plant) {
   cmd->add_option("--scalar", scalar, "Drives' scalar on the in-process bus")->check(CLI::IsMember({"float", "q"}))->capture_default_str();
   cmd->add_option("--debounce", debounce, "Cycles over threshold before a detection")->capture_default_str()->check(CLI::Range(1, 50));
   cmd->add_option("--reaction", reaction, "Reaction on detection")->check(CLI::IsMember({"none", "stop", "zero_gravity"}))->capture_default_str();
-  cmd->add_option("--timeout-ms", timeout_ms, "A drive silent this long in a cycle fails the run")->capture_default_str()->check(CLI::Range(10, 600000));
+  cmd->add_option("--timeout-ms", timeout_ms,
+                  "SocketCAN: how long a cycle waits for a drive's status before closing without it (5 such cycles: "
+                  "communication fault, the arm holds); a drive already silent is waited for a tenth of it")->capture_default_str()->check(CLI::Range(10, 600000));
   cmd->add_option("--fault", faults, hil::fault_syntax_help())
       ->check(CLI::Validator(
           [](std::string& v) {
@@ -131,7 +133,8 @@ int run_hil_command(const HilOptions& o) {
                 {"rejected", r.master.rejected}, {"out_of_cycle", r.master.out_of_cycle}, {"foreign", r.master.foreign},
                 {"simulated_frames", r.bus_frames}, {"simulated_busy_s", r.bus_busy_s}, {"incomplete_cycles", r.incomplete_cycles},
                 {"restarts", r.master.restarts}, {"invalid_samples_sent", r.master.invalid_samples},
-                {"communication_fault_at_end", r.master_comm_fault_end}};
+                {"communication_fault_at_end", r.master_comm_fault_end}, {"input_fault_at_end", r.master_input_fault_end},
+                {"first_comm_fault_cycle", r.first_comm_fault_cycle}};
     j["faults"] = o.faults;
     j["drives_end"] = nlohmann::json::array();
     for (std::size_t k = 0; k < r.drives.size(); ++k) {

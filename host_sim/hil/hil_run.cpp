@@ -67,6 +67,7 @@ HilResult run_hil(const sim::Scenario& scenario, const HilConfig& c) {
     out.master_input_fault_end = est->input_fault();
     out.events = est->events();
     out.master = est->counters();
+    out.first_comm_fault_cycle = est->first_comm_fault_cycle();
     out.bus = "SocketCAN " + c.interface;
   }
   return out;

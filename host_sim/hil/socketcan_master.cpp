@@ -93,13 +93,15 @@ class SocketCanMasterImpl final : public SocketCanMaster {
 
   /// Lock-step: the cycle closes when every drive's status is in. A drive that answered the
   /// previous cycle is waited for up to cycle_timeout_ms (a loaded host may be slow); one
-  /// already silent, rebooting (it missed this sync), or a sync that never went out only for
-  /// one plant period, so the master keeps syncing at about the plant's rate while it holds
-  /// and a restarted drive rejoins from the next sync.
+  /// already silent, rebooting (it missed this sync), or a sync that never went out only
+  /// briefly, so the master keeps syncing while it holds and a restarted drive rejoins from
+  /// the next sync.
   void wait_for_statuses(const hal::MonotonicClock& clock) {
     const std::uint64_t start = clock.now_us();
     const std::uint64_t full = 1000ULL * static_cast<std::uint64_t>(config_.cycle_timeout_ms);
-    const auto brief = static_cast<std::uint64_t>(std::max(1000.0, config_.period_s * 1e6));
+    // A drive already silent gets a tenth of the full wait (at least a plant period): long
+    // enough for a loaded host to catch up, short enough to keep syncing while holding.
+    const auto brief = static_cast<std::uint64_t>(std::max(config_.period_s * 1e6, static_cast<double>(full) / 10.0));
     while (!master_.collect()) {
       bool wait_long = master_.sync_sent() && !port_.link_down();
       bool any_expected = false;
@@ -138,6 +140,7 @@ class SocketCanMasterImpl final : public SocketCanMaster {
   [[nodiscard]] bool input_fault() const override { return master_.any_input_fault(); }
   [[nodiscard]] const std::vector<NodeEvent>& events() const override { return master_.events(); }
   [[nodiscard]] MasterCounters counters() const override { return master_.counters(); }
+  [[nodiscard]] std::vector<std::int64_t> first_comm_fault_cycle() const override { return master_.first_comm_fault_cycle(); }
 
  private:
   SocketCanMasterConfig config_;

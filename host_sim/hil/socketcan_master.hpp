@@ -18,6 +18,7 @@ struct SocketCanMasterConfig {
   std::size_t joints = 3;
   /// How long a cycle waits for a drive that answered the previous cycle; then the cycle
   /// closes without it (counted missing: 5 such cycles in a row are a communication fault).
+  /// A drive already silent is waited for a tenth of it (at least one plant period).
   int cycle_timeout_ms = 2000;
   int startup_timeout_ms = 20000;  ///< waiting for every drive's first status (fails the run, naming the joints)
   double period_s = 0.001;         ///< plant period: the wait for a drive already silent, and the fault clock
@@ -35,6 +36,8 @@ class SocketCanMaster : public eval::Estimator {
  public:
   [[nodiscard]] virtual const std::vector<NodeEvent>& events() const = 0;
   [[nodiscard]] virtual MasterCounters counters() const = 0;
+  /// Per drive, the first cycle its status carried the communication fault (-1: never).
+  [[nodiscard]] virtual std::vector<std::int64_t> first_comm_fault_cycle() const = 0;
 };
 
 /// Throws std::runtime_error naming the interface when it cannot be opened.
