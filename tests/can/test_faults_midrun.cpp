@@ -11,6 +11,7 @@
 #include <string>
 
 #include "hil/fault_spec.hpp"
+#include "jointguard/protocol/sensor_validity.hpp"
 #include "hil/hil_run.hpp"
 #include "models/paper_friction.hpp"
 #include "robot/robot_model.hpp"
@@ -180,6 +181,20 @@ TEST(FaultSpec, ParsesTheDocumentedSyntaxAndRefusesTheRest) {
   EXPECT_THROW(hil::check_faults({hil::parse_fault("drop:4@0.5")}, 3, 2.2), std::invalid_argument);
   EXPECT_THROW(hil::check_faults({hil::parse_fault("drop@2.2")}, 3, 2.2), std::invalid_argument);
   EXPECT_NO_THROW(hil::check_faults({hil::parse_fault("drop:3@2.1")}, 3, 2.2));
+}
+
+TEST(SensorValidity, TheInvalidMarkerIsNoValueAndSaturationNeverProducesIt) {
+  std::uint8_t buf[protocol::kSensorFrameLength]{};
+  // The most negative value a sender can encode saturates to -INT32_MAX, not the marker.
+  const protocol::SensorMessage<q16> lowest{q16::from_double(-1e9), q16::from_double(-1e300), q16::from_double(0.5)};
+  ASSERT_EQ(protocol::encode_sensor(lowest, 7, buf), protocol::kSensorFrameLength);
+  EXPECT_TRUE(protocol::sensor_fields_valid(buf));
+  protocol::mark_sensor_field_invalid(buf, 1);
+  protocol::SensorMessage<float> m{};
+  std::uint8_t seq = 0;
+  ASSERT_EQ(protocol::decode_sensor(buf, protocol::kSensorFrameLength, m, seq), protocol::FrameError::ok) << "CRC recomputed";
+  EXPECT_EQ(seq, 7U);
+  EXPECT_FALSE(protocol::sensor_fields_valid(buf));
 }
 
 }  // namespace

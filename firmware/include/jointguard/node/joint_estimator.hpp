@@ -71,14 +71,12 @@ constexpr bool finite_inputs(S a, S b, const InwardMessage<S>& m) noexcept {
 }  // namespace detail
 
 /// Phase 1: own joint state + the parent's outward message -> message for the child.
-/// Non-finite inputs, or a sample the drive marked unusable (`sample_valid` false): the last
-/// good message is repeated and the cycle is marked faulty (Error::not_finite); the
-/// estimator's state is not touched.
+/// Non-finite inputs: the last good message is repeated and the cycle is marked faulty
+/// (Error::not_finite); the estimator's state is not touched.
 template <class S>
 constexpr Error joint_outward(const JointEstimatorParams<S>& p, JointEstimatorState<S>& s, S q, S dq,
-                              const OutwardMessage<S>& from_parent, OutwardMessage<S>& to_child,
-                              bool sample_valid = true) noexcept {
-  s.input_fault = !sample_valid || !detail::finite_inputs(q, dq, from_parent);
+                              const OutwardMessage<S>& from_parent, OutwardMessage<S>& to_child) noexcept {
+  s.input_fault = !detail::finite_inputs(q, dq, from_parent);
   if (s.input_fault) {
     ++s.rejected_cycles;
     to_child = last_to_child(s);
@@ -86,6 +84,20 @@ constexpr Error joint_outward(const JointEstimatorParams<S>& p, JointEstimatorSt
   }
   outward_step(p.link, q, dq, from_parent, s.outward, to_child);
   return Error::ok;
+}
+
+/// Phase 1 with a sample the drive could flag unusable (`sample_valid` false, e.g. the
+/// plant's invalid marker in a sensor frame): treated as a non-finite input.
+template <class S>
+constexpr Error joint_outward(const JointEstimatorParams<S>& p, JointEstimatorState<S>& s, S q, S dq,
+                              const OutwardMessage<S>& from_parent, OutwardMessage<S>& to_child, bool sample_valid) noexcept {
+  if (!sample_valid) {
+    s.input_fault = true;
+    ++s.rejected_cycles;
+    to_child = last_to_child(s);
+    return Error::not_finite;
+  }
+  return joint_outward(p, s, q, dq, from_parent, to_child);
 }
 
 /// Phase 2: the child's inward message -> message for the parent; then friction, observer
