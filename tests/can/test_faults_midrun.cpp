@@ -28,6 +28,7 @@ struct Row {
   int max_cycles;       ///< fault raised at most this many cycles after its start
   bool recovers;        ///< at the end: no drive or master fault left, every drive ready
   bool neighbours;      ///< drives 1 and 3 themselves report the communication fault
+  bool no_false_events = false;  ///< no drive sends a collision event before the push
 };
 
 struct ShoulderRun {
@@ -61,14 +62,14 @@ double drift_after(const io::Recording& rec, double t0) {
 }
 
 const Row kRows[] = {
-    {"drop:2@0.5:0.2", Raised::communication, 5, true, true},       // every frame drive 2 sends lost
+    {"drop:2@0.5:0.2", Raised::communication, 5, true, true, true},       // every frame drive 2 sends lost
     {"drop:0x022@0.5:0.2", Raised::communication, 6, true, false},   // only its outward messages: joint 3 reports it
     {"late:2@0.5:0.2", Raised::communication, 5, true, true},
-    {"corrupt:2@0.5:0.2", Raised::communication, 5, true, true},
-    {"duplicate:2@0.5:0.2", Raised::none, 0, true, false},
-    {"bus-off:2@0.5:0.2", Raised::communication, 5, true, true},
+    {"corrupt:2@0.5:0.2", Raised::communication, 5, true, true, true},
+    {"duplicate:2@0.5:0.2", Raised::none, 0, true, false, true},
+    {"bus-off:2@0.5:0.2", Raised::communication, 5, true, true, true},
     {"babble@0.5:0.2", Raised::communication, 5, true, false},
-    {"restart:2@0.5:0.3", Raised::communication, 5, true, true},
+    {"restart:2@0.5:0.3", Raised::communication, 5, true, true, true},
     {"restart:2@0.5", Raised::communication, 1, true, false},
     {"link-down@0.5:0.5", Raised::communication, 5, true, false},
     {"nan-sensor:2@0.5:0.2", Raised::input, 0, true, false},
@@ -94,6 +95,12 @@ TEST(FaultsMidRun, EveryTableRowEndsInItsStatedState) {
                   raised ? std::to_string(*raised).c_str() : "never", cycles,
                   raised ? drift_after(r.run.recording, *raised + 0.1) : 0.0, r.master_comm_fault_end ? "yes" : "no");
       for (const auto& d : r.drives) std::printf(" [%s%s]", d.communication_fault ? "comm fault " : "", d.ready ? "ready" : "not ready");
+      std::size_t early_events = 0;  // collision events from the drives before the push at 1.5 s
+      for (const auto& e : r.events) early_events += static_cast<double>(e.cycle) * dt < 1.5 ? 1U : 0U;
+      std::printf("; events before the push %zu", early_events);
+      if (row.no_false_events) {
+        EXPECT_EQ(early_events, 0U) << "no drive reports a collision it did not see";
+      }
       std::printf("; restarts %llu; drives' own fault at cycles", static_cast<unsigned long long>(r.master.restarts));
       for (const auto c : r.first_comm_fault_cycle) std::printf(" %+lld", c < 0 ? -1LL : static_cast<long long>(c) - static_cast<long long>(std::llround(spec.start_s / dt)));
       std::printf("\n");

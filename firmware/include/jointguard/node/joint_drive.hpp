@@ -182,6 +182,9 @@ class JointDrive {
 
   void run_cycle() noexcept {
     sync_pending_ = false;
+    if (synced_ && pending_cycle_ != last_cycle_ + 1U) {
+      node_.rewarm();  // syncs were missed (bus silent, master restarted): the observer starts afresh
+    }
     synced_ = true;
     last_cycle_ = pending_cycle_;
     node_.set_cycle(static_cast<std::uint8_t>(last_cycle_ & 0xFFU));
