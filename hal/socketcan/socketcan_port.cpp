@@ -100,7 +100,9 @@ CanStatus SocketCanPort::send(const CanFrame& f) noexcept {
   if (!valid_length(f.length, f.fd) || f.id > (f.extended ? CAN_EFF_MASK : CAN_SFF_MASK) || (f.fd && !options_.fd)) {
     return CanStatus::invalid;
   }
-  if (state_ == CanErrorState::bus_off) { return CanStatus::bus_off;
+  // A controller bus-off (error frame) refuses sends until it is restarted; the interface
+  // merely being down (ENETDOWN below) does not: the next write tells whether it is up again.
+  if (state_ == CanErrorState::bus_off && !link_down_) { return CanStatus::bus_off;
 }
   canfd_frame out{};
   out.can_id = f.id | (f.extended ? CAN_EFF_FLAG : 0U);
@@ -109,12 +111,19 @@ CanStatus SocketCanPort::send(const CanFrame& f) noexcept {
   std::memcpy(static_cast<__u8*>(out.data), static_cast<const std::uint8_t*>(f.data), f.length);
   const std::size_t size = f.fd ? CANFD_MTU : CAN_MTU;  // a classic frame is written as struct can_frame
   const ssize_t n = ::write(fd_, &out, size);
-  if (n == static_cast<ssize_t>(size)) { return CanStatus::ok;
+  if (n == static_cast<ssize_t>(size)) {
+    if (link_down_) {  // the interface is up again
+      link_down_ = false;
+      state_ = CanErrorState::error_active;
+    }
+    return CanStatus::ok;
 }
   if (n < 0 && (errno == ENOBUFS || errno == EAGAIN)) { return CanStatus::queue_full;
 }
   ++counters_.send_errors;
-  if (n < 0 && errno == ENETDOWN) { state_ = CanErrorState::bus_off;
+  if (n < 0 && errno == ENETDOWN) {
+    state_ = CanErrorState::bus_off;
+    link_down_ = true;
 }
   return n < 0 && errno == ENETDOWN ? CanStatus::bus_off : CanStatus::invalid;
 }

@@ -23,9 +23,19 @@ double frame_duration_s(const hal::CanFrame& f, const BusTiming& t) {
   return b.nominal / t.nominal_bps + (f.fd ? b.data / t.data_bps : 0.0);
 }
 
+bool FaultWindow::affects(std::uint32_t id) const {
+  if (ids.empty()) return true;
+  for (const auto i : ids) {
+    if (i == id) return true;
+  }
+  return false;
+}
+
 hal::CanStatus SimPort::send(const hal::CanFrame& f) {
   if (!hal::valid_length(f.length, f.fd) || f.id > (f.extended ? 0x1FFFFFFFU : 0x7FFU)) return hal::CanStatus::invalid;
-  if (state_ == hal::CanErrorState::bus_off) return hal::CanStatus::bus_off;
+  if (!powered_) return hal::CanStatus::bus_off;
+  // The link down (SocketCAN: ENETDOWN) refuses frames as a bus-off controller does.
+  if (state_ == hal::CanErrorState::bus_off || bus_->link_down(bus_->now())) return hal::CanStatus::bus_off;
   if (tx_.size() >= tx_capacity_) return hal::CanStatus::queue_full;
   tx_.emplace_back(bus_->now(), f);
   return hal::CanStatus::ok;
@@ -64,9 +74,42 @@ void SimBus::set_babbler(std::size_t port_index, const hal::CanFrame& frame) {
   babble_ = frame;
 }
 
+bool SimBus::link_down(double t) const {
+  for (const auto& w : windows_) {
+    if (w.effect == FaultWindow::Effect::link_down && w.active(t)) return true;
+  }
+  return false;
+}
+
+const FaultWindow* SimBus::active_babble(double t) const {
+  for (const auto& w : windows_) {
+    if (w.effect == FaultWindow::Effect::babble && w.active(t)) return &w;
+  }
+  return nullptr;
+}
+
+double SimBus::next_edge(double t, double limit) const {
+  double next = limit;
+  for (const auto& w : windows_) {
+    if (w.start_s > t) next = std::min(next, w.start_s);
+    if (w.end_s > t) next = std::min(next, w.end_s);
+  }
+  return next;
+}
+
 void SimBus::run_until(double t) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   while (true) {
+    if (link_down(now_)) {
+      // Nothing gets on the bus; what was queued is lost (an interface going down flushes
+      // its queues).
+      for (auto& p : ports_) p->tx_.clear();
+      const double until = next_edge(now_, t);
+      now_ = std::max(now_, until);
+      if (until >= t) return;
+      continue;
+    }
+    const FaultWindow* window_babble = active_babble(now_);
     // Arbitration among frames queued by now: the lowest identifier wins.
     SimPort* winner = nullptr;
     std::uint32_t best = 0xFFFFFFFFU;
@@ -79,9 +122,15 @@ void SimBus::run_until(double t) {
     }
     hal::CanFrame frame;
     SimPort* sender = winner;
-    if (babbling_ && (winner == nullptr || babble_.id <= best)) {
+    bool babbled = false;
+    if (window_babble != nullptr && (winner == nullptr || window_babble->babble.id <= best)) {
+      frame = window_babble->babble;
+      sender = nullptr;  // a node not attached as a port: every port hears it
+      babbled = true;
+    } else if (babbling_ && (winner == nullptr || babble_.id <= best)) {
       frame = babble_;
       sender = ports_[babbler_].get();
+      babbled = true;
     } else if (winner != nullptr) {
       frame = winner->tx_.front().second;
     } else {
@@ -90,6 +139,7 @@ void SimBus::run_until(double t) {
       for (auto& p : ports_) {
         if (!p->tx_.empty() && p->state_ != hal::CanErrorState::bus_off) next = std::min(next, std::max(p->tx_.front().first, now_));
       }
+      next = next_edge(now_, next);  // a window opening while idle (babble, link down)
       if (next >= t) {
         now_ = std::max(now_, t);
         return;
@@ -103,19 +153,30 @@ void SimBus::run_until(double t) {
     busy_s_ += duration;
     ++frames_;
     order_.push_back(frame.id);
-    if (sender == winner && winner != nullptr && !(babbling_ && sender->index_ == babbler_ && frame.id == babble_.id)) {
-      winner->tx_.pop_front();
+    if (!babbled) winner->tx_.pop_front();
+    // Windowed faults act on the frame by its identifier at the end of its transmission.
+    bool w_drop = false, w_corrupt = false, w_duplicate = false;
+    double w_delay = 0.0;
+    for (const auto& w : windows_) {
+      if (!w.active(now_) || !w.affects(frame.id)) continue;
+      w_drop = w_drop || w.effect == FaultWindow::Effect::drop;
+      w_corrupt = w_corrupt || w.effect == FaultWindow::Effect::corrupt;
+      w_duplicate = w_duplicate || w.effect == FaultWindow::Effect::duplicate;
+      if (w.effect == FaultWindow::Effect::delay) w_delay = std::max(w_delay, w.delay_s);
     }
+    if (w_drop) continue;
     const bool affected = (frame.id & faults_.affected_id_mask) == (faults_.affected_id_match & faults_.affected_id_mask);
     if (affected && unit(rng_) < faults_.drop_probability) continue;
     hal::CanFrame delivered = frame;
     if (affected && frame.length > 0 && unit(rng_) < faults_.corrupt_probability) {
       delivered.data[static_cast<std::size_t>(unit(rng_) * frame.length) % frame.length] ^= 0x04U;
     }
-    delivered.timestamp_us = static_cast<std::uint64_t>(std::llround((now_ + (affected ? faults_.extra_delay_s : 0.0)) * 1e6));
-    const int copies = affected && unit(rng_) < faults_.duplicate_probability ? 2 : 1;
+    if (w_corrupt && frame.length > 0) delivered.data[frame.length / 2U] ^= 0x04U;  // one byte flipped: the CRC sees it
+    delivered.timestamp_us =
+        static_cast<std::uint64_t>(std::llround((now_ + (affected ? faults_.extra_delay_s : 0.0) + w_delay) * 1e6));
+    const int copies = (affected && unit(rng_) < faults_.duplicate_probability) || w_duplicate ? 2 : 1;
     for (auto& p : ports_) {
-      if (p.get() == sender) continue;
+      if (p.get() == sender || !p->powered_) continue;
       bool accept = p->filters_.empty();
       for (const auto& fl : p->filters_) accept = accept || (delivered.id & fl.mask) == (fl.match & fl.mask);
       if (!accept) continue;

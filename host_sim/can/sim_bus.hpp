@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <random>
 #include <vector>
@@ -39,6 +40,18 @@ struct FaultPlan {
   unsigned long long seed = 1;
 };
 
+/// A fault over a window of bus time [start_s, end_s): injected mid-run (`--fault`).
+struct FaultWindow {
+  enum class Effect { drop, delay, corrupt, duplicate, babble, link_down };
+  Effect effect = Effect::drop;
+  double start_s = 0.0, end_s = std::numeric_limits<double>::infinity();
+  std::vector<std::uint32_t> ids;  ///< frames affected by identifier (empty: every frame)
+  double delay_s = 0.010;          ///< Effect::delay: added latency
+  hal::CanFrame babble{};          ///< Effect::babble: what the babbling node sends whenever the bus is idle
+  [[nodiscard]] bool active(double t) const { return t >= start_s && t < end_s; }
+  [[nodiscard]] bool affects(std::uint32_t id) const;
+};
+
 class SimBus;
 
 /// One node's attachment to the bus (HAL port contract).
@@ -51,6 +64,18 @@ class SimPort {
   /// Fault injection: the controller goes bus-off (sends nothing) until recover().
   void go_bus_off() { state_ = hal::CanErrorState::bus_off; }
   void recover() { state_ = hal::CanErrorState::error_active; }
+  /// Fault injection: the node loses power (queues cleared, receives nothing) until
+  /// power_on() (a rebooted controller starts with empty queues and default filters).
+  void power_off() {
+    powered_ = false;
+    tx_.clear();
+    rx_.clear();
+  }
+  void power_on() {
+    powered_ = true;
+    filters_.clear();
+    state_ = hal::CanErrorState::error_active;
+  }
 
  private:
   friend class SimBus;
@@ -60,6 +85,7 @@ class SimPort {
   std::deque<hal::CanFrame> rx_;
   std::vector<hal::CanFilter> filters_;
   hal::CanErrorState state_ = hal::CanErrorState::error_active;
+  bool powered_ = true;
   std::size_t tx_capacity_ = 256;
 };
 static_assert(hal::is_can_port_v<SimPort>, "SimPort satisfies the CAN port contract");
@@ -79,6 +105,10 @@ class SimBus {
   /// A babbling node: the given port re-sends `frame` whenever the bus is idle.
   void set_babbler(std::size_t port_index, const hal::CanFrame& frame);
   [[nodiscard]] const std::vector<std::uint32_t>& transmit_order() const { return order_; }
+  /// A fault over a window of bus time (drop, delay, corrupt, duplicate by identifier; a
+  /// babbling node not attached as a port; the link down: nothing sent, queues flushed).
+  void add_fault(const FaultWindow& w) { windows_.push_back(w); }
+  [[nodiscard]] bool link_down(double t) const;
 
  private:
   friend class SimPort;
@@ -92,6 +122,10 @@ class SimBus {
   std::size_t babbler_ = 0;
   hal::CanFrame babble_{};
   std::vector<std::uint32_t> order_;
+  std::vector<FaultWindow> windows_;
+  const FaultWindow* active_babble(double t) const;
+  /// Earliest window edge (start or end) after t, or `limit`.
+  double next_edge(double t, double limit) const;
 };
 
 }  // namespace jg::can

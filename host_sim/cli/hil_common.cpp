@@ -1,11 +1,14 @@
 #include "cli/hil_common.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "hil/fault_spec.hpp"
 #include "hil/hil_run.hpp"
+#include "hil/socketcan_master.hpp"
 #include "io/recording.hpp"
 #include "io/yaml_fields.hpp"
 
@@ -27,7 +30,20 @@ void HilOptions::add_to(CLI::App* cmd, bool plant) {
   cmd->add_option("--scalar", scalar, "Drives' scalar on the in-process bus")->check(CLI::IsMember({"float", "q"}))->capture_default_str();
   cmd->add_option("--debounce", debounce, "Cycles over threshold before a detection")->capture_default_str()->check(CLI::Range(1, 50));
   cmd->add_option("--reaction", reaction, "Reaction on detection")->check(CLI::IsMember({"none", "stop", "zero_gravity"}))->capture_default_str();
-  cmd->add_option("--timeout-ms", timeout_ms, "A drive silent this long in a cycle fails the run")->capture_default_str()->check(CLI::Range(10, 600000));
+  cmd->add_option("--timeout-ms", timeout_ms,
+                  "SocketCAN: how long a cycle waits for a drive's status before closing without it (5 such cycles: "
+                  "communication fault, the arm holds); a drive already silent is waited for a tenth of it")->capture_default_str()->check(CLI::Range(10, 600000));
+  cmd->add_option("--fault", faults, hil::fault_syntax_help())
+      ->check(CLI::Validator(
+          [](std::string& v) {
+            try {
+              (void)hil::parse_fault(v);
+            } catch (const std::invalid_argument& e) {
+              return std::string(e.what());
+            }
+            return std::string();
+          },
+          "KIND[:TARGET]@START[:DURATION]"));
   cmd->add_option("--trace", trace, "Write the drives' estimates per cycle here (CSV: t, mu1..n)");
   cmd->add_option("--json", json, "Write the run, the drives' events and the bus counters here");
   observer.add_to(cmd);
@@ -51,6 +67,19 @@ int run_hil_command(const HilOptions& o) {
   c.reaction = o.reaction == "none" ? Reaction::none : (o.reaction == "zero_gravity" ? Reaction::zero_gravity : Reaction::stop);
   c.interface = o.iface;
   c.cycle_timeout_ms = o.timeout_ms;
+  try {
+    // Bad fault specs are usage errors (exit 2), refused before anything runs.
+    for (const auto& f : o.faults) c.faults.push_back(hil::parse_fault(f));
+    hil::check_faults(c.faults, c.model.joints.size(), scenario.setup.duration_s);
+    if (!c.interface.empty()) hil::check_socketcan_faults(c.faults);
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 2;
+  }
+  for (const auto& f : c.faults) {
+    std::printf("fault injected: %s from %.3f s %s\n", hil::to_string(f.kind), f.start_s,
+                std::isfinite(f.duration_s) ? ("for " + std::to_string(f.duration_s) + " s").c_str() : "to the end");
+  }
   const hil::HilResult r = hil::run_hil(scenario, c);
   const eval::RunResult& run = r.run;
   std::printf("%s: %zu cycles on %s\n", run.name.c_str(), run.trace.t.size(), r.bus.c_str());
@@ -63,6 +92,15 @@ int run_hil_command(const HilOptions& o) {
                 run.t_node_flagged ? std::to_string(*run.t_node_flagged).c_str() : "-", run.link_node_isolated, run.peak_force_n);
   } else {
     std::printf("no detection\n");
+  }
+  if (run.t_comm_fault) std::printf("communication fault at %.3f s: the arm holds\n", *run.t_comm_fault);
+  if (run.t_input_fault) std::printf("input fault at %.3f s: the arm holds\n", *run.t_input_fault);
+  if (r.master.restarts > 0) std::printf("drives restarted mid-run: %llu\n", static_cast<unsigned long long>(r.master.restarts));
+  for (std::size_t j = 0; j < r.drives.size(); ++j) {
+    const eval::DriveReport& d = r.drives[j];
+    std::printf("drive %zu at the end: %s, %s; rejected: crc %u, sequence %u, late %u, sensor %u, sync %u\n", j + 1,
+                d.communication_fault ? "communication fault" : "no communication fault", d.ready ? "ready" : "not ready", d.node.bad_crc,
+                d.node.stale, d.node.late, d.drive.sensor_rejected, d.drive.sync_rejected);
   }
   for (const auto& e : r.events) std::printf("collision event from joint %d at cycle %u (%.3f N·m)\n", e.joint, e.cycle, e.external_torque);
   std::printf("master: %llu frames received, %llu rejected, %llu out of cycle, %llu foreign\n",
@@ -86,12 +124,22 @@ int run_hil_command(const HilOptions& o) {
     jr["delay"] = run.t_detected ? nlohmann::json(*run.t_detected - run.t_collision) : nlohmann::json(nullptr);
     jr["t_drives_flagged"] = run.t_node_flagged ? nlohmann::json(*run.t_node_flagged) : nlohmann::json(nullptr);
     jr["link_drives_isolated"] = run.link_node_isolated;
+    jr["t_comm_fault"] = run.t_comm_fault ? nlohmann::json(*run.t_comm_fault) : nlohmann::json(nullptr);
+    jr["t_input_fault"] = run.t_input_fault ? nlohmann::json(*run.t_input_fault) : nlohmann::json(nullptr);
     j["runs"] = nlohmann::json::array({jr});
     j["events"] = nlohmann::json::array();
     for (const auto& e : r.events) j["events"].push_back({{"joint", e.joint}, {"cycle", e.cycle}, {"external_torque", e.external_torque}});
     j["bus"] = {{"kind", r.bus}, {"cycles", run.trace.t.size()}, {"frames_received_by_master", r.master.frames_received},
                 {"rejected", r.master.rejected}, {"out_of_cycle", r.master.out_of_cycle}, {"foreign", r.master.foreign},
-                {"simulated_frames", r.bus_frames}, {"simulated_busy_s", r.bus_busy_s}, {"incomplete_cycles", r.incomplete_cycles}};
+                {"simulated_frames", r.bus_frames}, {"simulated_busy_s", r.bus_busy_s}, {"incomplete_cycles", r.incomplete_cycles},
+                {"restarts", r.master.restarts}, {"invalid_samples_sent", r.master.invalid_samples},
+                {"communication_fault_at_end", r.master_comm_fault_end}, {"input_fault_at_end", r.master_input_fault_end},
+                {"first_comm_fault_cycle", r.first_comm_fault_cycle}};
+    j["faults"] = o.faults;
+    j["drives_end"] = nlohmann::json::array();
+    for (std::size_t k = 0; k < r.drives.size(); ++k) {
+      j["drives_end"].push_back({{"joint", k + 1}, {"communication_fault", r.drives[k].communication_fault}, {"ready", r.drives[k].ready}});
+    }
     std::vector<double> mu_max;
     for (const auto& m : run.trace.mu) {
       double v = 0.0;

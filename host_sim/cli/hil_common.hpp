@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 #include <string>
+#include <vector>
 
 #include "cli/common.hpp"
 
@@ -14,6 +15,7 @@ struct HilOptions {
   unsigned long long seed = 0;
   bool has_seed = false;
   double duration_s = 0.0;
+  std::vector<std::string> faults;  ///< --fault KIND[:TARGET]@START[:DURATION]
   ObserverOptions observer;
   robot::LoadOptions model_options;
   /// `plant`: --iface or --bus sim; `simulate`: --bus sim only (its scenario and --out are its own).

@@ -46,6 +46,10 @@ Command add_simulate(CLI::App& app) {
       h.duration_s = opt->duration_s;
       return run_hil_command(h);
     }
+    if (!opt->hil.faults.empty()) {
+      std::fprintf(stderr, "error: --fault acts on the joint drives' bus: add --bus sim (and --threshold)\n");
+      return 2;
+    }
     sim::Scenario s = sim::load_scenario(opt->scenario, opt->seed, seed->count() > 0, opt->hil.model);
     for (const auto& a : s.effects.applied) std::printf("plant effect from the robot file: %s\n", a.c_str());
     for (const auto& a : s.effects.not_modelled) std::printf("plant effect not modelled: %s\n", a.c_str());

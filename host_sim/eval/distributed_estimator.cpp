@@ -1,5 +1,7 @@
 #include "eval/distributed_estimator.hpp"
 
+#include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -24,23 +26,34 @@ class BusEstimator final : public DistributedEstimator {
     if (!c.node_thresholds.empty() && c.node_thresholds.size() != n) {
       throw std::invalid_argument("distributed nodes: one threshold band per joint required");
     }
-    const Vec3<S> gravity = gravity_of<S>(fc.model);
     for (std::size_t j = 0; j < n; ++j) {
-      const JointThreshold<double>* band = c.node_thresholds.empty() ? nullptr : &c.node_thresholds[j];
-      const JointEstimatorParams<S> p = joint_params<S>(fc, j, band, c.debounce_cycles);
-      DriveConfig dc{NodeConfig{static_cast<std::uint8_t>(j + 1), static_cast<std::uint8_t>(n), c.fault_cycles}, true};
-      // A drive's node refers to the drive's relay port: drives never move.
-      drives_.push_back(std::make_unique<JointDrive<S, can::SimPort>>(dc, p, bus_.attach(), gravity));
+      ports_.push_back(&bus_.attach());
+      drives_.push_back(make_drive(j));
     }
+    for (const hil::FaultSpec& f : c.fault_specs) add_bus_fault(f);
   }
   void reset(const EstimatorInput&) override {}
   void step(const EstimatorInput& in, sim::JointVector& mu) override {
     const double dt = config_.estimator.dt;
     bus_.run_until(time_);
-    master_.send_cycle(cycle_, in.q.data(), in.dq.data(), in.tau_m.data());
+    apply_drive_faults();
+    if (nan_samples_) {
+      EstimatorInput bad = in;
+      for (const hil::FaultSpec& f : config_.fault_specs) {
+        if (f.kind != hil::FaultKind::nan_sensor || !f.active(time_)) continue;
+        for (Eigen::Index j = 0; j < bad.q.size(); ++j) {
+          if (f.joint == 0 || f.joint == j + 1) bad.q(j) = bad.dq(j) = bad.tau_m(j) = std::numeric_limits<double>::quiet_NaN();
+        }
+      }
+      master_.send_cycle(cycle_, bad.q.data(), bad.dq.data(), bad.tau_m.data());
+    } else {
+      master_.send_cycle(cycle_, in.q.data(), in.dq.data(), in.tau_m.data());
+    }
     for (int k = 1; k <= kPollsPerCycle; ++k) {
       bus_.run_until(time_ + dt * k / kPollsPerCycle);
-      for (auto& d : drives_) (void)d->poll();
+      for (auto& d : drives_) {
+        if (d) (void)d->poll();
+      }
       if (master_.collect()) break;
     }
     if (!master_.complete()) ++incomplete_;
@@ -57,20 +70,95 @@ class BusEstimator final : public DistributedEstimator {
   [[nodiscard]] JointMask reported_flags() const override { return master_.flagged(); }
   can::SimBus& bus() override { return bus_; }
   [[nodiscard]] bool communication_fault() const override { return master_.any_comm_fault(); }
+  [[nodiscard]] bool input_fault() const override { return master_.any_input_fault(); }
   [[nodiscard]] BusStatistics statistics() const override {
-    BusStatistics s{bus_.frames_sent(), bus_.busy_time(), time_, master_.counters(), incomplete_, master_.events(), {}};
+    BusStatistics s{bus_.frames_sent(), bus_.busy_time(), time_, master_.counters(), incomplete_, master_.events(), {}, {}};
     for (const auto& d : drives_) {
-      s.drives.push_back({d->counters(), d->node().counters(), d->node().communication_fault(), d->node().ready()});
+      if (d) {
+        s.drives.push_back({d->counters(), d->node().counters(), d->node().communication_fault(), d->node().ready()});
+      } else {
+        s.drives.push_back({});  // off (a restart under way)
+      }
     }
+    s.first_comm_fault_cycle = master_.first_comm_fault_cycle();
     return s;
   }
 
  private:
+  std::unique_ptr<JointDrive<S, can::SimPort>> make_drive(std::size_t j) const {
+    const auto& fc = config_.estimator;
+    const std::size_t n = fc.model.joints.size();
+    const JointThreshold<double>* band = config_.node_thresholds.empty() ? nullptr : &config_.node_thresholds[j];
+    const JointEstimatorParams<S> p = joint_params<S>(fc, j, band, config_.debounce_cycles);
+    const DriveConfig dc{NodeConfig{static_cast<std::uint8_t>(j + 1), static_cast<std::uint8_t>(n), config_.fault_cycles}, true};
+    // A drive's node refers to the drive's relay port: drives never move.
+    return std::make_unique<JointDrive<S, can::SimPort>>(dc, p, *ports_[j], gravity_of<S>(fc.model));
+  }
+
+  /// Frame faults, babble and link down act on the bus itself over their windows.
+  void add_bus_fault(const hil::FaultSpec& f) {
+    can::FaultWindow w;
+    w.start_s = f.start_s;
+    w.end_s = f.end_s();
+    if (f.has_id) w.ids = {f.id};
+    if (f.joint > 0) w.ids = hil::drive_identifiers(f.joint);
+    switch (f.kind) {
+      case hil::FaultKind::drop: w.effect = can::FaultWindow::Effect::drop; break;
+      case hil::FaultKind::late:
+        w.effect = can::FaultWindow::Effect::delay;
+        w.delay_s = hil::kLateDelayS;
+        break;
+      case hil::FaultKind::corrupt: w.effect = can::FaultWindow::Effect::corrupt; break;
+      case hil::FaultKind::duplicate: w.effect = can::FaultWindow::Effect::duplicate; break;
+      case hil::FaultKind::babble:
+        w.effect = can::FaultWindow::Effect::babble;
+        w.babble.id = f.id;
+        w.babble.length = 8;
+        w.babble.data[0] = 0xA5U;  // garbage: fails every check
+        break;
+      case hil::FaultKind::link_down: w.effect = can::FaultWindow::Effect::link_down; break;
+      case hil::FaultKind::nan_sensor: nan_samples_ = true; return;
+      case hil::FaultKind::bus_off:
+      case hil::FaultKind::restart: return;  // applied to the drive each cycle (apply_drive_faults)
+    }
+    bus_.add_fault(w);
+  }
+
+  /// Bus-off and restart at the cycle boundary: a drive goes off the bus (or loses power)
+  /// when its window opens and comes back when it closes; a restarted drive is a new drive
+  /// object (RAM lost) that announces itself as booting, as the `jointguard node` process does.
+  void apply_drive_faults() {
+    for (const hil::FaultSpec& f : config_.fault_specs) {
+      const auto j = static_cast<std::size_t>(f.joint - 1);
+      if (f.kind == hil::FaultKind::bus_off) {
+        if (f.active(time_)) {
+          ports_[j]->go_bus_off();
+        } else if (time_ >= f.end_s() && ports_[j]->error_state() == hal::CanErrorState::bus_off) {
+          ports_[j]->recover();
+        }
+      } else if (f.kind == hil::FaultKind::restart && time_ >= f.start_s && !restarted_[&f - config_.fault_specs.data()]) {
+        if (drives_[j]) {
+          drives_[j].reset();
+          ports_[j]->power_off();
+        }
+        if (time_ >= f.end_s()) {
+          ports_[j]->power_on();
+          drives_[j] = make_drive(j);
+          drives_[j]->announce();
+          restarted_[&f - config_.fault_specs.data()] = true;
+        }
+      }
+    }
+  }
+
   DistributedConfig config_;
   can::SimBus bus_;
   can::SimPort& master_port_;
   hil::BusMaster<can::SimPort> master_;
+  std::vector<can::SimPort*> ports_;
   std::vector<std::unique_ptr<JointDrive<S, can::SimPort>>> drives_;
+  std::vector<bool> restarted_ = std::vector<bool>(config_.fault_specs.size(), false);
+  bool nan_samples_ = false;
   std::uint32_t cycle_ = 0;
   std::size_t incomplete_ = 0;
   double time_ = 0.0;

@@ -12,6 +12,7 @@
 #include "eval/estimator.hpp"
 #include "eval/firmware_estimator.hpp"
 #include "hil/bus_master.hpp"
+#include "hil/fault_spec.hpp"
 #include "jointguard/node/joint_drive.hpp"
 
 namespace jg::eval {
@@ -22,6 +23,9 @@ struct DistributedConfig {
   /// takes 0.76 ms of wire time (0.99 ms at 5 Mbit/s, too close to the period).
   can::BusTiming timing{1e6, 8e6};
   can::FaultPlan faults{};
+  /// Faults over windows of plant time (`--fault`): frame faults, babble and link down on
+  /// the bus; bus-off, restart and NaN samples applied to the drives by the run.
+  std::vector<hil::FaultSpec> fault_specs;
   /// The drives' own detector bands (empty: the drives never flag).
   std::vector<JointThreshold<double>> node_thresholds;
   int debounce_cycles = 1;
@@ -41,6 +45,7 @@ struct BusStatistics {
   std::size_t incomplete_cycles = 0;  ///< cycles whose status frames were not all in by the next cycle
   std::vector<hil::NodeEvent> events;
   std::vector<DriveReport> drives;
+  std::vector<std::int64_t> first_comm_fault_cycle;  ///< per drive, as its status reported it (-1: never)
 };
 
 class DistributedEstimator : public Estimator {

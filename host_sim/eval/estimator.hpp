@@ -30,6 +30,8 @@ class Estimator {
   [[nodiscard]] virtual JointMask reported_flags() const { return 0; }
   /// A drive reports a communication fault (distributed runs): the arm's safe reaction.
   [[nodiscard]] virtual bool communication_fault() const { return false; }
+  /// A drive reports an input fault (a sample it could not use, e.g. NaN): the arm holds.
+  [[nodiscard]] virtual bool input_fault() const { return false; }
 };
 
 struct ReferenceEstimatorConfig {

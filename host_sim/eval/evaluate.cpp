@@ -56,6 +56,13 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       reacting = true;
       comm_stop = true;
     }
+    if (!out.t_input_fault && estimator.input_fault()) {
+      // A drive could not use its sample (NaN or out of range): same safe reaction.
+      out.t_input_fault = ctx.t;
+      if (!reacting) hold = m.q;
+      reacting = true;
+      comm_stop = true;
+    }
     if (const JointMask reported = estimator.reported_flags(); reported != 0 && !out.t_node_flagged) {
       out.t_node_flagged = ctx.t;
       out.link_node_isolated = isolate_link(reported);

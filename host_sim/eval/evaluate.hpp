@@ -43,6 +43,7 @@ struct RunResult {
   std::vector<double> false_alarm_times;   ///< detections with no contact in the preceding 0.5 s
   std::optional<double> t_node_flagged;    ///< first cycle a drive's own detector flagged (distributed runs)
   int link_node_isolated = 0;              ///< highest joint flagged by the drives at that cycle
+  std::optional<double> t_input_fault;     ///< first cycle a drive reported an input fault (the arm holds)
   std::optional<double> t_comm_fault;      ///< first cycle a drive reported a communication fault (the arm holds)
   Trace trace;
   io::Recording recording;  ///< the run's recording (kept only with record_trace)

@@ -5,12 +5,15 @@
 // is validated before use; anything else on the bus is counted and ignored.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "jointguard/detection/detector.hpp"
 #include "jointguard/hal/can.hpp"
 #include "jointguard/protocol/frames.hpp"
+#include "jointguard/protocol/sensor_validity.hpp"
 
 namespace jg::hil {
 
@@ -26,6 +29,8 @@ struct MasterCounters {
   std::uint64_t foreign = 0;       ///< identifiers the master does not read
   std::uint64_t send_failures = 0;
   std::uint64_t frames_received = 0;
+  std::uint64_t restarts = 0;          ///< drives that announced themselves again mid-run (rebooted)
+  std::uint64_t invalid_samples = 0;   ///< sensor frames sent marked invalid (the plant's value was not finite)
 };
 
 template <class Port>
@@ -34,7 +39,8 @@ class BusMaster {
 
  public:
   BusMaster(Port& port, std::size_t joints)
-      : port_(port), torque_(joints, 0.0), flags_(joints, 0), have_(joints, false), announced_(joints, false) {
+      : port_(port), torque_(joints, 0.0), flags_(joints, 0), have_(joints, false), announced_(joints, false),
+        rejoining_(joints, false), first_comm_fault_(joints, -1) {
     const hal::CanFilter filters[] = {
         {protocol::frame_id(protocol::MessageKind::status, 0), 0x7F0U},
         {protocol::frame_id(protocol::MessageKind::collision_event, 0), 0x7F0U},
@@ -52,14 +58,26 @@ class BusMaster {
       const protocol::SensorMessage<q16> m{q16::from_double(position[j]), q16::from_double(velocity[j]),
                                            q16::from_double(motor_torque[j])};
       f.length = protocol::encode_sensor(m, seq, static_cast<std::uint8_t*>(f.data));
+      // A value that is not finite must not reach the drive as a number (Q16.16 would
+      // turn NaN into 0): its field carries the invalid marker, the drive flags an input fault.
+      const double values[] = {position[j], velocity[j], motor_torque[j]};
+      bool marked = false;
+      for (std::size_t i = 0; i < 3; ++i) {
+        if (!std::isfinite(values[i])) {
+          protocol::mark_sensor_field_invalid(static_cast<std::uint8_t*>(f.data), i);
+          marked = true;
+        }
+      }
+      if (marked) ++counters_.invalid_samples;
       send(f);
     }
     hal::CanFrame sync{};
     sync.fd = true;  // short frames ride the data phase (bit-rate switch)
     sync.id = protocol::kSyncId;
     sync.length = protocol::encode_sync(cycle, static_cast<std::uint8_t*>(sync.data));
-    send(sync);
+    sync_sent_ = send(sync);
     cycle_ = cycle;
+    started_ = true;
     have_.assign(have_.size(), false);
   }
 
@@ -84,6 +102,12 @@ class BusMaster {
       }
       if ((m.flags & protocol::kStatusBooting) != 0U) {
         announced_[joint - 1] = true;  // listening, before the first sync
+        if (started_ && !rejoining_[joint - 1]) {
+          // A drive booting mid-run has restarted: its estimate is void until it is ready
+          // again; it runs from the next sync (it missed this cycle's).
+          rejoining_[joint - 1] = true;
+          ++counters_.restarts;
+        }
         continue;
       }
       if (kind == protocol::MessageKind::collision_event) {
@@ -97,6 +121,8 @@ class BusMaster {
       torque_[joint - 1] = m.external_torque.to_double();
       flags_[joint - 1] = m.flags;
       have_[joint - 1] = true;
+      if ((m.flags & protocol::kStatusReady) != 0U) rejoining_[joint - 1] = false;
+      if ((m.flags & protocol::kStatusCommFault) != 0U && first_comm_fault_[joint - 1] < 0) first_comm_fault_[joint - 1] = cycle_;
     }
     return complete();
   }
@@ -148,20 +174,42 @@ class BusMaster {
     for (const auto f : flags_) {
       if ((f & protocol::kStatusCommFault) != 0U) return true;
     }
+    for (const bool r : rejoining_) {
+      if (r) return true;
+    }
     return false;
   }
+  /// A drive flagged this cycle's inputs as unusable (a non-finite or marked-invalid sample).
+  [[nodiscard]] bool any_input_fault() const {
+    for (const auto f : flags_) {
+      if ((f & protocol::kStatusInputFault) != 0U) return true;
+    }
+    return false;
+  }
+  /// Drive j (1-based) rebooted mid-run and is not ready again yet.
+  [[nodiscard]] bool rejoining(int joint) const { return rejoining_.at(static_cast<std::size_t>(joint - 1)); }
+  /// The last send_cycle's sync went out (false: the port refused it, e.g. the link is down).
+  [[nodiscard]] bool sync_sent() const { return sync_sent_; }
+  /// Per drive, the first cycle whose status carried the communication fault (-1: never).
+  [[nodiscard]] const std::vector<std::int64_t>& first_comm_fault_cycle() const { return first_comm_fault_; }
+  /// Consecutive cycles so far without every drive's status.
+  [[nodiscard]] unsigned missing_run() const { return missing_run_; }
   [[nodiscard]] const std::vector<NodeEvent>& events() const { return events_; }
   [[nodiscard]] const MasterCounters& counters() const { return counters_; }
 
  private:
-  void send(const hal::CanFrame& f) {
-    if (port_.send(f) != hal::CanStatus::ok) ++counters_.send_failures;
+  bool send(const hal::CanFrame& f) {
+    if (port_.send(f) == hal::CanStatus::ok) return true;
+    ++counters_.send_failures;
+    return false;
   }
   Port& port_;
   std::uint32_t cycle_ = 0;
   std::vector<double> torque_;
   std::vector<std::uint8_t> flags_;
-  std::vector<bool> have_, announced_;
+  std::vector<bool> have_, announced_, rejoining_;
+  std::vector<std::int64_t> first_comm_fault_;
+  bool started_ = false, sync_sent_ = false;
   std::vector<NodeEvent> events_;
   MasterCounters counters_{};
   unsigned missing_run_ = 0;

@@ -36,6 +36,7 @@ HilResult run_hil(const sim::Scenario& scenario, const HilConfig& c) {
     dc.estimator.friction = c.friction;
     dc.node_thresholds = eval::threshold_bands(c.thresholds);
     dc.debounce_cycles = c.debounce_cycles;
+    dc.fault_specs = c.faults;
     auto est = eval::make_distributed_estimator(dc, c.scalar);
     out.run = eval::run_detection(setup, *est, d, name, true);
     const eval::BusStatistics s = est->statistics();
@@ -45,6 +46,10 @@ HilResult run_hil(const sim::Scenario& scenario, const HilConfig& c) {
     out.bus_busy_s = s.busy_s;
     out.bus_elapsed_s = s.elapsed_s;
     out.incomplete_cycles = s.incomplete_cycles;
+    out.drives = s.drives;
+    out.first_comm_fault_cycle = s.first_comm_fault_cycle;
+    out.master_comm_fault_end = est->communication_fault();
+    out.master_input_fault_end = est->input_fault();
     char bus[64];
     std::snprintf(bus, sizeof bus, "simulated CAN FD %g/%g Mbit/s", dc.timing.nominal_bps / 1e6, dc.timing.data_bps / 1e6);
     out.bus = bus;
@@ -53,10 +58,16 @@ HilResult run_hil(const sim::Scenario& scenario, const HilConfig& c) {
     mc.interface = c.interface;
     mc.joints = n;
     mc.cycle_timeout_ms = c.cycle_timeout_ms;
+    mc.period_s = 1.0 / setup.control_rate_hz;
+    check_socketcan_faults(c.faults);
+    mc.faults = c.faults;
     auto est = make_socketcan_master(mc);
     out.run = eval::run_detection(setup, *est, d, name, true);
+    out.master_comm_fault_end = est->communication_fault();
+    out.master_input_fault_end = est->input_fault();
     out.events = est->events();
     out.master = est->counters();
+    out.first_comm_fault_cycle = est->first_comm_fault_cycle();
     out.bus = "SocketCAN " + c.interface;
   }
   return out;

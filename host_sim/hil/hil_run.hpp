@@ -8,9 +8,11 @@
 #include <string>
 #include <vector>
 
+#include "eval/distributed_estimator.hpp"
 #include "eval/evaluate.hpp"
 #include "eval/pipeline.hpp"
 #include "hil/bus_master.hpp"
+#include "hil/fault_spec.hpp"
 #include "sim/scenario.hpp"
 
 namespace jg::hil {
@@ -25,6 +27,7 @@ struct HilConfig {
   Reaction reaction = Reaction::stop;
   std::string interface;                      ///< empty: simulated bus in-process; else a SocketCAN interface
   int cycle_timeout_ms = 2000;
+  std::vector<FaultSpec> faults;              ///< injected mid-run (`--fault`)
 };
 
 struct HilResult {
@@ -36,6 +39,11 @@ struct HilResult {
   double bus_elapsed_s = 0.0;                 ///< simulated bus only
   std::size_t incomplete_cycles = 0;          ///< simulated bus only
   std::string bus;
+  /// In-process only: each drive's counters and state at the end of the run.
+  std::vector<eval::DriveReport> drives;
+  bool master_comm_fault_end = false;         ///< the master's view at the end of the run
+  bool master_input_fault_end = false;
+  std::vector<std::int64_t> first_comm_fault_cycle;  ///< in-process: per drive, first cycle its status carried the fault
 };
 
 HilResult run_hil(const sim::Scenario& scenario, const HilConfig& c);

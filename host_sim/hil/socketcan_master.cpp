@@ -1,6 +1,11 @@
 #include "hil/socketcan_master.hpp"
 
+#include <cmath>
+#include <limits>
 #include <stdexcept>
+
+#include <algorithm>
+#include <cstdio>
 
 #include "jointguard/hal/socketcan.hpp"
 
@@ -13,30 +18,109 @@ std::string joint_list(const std::vector<int>& joints) {
   return s;
 }
 
+/// The master's port with its own faults applied (plant time set each cycle): frames it
+/// sends dropped, corrupted or duplicated; link down: nothing sent, nothing read.
+class FaultyPort {
+ public:
+  FaultyPort(const std::string& iface, const std::vector<FaultSpec>& faults) : port_(iface), faults_(faults) {}
+  void set_time(double t) { t_ = t; }
+  [[nodiscard]] bool link_down() const { return active(FaultKind::link_down, 0); }
+  hal::CanStatus send(const hal::CanFrame& f) {
+    if (link_down()) return hal::CanStatus::bus_off;
+    if (active(FaultKind::drop, f.id)) return hal::CanStatus::ok;  // lost on the wire
+    hal::CanFrame out = f;
+    if (active(FaultKind::corrupt, f.id) && out.length > 0) out.data[out.length / 2U] ^= 0x04U;
+    const hal::CanStatus st = port_.send(out);
+    if (st == hal::CanStatus::ok && active(FaultKind::duplicate, f.id)) (void)port_.send(out);
+    return st;
+  }
+  bool receive(hal::CanFrame& f) {
+    if (!link_down()) return port_.receive(f);
+    while (port_.receive(f)) {
+    }  // deaf while the link is down: what arrives is lost
+    return false;
+  }
+  [[nodiscard]] hal::CanErrorState error_state() const { return port_.error_state(); }
+  void set_filters(const hal::CanFilter* filters, std::size_t n) { port_.set_filters(filters, n); }
+  [[nodiscard]] bool wait_readable(std::int64_t timeout_us) const { return port_.wait_readable(timeout_us); }
+
+ private:
+  [[nodiscard]] bool active(FaultKind kind, std::uint32_t id) const {
+    for (const FaultSpec& f : faults_) {
+      if (f.kind != kind || !f.active(t_)) continue;
+      if (f.has_id && f.id != id) continue;
+      if (f.joint > 0 && id != protocol::frame_id(protocol::MessageKind::sensor, static_cast<std::uint8_t>(f.joint))) continue;
+      return true;
+    }
+    return false;
+  }
+  hal::SocketCanPort port_;
+  std::vector<FaultSpec> faults_;
+  double t_ = 0.0;
+};
+
 class SocketCanMasterImpl final : public SocketCanMaster {
  public:
-  explicit SocketCanMasterImpl(const SocketCanMasterConfig& c) : config_(c), port_(c.interface), master_(port_, c.joints) {}
+  explicit SocketCanMasterImpl(const SocketCanMasterConfig& c)
+      : config_(c), port_(c.interface, c.faults), master_(port_, c.joints), answered_(c.joints, true) {}
   void reset(const eval::EstimatorInput&) override {}
   void step(const eval::EstimatorInput& in, sim::JointVector& mu) override {
     const hal::MonotonicClock clock;
+    const double t = static_cast<double>(cycle_) * config_.period_s;
+    port_.set_time(t);
     if (cycle_ == 0) wait_for_announcements(clock);
-    master_.send_cycle(cycle_, in.q.data(), in.dq.data(), in.tau_m.data());
-    const std::uint64_t start = clock.now_us();
-    const std::uint64_t limit = 1000ULL * static_cast<std::uint64_t>(config_.cycle_timeout_ms);
-    while (!master_.collect()) {
-      if (clock.now_us() - start > limit) {
-        throw std::runtime_error("socketcan " + config_.interface + ": no status from joint(s) " + joint_list(master_.missing()) +
-                                 " for cycle " + std::to_string(cycle_) + " within " + std::to_string(limit / 1000) + " ms");
+    eval::EstimatorInput sample = in;
+    for (const FaultSpec& f : config_.faults) {
+      if (f.kind != FaultKind::nan_sensor || !f.active(t)) continue;
+      for (Eigen::Index j = 0; j < sample.q.size(); ++j) {
+        if (f.joint == 0 || f.joint == j + 1) sample.q(j) = sample.dq(j) = sample.tau_m(j) = std::numeric_limits<double>::quiet_NaN();
       }
-      (void)port_.wait_readable(50000);
     }
+    master_.send_cycle(cycle_, sample.q.data(), sample.dq.data(), sample.tau_m.data());
+    wait_for_statuses(clock);
+    for (std::size_t j = 0; j < answered_.size(); ++j) answered_[j] = !contains(master_.missing(), static_cast<int>(j + 1));
     master_.end_cycle();
+    if (!master_.complete() && master_.missing_run() == 1) {
+      std::fprintf(stderr, "socketcan %s: cycle %u closed without joint(s) %s: the master keeps syncing (5 such cycles: communication fault, hold)\n",
+                   config_.interface.c_str(), cycle_, joint_list(master_.missing()).c_str());
+    }
     const auto& torque = master_.external_torque();
     mu.resize(static_cast<Eigen::Index>(torque.size()));
     for (std::size_t j = 0; j < torque.size(); ++j) mu(static_cast<Eigen::Index>(j)) = torque[j];
     ++cycle_;
   }
   [[nodiscard]] std::string name() const override { return "drives as processes on SocketCAN " + config_.interface; }
+
+  /// Lock-step: the cycle closes when every drive's status is in. A drive that answered the
+  /// previous cycle is waited for up to cycle_timeout_ms (a loaded host may be slow); one
+  /// already silent, rebooting (it missed this sync), or a sync that never went out only
+  /// briefly, so the master keeps syncing while it holds and a restarted drive rejoins from
+  /// the next sync.
+  void wait_for_statuses(const hal::MonotonicClock& clock) {
+    const std::uint64_t start = clock.now_us();
+    const std::uint64_t full = 1000ULL * static_cast<std::uint64_t>(config_.cycle_timeout_ms);
+    // A drive already silent gets a tenth of the full wait (at least a plant period): long
+    // enough for a loaded host to catch up, short enough to keep syncing while holding.
+    const auto brief = static_cast<std::uint64_t>(std::max(config_.period_s * 1e6, static_cast<double>(full) / 10.0));
+    while (!master_.collect()) {
+      bool wait_long = master_.sync_sent() && !port_.link_down();
+      bool any_expected = false;
+      for (const int j : master_.missing()) {
+        const bool expected = answered_[static_cast<std::size_t>(j - 1)] && !master_.rejoining(j);
+        any_expected = any_expected || expected;
+      }
+      wait_long = wait_long && any_expected;
+      const std::uint64_t elapsed = clock.now_us() - start;
+      if (elapsed > (wait_long ? full : brief)) return;
+      (void)port_.wait_readable(static_cast<std::int64_t>(std::min<std::uint64_t>(wait_long ? 50000 : brief, 50000)));
+    }
+  }
+  static bool contains(const std::vector<int>& v, int x) {
+    for (const int e : v) {
+      if (e == x) return true;
+    }
+    return false;
+  }
 
   /// The bus starts only when every drive listens (each announces itself until the first
   /// sync), so a start-up does not depend on the order the processes came up in.
@@ -53,17 +137,42 @@ class SocketCanMasterImpl final : public SocketCanMaster {
   }
   [[nodiscard]] JointMask reported_flags() const override { return master_.flagged(); }
   [[nodiscard]] bool communication_fault() const override { return master_.any_comm_fault(); }
+  [[nodiscard]] bool input_fault() const override { return master_.any_input_fault(); }
   [[nodiscard]] const std::vector<NodeEvent>& events() const override { return master_.events(); }
   [[nodiscard]] MasterCounters counters() const override { return master_.counters(); }
+  [[nodiscard]] std::vector<std::int64_t> first_comm_fault_cycle() const override { return master_.first_comm_fault_cycle(); }
 
  private:
   SocketCanMasterConfig config_;
-  hal::SocketCanPort port_;
-  BusMaster<hal::SocketCanPort> master_;
+  FaultyPort port_;
+  BusMaster<FaultyPort> master_;
+  std::vector<bool> answered_;
   std::uint32_t cycle_ = 0;
 };
 
 }  // namespace
+
+void check_socketcan_faults(const std::vector<FaultSpec>& faults) {
+  for (const FaultSpec& f : faults) {
+    const char* why = nullptr;
+    switch (f.kind) {
+      case FaultKind::late: why = "delaying frames needs the bus (use --bus sim)"; break;
+      case FaultKind::babble:
+        why = "a virtual CAN bus has no arbitration, so the master cannot starve it; run `cangen IFACE -I 001 -L 8 -g 0` beside it";
+        break;
+      case FaultKind::bus_off: why = "a drive's controller is in its own process (use --bus sim)"; break;
+      case FaultKind::restart:
+        why = "restart the `jointguard node --joint J` process itself: the master keeps syncing and the drive rejoins from the next sync";
+        break;
+      default: break;
+    }
+    if (why != nullptr) throw std::invalid_argument("--fault '" + f.text + "': not injectable by the SocketCAN master: " + why);
+    if ((f.kind == FaultKind::drop || f.kind == FaultKind::corrupt || f.kind == FaultKind::duplicate) && f.has_id &&
+        f.id != protocol::kSyncId && protocol::kind_of(f.id) != protocol::MessageKind::sensor) {
+      throw std::invalid_argument("--fault '" + f.text + "': on SocketCAN the master acts only on the frames it sends (sync 0x010, sensor 0x06j)");
+    }
+  }
+}
 
 std::unique_ptr<SocketCanMaster> make_socketcan_master(const SocketCanMasterConfig& c) {
   return std::make_unique<SocketCanMasterImpl>(c);

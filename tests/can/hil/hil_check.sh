@@ -72,3 +72,36 @@ PY
   >"$out/plant7_sim.txt" || fail "in-process 7-joint run"
 cmp "$out/trace7.csv" "$out/trace7_sim.csv" || fail "7 joints: SocketCAN and in-process estimates differ"
 echo "hil_check: 7 joints: SocketCAN run and in-process run identical"
+
+# Faults mid-run (hil_payload.sh): the run goes on to its end (no abort), the master raises the
+# communication fault within 5 cycles of the first cycle it closed without a drive and the
+# arm holds, the faulted drive's neighbours report it themselves (restart), and at the end
+# every drive is back: the restarted drive 2 ran again from a sync, no drive and not the
+# master has a fault left.
+/usr/bin/python3 - "$out" <<'PY' || fail "faults mid-run on SocketCAN"
+import json, re, sys
+out = sys.argv[1]
+for fault in ("restart", "linkdown"):
+    p = json.load(open(f"{out}/plant_{fault}.json"))
+    text = open(f"{out}/plant_{fault}.txt").read()
+    r, bus = p["runs"][0], p["bus"]
+    first = re.search(r"cycle (\d+) closed without joint", text)
+    assert first, f"{fault}: the master never closed a cycle without a drive"
+    k0 = int(first.group(1))
+    assert r["t_comm_fault"] is not None, f"{fault}: no communication fault"
+    detect = round(r["t_comm_fault"] * 1000) - k0
+    assert 0 <= detect <= 5, f"{fault}: communication fault {detect} cycles after cycle {k0}"
+    assert bus["cycles"] == 2201, f"{fault}: run ended early after {bus['cycles']} cycles"
+    assert not bus["communication_fault_at_end"], f"{fault}: the master still sees a fault at the end"
+    nodes = {j: json.load(open(f"{out}/{fault}_node{j}.json")) for j in (1, 3)}
+    nodes[2] = json.load(open(f"{out}/{'restarted' if fault == 'restart' else fault}_node2.json"))
+    for j, n in nodes.items():
+        assert not n["communication_fault"], f"{fault}: drive {j} still has a communication fault"
+    if fault == "restart":
+        assert bus["restarts"] == 1, bus
+        assert nodes[2]["cycles"] > 100, f"restarted drive 2 ran {nodes[2]['cycles']} cycles"
+        fc = bus["first_comm_fault_cycle"]
+        assert fc[0] >= k0 and fc[2] >= k0, f"neighbours did not report drive 2 silent: {fc}"
+    print(f"hil_check: {fault}: drive(s) silent from cycle {k0}, communication fault {detect} cycles later, "
+          f"arm held, all drives back at the end (restarts {bus['restarts']}, drives' own fault at cycles {bus['first_comm_fault_cycle']})")
+PY

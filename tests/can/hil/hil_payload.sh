@@ -38,4 +38,48 @@ sleep 0.5
 kill "$dump"
 wait "$dump" || true
 cat out/plant7.txt
+
+# Faults mid-run (issue 14, docs/can.md "Faults"): the 3-joint run again, once with drive 2
+# killed (SIGKILL) and restarted 0.3 s later, once with vcan0 down for 0.5 s, each after the
+# master has sent 500 syncs. The master waits 100 ms for a drive that answered the previous
+# cycle, 10 ms for one already silent (--timeout-ms 100). hil_check.sh checks the end states.
+wait_syncs() {  # CAPTURE COUNT: until candump has logged COUNT cycle syncs (60 s at most)
+  n=0
+  while [ "$(grep -c ' 010##' "$1" 2>/dev/null || true)" -lt "$2" ]; do
+    sleep 0.05
+    n=$((n + 1))
+    [ "$n" -lt 1200 ] || return 1
+  done
+}
+node() {  # JOINT TAG
+  exec ./jointguard node --joint "$1" --iface vcan0 --model ref3.yaml --friction friction.json --threshold threshold.json \
+    --idle-exit 1 --startup-timeout 60 --json "out/$2_node$1.json" >"out/$2_node$1.txt" 2>&1
+}
+for fault in restart linkdown; do
+  candump -L vcan0 >"out/capture_$fault.log" &
+  dump=$!
+  sleep 0.5
+  node 1 "$fault" & p1=$!
+  node 2 "$fault" & p2=$!
+  node 3 "$fault" & p3=$!
+  ./jointguard plant hil_shoulder.yaml --iface vcan0 --friction friction.json --threshold threshold.json \
+    --timeout-ms 100 --json "out/plant_$fault.json" >"out/plant_$fault.txt" 2>&1 &
+  plant=$!
+  wait_syncs "out/capture_$fault.log" 500 || { echo "hil_payload: $fault: no 500 syncs within 60 s"; rc=1; }
+  if [ "$fault" = restart ]; then
+    kill -9 "$p2"
+    sleep 0.3
+    node 2 restarted & p2=$!
+  else
+    ip link set vcan0 down
+    sleep 0.5
+    ip link set vcan0 up
+  fi
+  wait "$plant" || rc=$?
+  for p in $p1 $p2 $p3; do wait "$p" || rc=$?; done
+  kill "$dump" 2>/dev/null || true
+  wait "$dump" || true
+  echo "== $fault"
+  cat "out/plant_$fault.txt"
+done
 exit "$rc"

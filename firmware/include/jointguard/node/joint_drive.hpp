@@ -21,6 +21,7 @@
 #include "jointguard/hal/can.hpp"
 #include "jointguard/node/joint_node.hpp"
 #include "jointguard/protocol/frames.hpp"
+#include "jointguard/protocol/sensor_validity.hpp"
 
 namespace jg {
 
@@ -111,6 +112,7 @@ class JointDrive {
   void set_sample(S position, S velocity, S motor_torque) noexcept {
     sample_ = {position, velocity, motor_torque};
     has_sample_ = true;
+    sample_valid_ = true;  // a NaN from the drive's own sensors is caught by the estimator
   }
 
   /// Before its first cycle the drive announces itself (a status frame with the booting
@@ -175,6 +177,8 @@ class JointDrive {
         sample_ = m;
         sample_seq_ = seq;
         has_sample_ = true;
+        // A field marked invalid (the plant's value was NaN): an input fault, never a number.
+        sample_valid_ = protocol::sensor_fields_valid(static_cast<const std::uint8_t*>(f.data));
       }
     } else if (!f.extended && (f.id == protocol::frame_id(protocol::MessageKind::outward, static_cast<std::uint8_t>(j - 1U)) ||
                                f.id == protocol::frame_id(protocol::MessageKind::inward, static_cast<std::uint8_t>(j + 1U)))) {
@@ -201,10 +205,13 @@ class JointDrive {
 
   void run_cycle() noexcept {
     sync_pending_ = false;
+    if (synced_ && pending_cycle_ != last_cycle_ + 1U) {
+      node_.rewarm();  // syncs were missed (bus silent, master restarted): the observer starts afresh
+    }
     synced_ = true;
     last_cycle_ = pending_cycle_;
     node_.set_cycle(static_cast<std::uint8_t>(last_cycle_ & 0xFFU));
-    const bool flag = node_.cycle(sample_.position, sample_.velocity, sample_.motor_torque);
+    const bool flag = node_.cycle(sample_.position, sample_.velocity, sample_.motor_torque, sample_valid_);
     ++counters_.cycles;
     const NodeCounters& nc = node_.counters();
     const std::uint32_t rejected =
@@ -242,7 +249,7 @@ class JointDrive {
   protocol::StatusMessage<S> status_{};
   std::uint8_t sample_seq_ = 0, stale_run_ = 0;
   std::uint32_t pending_cycle_ = 0, last_cycle_ = 0;
-  bool has_sample_ = false, sync_pending_ = false, synced_ = false, event_sent_ = false;
+  bool has_sample_ = false, sync_pending_ = false, synced_ = false, event_sent_ = false, sample_valid_ = true;
   DriveCounters counters_{};
   hal::CanFrame rx_{}, tx_{};  ///< frame buffers kept across cycles: no per-frame zeroing
 };

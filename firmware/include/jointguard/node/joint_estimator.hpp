@@ -86,6 +86,20 @@ constexpr Error joint_outward(const JointEstimatorParams<S>& p, JointEstimatorSt
   return Error::ok;
 }
 
+/// Phase 1 with a sample the drive could flag unusable (`sample_valid` false, e.g. the
+/// plant's invalid marker in a sensor frame): treated as a non-finite input.
+template <class S>
+constexpr Error joint_outward(const JointEstimatorParams<S>& p, JointEstimatorState<S>& s, S q, S dq,
+                              const OutwardMessage<S>& from_parent, OutwardMessage<S>& to_child, bool sample_valid) noexcept {
+  if (!sample_valid) {
+    s.input_fault = true;
+    ++s.rejected_cycles;
+    to_child = last_to_child(s);
+    return Error::not_finite;
+  }
+  return joint_outward(p, s, q, dq, from_parent, to_child);
+}
+
 /// Phase 2: the child's inward message -> message for the parent; then friction, observer
 /// and detector. Returns the joint's (latched) collision flag.
 /// A faulty cycle (here or in phase 1) keeps the last good outputs and flag.

@@ -45,21 +45,31 @@ class JointNode {
       : config_(config), params_(params), port_(port), from_parent_(base_message(gravity)), from_child_(tip_message<S>()) {}
 
   /// One control cycle with this joint's measurements. Returns the collision flag.
-  bool cycle(S q, S dq, S motor_torque) noexcept {
+  /// `sample_valid` false: the sample is unusable (an input fault, as a NaN would be).
+  bool cycle(S q, S dq, S motor_torque, bool sample_valid = true) noexcept {
     receive_all();
     ++since_parent_;
     ++since_child_;
     const bool has_parent = config_.joint > 1U;
     const bool has_child = config_.joint < config_.joints;
     comm_fault_ = (has_parent && since_parent_ > config_.fault_cycles) || (has_child && since_child_ > config_.fault_cycles);
+    if (comm_fault_) {
+      rewarm();  // the estimate rests on stale neighbour terms: start afresh once they are back
+    }
     if ((has_parent && parent_seq_.started && since_parent_ > 1U) || (has_child && child_seq_.started && since_child_ > 1U)) {
       ++counters_.missed_cycles;
     }
     // to_child_/to_parent_ are members: written whole every cycle, never zeroed per cycle.
-    (void)joint_outward(params_, state_, q, dq, from_parent_, to_child_);
+    (void)joint_outward(params_, state_, q, dq, from_parent_, to_child_, sample_valid);
+    if (state_.input_fault) {
+      rewarm();  // the observer misses this cycle's balance: start afresh once the inputs are good
+    }
     const bool flag = joint_inward_and_estimate(params_, state_, dq, motor_torque, from_child_, to_parent_);
     // Start-up: the chain's terms need one cycle per link to reach every node. Until then
     // the estimate is meaningless; the observer starts afresh once the chain is filled.
+    // Warming up at the start of this cycle: the estimate just computed came from the observer
+    // before its restart, so it is not reported even in the cycle the warm-up ends.
+    const bool warming = warmup_left_ > 0U;
     const bool heard = (!has_parent || parent_seq_.started) && (!has_child || child_seq_.started);
     // MISRA C++ / C 13.5: no side effect in the right operand of && (the decrement is its
     // own statement, taken only on a cycle where the chain has been heard).
@@ -71,7 +81,7 @@ class JointNode {
         state_.flagged = false;
       }
     }
-    if (warmup_left_ > 0U) {
+    if (warming) {
       state_.external_torque = S{};
     }
     if (has_child) {
@@ -81,7 +91,7 @@ class JointNode {
       send(protocol::MessageKind::inward, [&](std::uint8_t* b) { return protocol::encode_inward(to_parent_, sequence_, b); });
     }
     ++sequence_;
-    return warmup_left_ == 0U && flag;
+    return !warming && flag;
   }
 
   /// Paced by the master's sync (JointDrive): this cycle's sequence number, which the
@@ -97,6 +107,11 @@ class JointNode {
   /// Between cycles the node's sequence number is already the next cycle's (cycle() ends
   /// with ++sequence_), so a frame's age is judged as it would be at that cycle.
   void deliver(const hal::CanFrame& f) noexcept { take(f); }
+
+  /// Warm up again (estimate held at zero, no flag, not ready) until the chain is refilled:
+  /// after a communication fault or a gap in the cycles (missed syncs), the observer's
+  /// integral no longer matches the joint's momentum.
+  void rewarm() noexcept { warmup_left_ = static_cast<std::uint8_t>(config_.joints + 1U); }
 
   [[nodiscard]] const JointEstimatorState<S>& state() const noexcept { return state_; }
   [[nodiscard]] bool communication_fault() const noexcept { return comm_fault_; }

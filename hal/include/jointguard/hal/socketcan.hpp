@@ -52,6 +52,7 @@ class SocketCanPort {
   std::string interface_;
   SocketCanOptions options_;
   CanErrorState state_ = CanErrorState::error_active;
+  bool link_down_ = false;  ///< bus_off came from ENETDOWN (interface down), not from the controller
   SocketCanCounters counters_{};
 };
 
