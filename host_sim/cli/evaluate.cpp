@@ -13,7 +13,9 @@
 #include "cli/progress.hpp"
 #include "eval/experiments.hpp"
 #include "eval/parallel.hpp"
+#include "eval/safety_experiments.hpp"
 #include "io/yaml_fields.hpp"
+#include "safety/body_regions.hpp"
 #include "sim/scenario.hpp"
 
 #include <filesystem>
@@ -24,6 +26,8 @@ struct EvaluateOptions {
   std::string scenario = "paper", model = JG_DEFAULT_MODEL, json, scalar = "float", reaction = "stop";
   double rate = 1000.0, margin = 0.5, free_run_s = 0.0, calibration_s = 3600.0;
   int count = 50, debounce = 1, jobs = 0;
+  double speed = 0.8;
+  bool sweep = false;
   std::string shard;
   unsigned long long seed = 1;
   ObserverOptions observer;
@@ -33,9 +37,73 @@ struct EvaluateOptions {
 Reaction reaction_of(const std::string& s) {
   if (s == "none") return Reaction::none;
   if (s == "zero_gravity") return Reaction::zero_gravity;
+  if (s == "retreat") return Reaction::retreat;
+  if (s == "reflex") return Reaction::reflex;
   return Reaction::stop;
 }
 
+void write_safety(const eval::ExperimentConfig& c, const EvaluateOptions& o, int jobs) {
+  const std::vector<Reaction> reactions = {Reaction::none, Reaction::stop, Reaction::zero_gravity, Reaction::retreat,
+                                           Reaction::reflex};
+  std::vector<std::string> regions;
+  for (const auto& r : safety::body_regions()) regions.emplace_back(r.name);
+  std::vector<eval::SafetyCase> cases;
+  for (const auto& region : regions) {
+    for (const auto kind : {sim::CollisionProfile::free, sim::CollisionProfile::clamp}) {
+      for (const Reaction r : reactions) cases.push_back({region, kind, r, o.speed});
+    }
+  }
+  std::vector<eval::SafetyResult> results(cases.size());
+  eval::parallel_for(cases.size(), jobs, [&](std::size_t i) { results[i] = eval::run_safety_case(c, cases[i]); });
+  nlohmann::json j;
+  j["safety"]["speed_rad_s"] = o.speed;
+  j["safety"]["cases"] = nlohmann::json::array();
+  std::printf("%-16s %-6s %-13s %9s %9s %8s %8s %8s %s\n", "region", "kind", "reaction", "v [m/s]", "det [ms]", "F_tr [N]",
+              "F_qs [N]", "limit", "verdict");
+  for (const auto& r : results) {
+    const auto& out = r.outcome;
+    std::printf("%-16s %-6s %-13s %9.3f %9s %8.1f %8.1f %4.0f/%-4.0f %s\n", r.c.region.c_str(), sim::to_string(r.c.kind),
+                eval::to_string(r.c.reaction), r.contact_speed_m_s,
+                r.detection_delay_s ? std::to_string(1e3 * *r.detection_delay_s).substr(0, 5).c_str() : "-",
+                out.peak_transient_n, out.peak_quasi_static_n, out.limit_transient_n, out.limit_quasi_static_n,
+                out.within_limits ? "within" : "EXCEEDS");
+    j["safety"]["cases"].push_back(
+        {{"region", r.c.region}, {"kind", sim::to_string(r.c.kind)}, {"reaction", eval::to_string(r.c.reaction)},
+         {"contact_speed_m_s", r.contact_speed_m_s},
+         {"detection_delay_s", r.detection_delay_s ? nlohmann::json(*r.detection_delay_s) : nlohmann::json(nullptr)},
+         {"link_isolated", r.run.link_isolated},
+         {"peak_transient_n", out.peak_transient_n}, {"peak_quasi_static_n", out.peak_quasi_static_n},
+         {"limit_transient_n", out.limit_transient_n}, {"limit_quasi_static_n", out.limit_quasi_static_n},
+         {"within_limits", out.within_limits}});
+  }
+  if (o.sweep) {
+    const std::vector<double> speeds = {0.1, 0.2, 0.3, 0.4, 0.6, 0.8, 1.0, 1.25, 1.5, 2.0};
+    const auto allowed = eval::allowed_speeds(c, regions, reactions, speeds, jobs);
+    j["safety"]["allowed_speed"] = nlohmann::json::array();
+    j["safety"]["sweep_speeds_rad_s"] = speeds;
+    std::printf("\nlargest waist speed [rad/s] (contact point [m/s]) within the limits, free and clamped:\n%-16s", "region");
+    for (const Reaction r : reactions) std::printf(" %-18s", eval::to_string(r));
+    std::printf("\n");
+    for (std::size_t k = 0; k < allowed.size(); ++k) {
+      const auto& a = allowed[k];
+      if (k % reactions.size() == 0) std::printf("%-16s", a.region.c_str());
+      std::printf(" %-18s", a.joint_speed_rad_s ? (std::to_string(*a.joint_speed_rad_s).substr(0, 4) + " (" +
+                                                    std::to_string(*a.contact_speed_m_s).substr(0, 4) + ")").c_str()
+                                                 : "below 0.1");
+      if (k % reactions.size() == reactions.size() - 1) std::printf("\n");
+      j["safety"]["allowed_speed"].push_back(
+          {{"region", a.region}, {"reaction", eval::to_string(a.reaction)},
+           {"joint_speed_rad_s", a.joint_speed_rad_s ? nlohmann::json(*a.joint_speed_rad_s) : nlohmann::json(nullptr)},
+           {"contact_speed_m_s", a.contact_speed_m_s ? nlohmann::json(*a.contact_speed_m_s) : nlohmann::json(nullptr)}});
+    }
+  }
+  j["safety"]["model"] = c.model.name;
+  j["safety"]["source"] = "ISO/TS 15066:2016 Annex A, Tables A.2 and A.3 (as commonly quoted; check against your copy)";
+  if (!o.json.empty()) {
+    write_json_file(o.json, j);
+    std::printf("wrote %s\n", o.json.c_str());
+  }
+}
 }  // namespace
 
 Command add_evaluate(CLI::App& app) {
@@ -45,7 +113,9 @@ Command add_evaluate(CLI::App& app) {
                                  "on the simulated arm with the firmware core in the loop. Friction is identified from an\n"
                                  "excitation run and thresholds calibrated on collision-free motion first.\n"
                                  "Example: jointguard evaluate --scenario paper --rate 125 --scalar q --json out/paper125.json");
-  cmd->add_option("--scenario", o->scenario, "paper, campaign or a scenario file (YAML)")->capture_default_str();
+  cmd->add_option("--scenario", o->scenario, "paper, campaign, safety (ISO/TS 15066 body regions) or a scenario file (YAML)")->capture_default_str();
+  cmd->add_option("--speed", o->speed, "safety: peak waist speed of the test swing [rad/s]")->capture_default_str()->check(finite_range(0.05, 3.0));
+  cmd->add_flag("--sweep", o->sweep, "safety: also the largest speed each region and reaction allow");
   cmd->add_option("--model", o->model, "Robot file (YAML or URDF)")->capture_default_str()->check(CLI::ExistingFile);
   add_model_selection(cmd, o->model_options);
   cmd->add_option("--rate", o->rate, "Control and observer rate [Hz]")->capture_default_str()->check(CLI::Range(50.0, 20000.0));
@@ -56,7 +126,7 @@ Command add_evaluate(CLI::App& app) {
   cmd->add_option("--calibration", o->calibration_s, "Collision-free run the thresholds are calibrated on [s]")->capture_default_str()->check(CLI::Range(10.0, 86400.0));
   cmd->add_option("--margin", o->margin, "Threshold margin above the observed band [N·m]")->capture_default_str()->check(finite_range(0.0, 1000.0));
   cmd->add_option("--debounce", o->debounce, "Cycles over threshold before a detection")->capture_default_str()->check(CLI::Range(1, 50));
-  cmd->add_option("--reaction", o->reaction, "Reaction on detection")->check(CLI::IsMember({"none", "stop", "zero_gravity"}))->capture_default_str();
+  cmd->add_option("--reaction", o->reaction, "Reaction on detection")->check(CLI::IsMember({"none", "stop", "zero_gravity", "retreat", "reflex"}))->capture_default_str();
   cmd->add_option("--json", o->json, "Write the runs and summary here (contract format; with --shard: this part)");
   cmd->add_option("--jobs", o->jobs, "Threads for the independent runs (0: all cores); the output does not depend on it")
       ->capture_default_str()->check(CLI::Range(0, 1024));
@@ -76,7 +146,7 @@ Command add_evaluate(CLI::App& app) {
             eval::ExperimentConfig c;
             std::string model_path = o->model;
             std::unique_ptr<sim::Scenario> scenario;
-            if (o->scenario != "paper" && o->scenario != "campaign") {
+            if (o->scenario != "paper" && o->scenario != "campaign" && o->scenario != "safety") {
               scenario = std::make_unique<sim::Scenario>(sim::load_scenario(o->scenario));
               model_path = (std::filesystem::path(o->scenario).parent_path() /
                             io::YamlFields::load_file(o->scenario).text("model")).string();
@@ -97,6 +167,11 @@ Command add_evaluate(CLI::App& app) {
             const double free_s = o->free_run_s > 0.0 ? o->free_run_s : (o->scenario == "campaign" ? 600.0 : 120.0);
             Progress bar("evaluate");
             eval::prepare(c, o->margin, [&](double f) { bar.update(0.3 * f); });
+            if (o->scenario == "safety") {
+              bar.finish();
+              write_safety(c, *o, split.jobs);
+              return 0;
+            }
             EvaluateFigures fig;
             std::size_t runs_total = 1;
             if (o->scenario == "paper") {
@@ -109,6 +184,25 @@ Command add_evaluate(CLI::App& app) {
               auto est = eval::estimator_for(c);
               const eval::DetectionConfig d = eval::detection_for(c);
               fig.runs.push_back(eval::run_detection(scenario->setup, *est, d, scenario->setup.meta.scenario, false));
+              const auto& events = scenario->setup.collisions;
+              if (!events.empty() && !events.front().body_region.empty()) {
+                // ISO/TS 15066: the force the body part felt, from the contact's onset.
+                const auto& f = fig.runs.back().contact_force_n;
+                const auto onset = std::find_if(f.begin(), f.end(), [](double x) { return x > 0.0; });
+                const safety::BodyRegion& region = safety::body_region(events.front().body_region);
+                const safety::ContactOutcome out = safety::assess(region, std::vector<double>(onset, f.end()), 1.0 / c.rate_hz);
+                std::printf("%s (%s contact), reaction %s: peak transient %.1f N (limit %.0f N), quasi-static %.1f N "
+                            "(limit %.0f N): %s\n",
+                            region.name, sim::to_string(events.front().profile), o->reaction.c_str(), out.peak_transient_n,
+                            region.transient_factor > 0.0 ? out.limit_transient_n : out.limit_quasi_static_n,
+                            out.peak_quasi_static_n, out.limit_quasi_static_n, out.within_limits ? "within the limits" : "EXCEEDS the limits");
+                fig.extra["safety"] = {{"region", region.name}, {"kind", sim::to_string(events.front().profile)},
+                                       {"reaction", o->reaction}, {"peak_transient_n", out.peak_transient_n},
+                                       {"peak_quasi_static_n", out.peak_quasi_static_n},
+                                       {"limit_transient_n", out.limit_transient_n},
+                                       {"limit_quasi_static_n", out.limit_quasi_static_n},
+                                       {"within_limits", out.within_limits}};
+              }
             }
             fig.free_run = eval::free_run_segments(c, free_s, split, [&](double f) { bar.update(0.8 + 0.2 * f); });
             fig.free_run_s = free_s;

@@ -79,6 +79,7 @@ nlohmann::json evaluate_json(const EvaluateFigures& f) {
             {"false_alarm_run_s", f.free_run_s}, {"false_alarm_times", fr.times},
             {"false_alarm_segments", f.free_run.size()}, {"false_alarm_segment_s", eval::kFreeRunSegmentS}});
   j["summary"] = s;
+  for (const auto& [key, value] : f.extra.items()) j[key] = value;
   return j;
 }
 

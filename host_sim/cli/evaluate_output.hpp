@@ -16,6 +16,7 @@ struct EvaluateFigures {
   std::vector<eval::FreeRunSegment> free_run;  ///< index order
   double free_run_s = 0.0;                     ///< the whole free run [s]
   nlohmann::json config;  ///< the summary's configuration fields (thresholds, rate, gains, ...)
+  nlohmann::json extra = nlohmann::json::object();  ///< further top-level fields (e.g. "safety")
 };
 
 /// The contract JSON (../shared/CONTRACT.md, `evaluate`).

@@ -41,6 +41,13 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
   }
   bool started = false, reacting = false, comm_stop = false;
   sim::JointVector hold;
+  // Retreat: the path the arm came along (joint positions per cycle, newest last, the
+  // last few seconds) and the point it goes back to; reflex: the collided joints.
+  std::vector<sim::JointVector> path;
+  const std::size_t path_capacity = static_cast<std::size_t>(3.0 * setup.control_rate_hz) + 1;
+  sim::JointVector retreat_to;
+  double t_reaction = 0.0;
+  JointMask collided = 0;
   sim::JointVector mu;
   JointMask mask = 0;
   double last_alarm_t = -1e9;
@@ -48,6 +55,10 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
   const sim::ControlOverride hook = [&](const sim::CycleContext& ctx) -> std::optional<sim::JointVector> {
     const sim::Measurement& m = *ctx.measurement;
     estimate(estimator, m, started, mu);
+    if (!reacting && d.reaction == Reaction::retreat) {
+      if (path.size() == path_capacity) path.erase(path.begin());
+      path.push_back(m.q);
+    }
     if (!out.t_comm_fault && estimator.communication_fault()) {
       // A drive lost its neighbours: its estimate is no longer trustworthy, so the arm
       // takes the safe reaction (hold) whatever the configured collision reaction is.
@@ -97,7 +108,17 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
         }
       }
       out.link_isolated = isolate_link(signature);
-      if (!reacting) hold = m.q;
+      collided = signature;
+      if (!reacting) {
+        hold = m.q;
+        t_reaction = ctx.t;
+        retreat_to = m.q;
+        double back = 0.0;  // walk back along the recorded path by retreat_rad
+        for (std::size_t k = path.size(); k-- > 1 && back < d.retreat_rad;) {
+          back += (path[k] - path[k - 1]).norm();
+          retreat_to = path[k - 1];
+        }
+      }
       reacting = reacting || d.reaction != Reaction::none;
     }
     mask = now;
@@ -110,7 +131,28 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
     }
     if (!reacting) return std::nullopt;
     sim::JointVector demand = nominal.gravity_torque(m.q);
-    if (comm_stop || d.reaction == Reaction::stop || d.reaction == Reaction::retreat) {
+    const double since = ctx.t - t_reaction;
+    if (!comm_stop && d.reaction == Reaction::retreat) {
+      // Back along the path to retreat_to over retreat_s (linear in joint space), then hold.
+      const double s_path = std::clamp(since / d.retreat_s, 0.0, 1.0);
+      const sim::JointVector ref = hold + s_path * (retreat_to - hold);
+      for (std::size_t j = 0; j < n; ++j) {
+        const auto i = static_cast<Eigen::Index>(j);
+        demand(i) += 2.0 * (ref(i) - m.q(i)) * 1000.0 - 60.0 * m.dq(i);
+      }
+    } else if (!comm_stop && d.reaction == Reaction::reflex) {
+      // The collided joints push along the estimated contact torque for reflex_s (the arm
+      // moves away from the contact), the others hold; then everything holds where it is.
+      for (std::size_t j = 0; j < n; ++j) {
+        const auto i = static_cast<Eigen::Index>(j);
+        if (since <= d.reflex_s && (collided & (1U << j)) != 0U) {
+          demand(i) += d.reflex_gain * mu(i) - 5.0 * m.dq(i);
+          hold(i) = m.q(i);  // hold where the reflex ends
+        } else {
+          demand(i) += 2.0 * (hold(i) - m.q(i)) * 1000.0 - 60.0 * m.dq(i);
+        }
+      }
+    } else if (comm_stop || d.reaction == Reaction::stop) {
       for (std::size_t j = 0; j < n; ++j) {
         const auto i = static_cast<Eigen::Index>(j);
         demand(i) += 2.0 * (hold(i) - m.q(i)) * 1000.0 - 60.0 * m.dq(i);
@@ -141,6 +183,7 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
     }
   }
   out.peak_force_n = r.peak_contact_force_n;
+  out.contact_force_n = std::move(r.contact_force_n);
   if (record_trace) {
     out.trace.tau_ext = rec.tau_ext;
     out.trace.t.resize(std::min(out.trace.t.size(), rec.t.size()));

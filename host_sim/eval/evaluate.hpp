@@ -21,6 +21,10 @@ struct DetectionConfig {
   int debounce_cycles = 1;
   Reaction reaction = Reaction::stop;
   std::vector<LuGreParams<double>> friction;  ///< for the zero-gravity mode's friction compensation
+  double retreat_rad = 0.1;   ///< retreat: joint-space path length [rad] to go back along
+  double retreat_s = 0.3;     ///< retreat: time to go back [s], then hold
+  double reflex_gain = 1.0;   ///< reflex: motor torque = gravity + gain x estimated contact torque
+  double reflex_s = 0.3;      ///< reflex: duration [s], then hold where the arm is
 };
 
 struct Trace {
@@ -45,6 +49,7 @@ struct RunResult {
   int link_node_isolated = 0;              ///< highest joint flagged by the drives at that cycle
   std::optional<double> t_input_fault;     ///< first cycle a drive reported an input fault (the arm holds)
   std::optional<double> t_comm_fault;      ///< first cycle a drive reported a communication fault (the arm holds)
+  std::vector<double> contact_force_n;     ///< contact force per control cycle [N] (runs with collisions)
   Trace trace;
   io::Recording recording;  ///< the run's recording (kept only with record_trace)
 };

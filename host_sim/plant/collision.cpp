@@ -11,12 +11,13 @@ const char* to_string(CollisionProfile p) {
     case CollisionProfile::impact: return "impact";
     case CollisionProfile::push: return "push";
     case CollisionProfile::clamp: return "clamp";
+    case CollisionProfile::free: return "free";
   }
   return "unknown";
 }
 
 bool parse_profile(const std::string& s, CollisionProfile& out) {
-  for (const auto p : {CollisionProfile::impact, CollisionProfile::push, CollisionProfile::clamp}) {
+  for (const auto p : {CollisionProfile::impact, CollisionProfile::push, CollisionProfile::clamp, CollisionProfile::free}) {
     if (s == to_string(p)) {
       out = p;
       return true;
@@ -32,6 +33,9 @@ CollisionSchedule::CollisionSchedule(std::vector<CollisionEvent> events) : event
       throw std::invalid_argument("CollisionSchedule: invalid collision event (direction, link, force or timing)");
     }
     e.direction_base /= n;
+    if (e.profile == CollisionProfile::free && !(e.body_mass_kg > 0.0)) {
+      throw std::invalid_argument("CollisionSchedule: a free contact needs the body part's mass (> 0 kg)");
+    }
   }
   reset();
 }
@@ -39,6 +43,18 @@ CollisionSchedule::CollisionSchedule(std::vector<CollisionEvent> events) : event
 void CollisionSchedule::reset() {
   anchored_.assign(events_.size(), false);
   anchor_.assign(events_.size(), Eigen::Vector3d::Zero());
+  body_position_.assign(events_.size(), 0.0);
+  body_velocity_.assign(events_.size(), 0.0);
+  last_t_.assign(events_.size(), 0.0);
+  direction_.clear();
+  for (const auto& e : events_) direction_.push_back(e.direction_base);
+}
+
+void CollisionSchedule::onset_direction(std::size_t k, const ArmDynamics& arm, const JointVector& q, const JointVector& qd) {
+  const CollisionEvent& e = events_[k];
+  if (!e.against_motion) return;
+  const Eigen::Vector3d v = arm.point_jacobian(q, e.link - 1, e.point_in_link) * qd;
+  if (v.norm() > 1e-9) direction_[k] = -v.normalized();
 }
 
 ContactForce CollisionSchedule::operator()(double t, const ArmDynamics& arm, const JointVector& q,
@@ -63,6 +79,33 @@ ContactForce CollisionSchedule::operator()(double t, const ArmDynamics& arm, con
         magnitude = e.peak_force_n * std::min(up, down);
         break;
       }
+      case CollisionProfile::free: {
+        // The body part stands where the contact point is at the onset and is pushed
+        // along -direction; its displacement x_b follows m_b x_b'' = F (free, no support).
+        const LinkPoses P = arm.poses(q);
+        const int i = e.link - 1;
+        const Eigen::Vector3d x = P.origin[i] + P.rotation[i] * e.point_in_link;
+        if (!anchored_[k]) {
+          anchor_[k] = x;
+          anchored_[k] = true;
+          last_t_[k] = t;
+          onset_direction(k, arm, q, qd);
+        }
+        const double h = std::max(0.0, t - last_t_[k]);
+        last_t_[k] = t;
+        const double arm_travel = -(x - anchor_[k]).dot(direction_[k]);
+        const Eigen::Vector3d v = arm.point_jacobian(q, i, e.point_in_link) * qd;
+        const double arm_speed = -v.dot(direction_[k]);
+        const double compression = arm_travel - body_position_[k];
+        const double rate = arm_speed - body_velocity_[k];
+        magnitude = compression > 0.0
+                        ? std::clamp(e.stiffness_n_per_m * compression + e.damping_n_s_per_m * rate, 0.0, e.peak_force_n)
+                        : 0.0;
+        // Semi-implicit Euler over the interval since the last call (the plant's step).
+        body_velocity_[k] += h * magnitude / e.body_mass_kg;
+        body_position_[k] += h * body_velocity_[k];
+        break;
+      }
       case CollisionProfile::clamp: {
         const LinkPoses P = arm.poses(q);
         const int i = e.link - 1;
@@ -70,11 +113,12 @@ ContactForce CollisionSchedule::operator()(double t, const ArmDynamics& arm, con
         if (!anchored_[k]) {
           anchor_[k] = x;
           anchored_[k] = true;
+          onset_direction(k, arm, q, qd);
         }
         // The obstacle pushes along `direction`; the arm penetrates by moving against it.
-        const double penetration = -(x - anchor_[k]).dot(e.direction_base);
+        const double penetration = -(x - anchor_[k]).dot(direction_[k]);
         const Eigen::Vector3d v = arm.point_jacobian(q, i, e.point_in_link) * qd;
-        const double rate = -v.dot(e.direction_base);
+        const double rate = -v.dot(direction_[k]);
         magnitude = penetration > 0.0
                         ? std::clamp(e.stiffness_n_per_m * penetration + e.damping_n_s_per_m * rate, 0.0, e.peak_force_n)
                         : 0.0;
@@ -84,7 +128,7 @@ ContactForce CollisionSchedule::operator()(double t, const ArmDynamics& arm, con
     ContactForce f;
     f.link = e.link - 1;
     f.point_in_link = e.point_in_link;
-    f.force_base = std::max(0.0, magnitude) * e.direction_base;
+    f.force_base = std::max(0.0, magnitude) * direction_[k];
     return f;
   }
   return {};

@@ -15,6 +15,8 @@ enum class CollisionProfile {
   push,    ///< linear ramp over `rise_s` to the peak, held until `duration_s`, released over `rise_s`
   clamp,   ///< a stiff obstacle appears at the contact point: force = stiffness x penetration
            ///< (plus damping), capped at the peak, for `duration_s`; depends on the arm's motion
+  free,    ///< a free body part (effective mass `body_mass_kg`) through its tissue spring: the arm
+           ///< pushes it away (transient contact, ISO/TS 15066); compressive only, capped at the peak
 };
 
 [[nodiscard]] const char* to_string(CollisionProfile p);
@@ -31,6 +33,10 @@ struct CollisionEvent {
   double rise_s = 0.1;
   double stiffness_n_per_m = 25000.0;  ///< clamp only (ISO/TS 15066 body-region order)
   double damping_n_s_per_m = 200.0;    ///< clamp only
+  double body_mass_kg = 0.0;           ///< free only: the body part's effective mass [kg]
+  std::string body_region;             ///< ISO/TS 15066 region the contact stands for ("" none)
+  bool against_motion = false;         ///< clamp/free: the direction is set at the onset, against
+                                       ///< the contact point's velocity (the body part in the way)
 };
 
 /// Applies a list of events (at most one active at a time: the earliest active wins).
@@ -44,9 +50,12 @@ class CollisionSchedule {
   [[nodiscard]] const std::vector<CollisionEvent>& events() const { return events_; }
 
  private:
+  void onset_direction(std::size_t k, const ArmDynamics& arm, const JointVector& q, const JointVector& qd);
   std::vector<CollisionEvent> events_;
   std::vector<bool> anchored_;
   std::vector<Eigen::Vector3d> anchor_;
+  std::vector<double> body_position_, body_velocity_, last_t_;
+  std::vector<Eigen::Vector3d> direction_;  ///< per event, fixed at the onset when against_motion  ///< free contacts: the body part along the push
 };
 
 /// Draws a random campaign (seeded): link from `links`, point along the link, direction

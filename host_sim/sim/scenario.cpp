@@ -1,4 +1,5 @@
 #include "sim/scenario.hpp"
+#include "safety/body_regions.hpp"
 
 #include <filesystem>
 
@@ -52,7 +53,20 @@ std::shared_ptr<const Trajectory> parse_trajectory(const YamlFields& t, std::siz
     return make_random_moves(to_joint_vector(t.numbers("start_rad", n)), to_joint_vector(t.numbers("lower_rad", n)),
                              to_joint_vector(t.numbers("upper_rad", n)), speed, t.number("duration_s"), seed);
   }
-  t.fail("type", "unknown trajectory type '" + type + "' (excitation, pick, random)");
+  if (type == "move") {
+    // One rest-to-rest quintic move whose fastest joint peaks at peak_speed_rad_s (the
+    // quintic's peak is 1.875 x its mean speed), then a dwell: the ISO/TS 15066 scenarios.
+    t.allow_only({"type", "start_rad", "target_rad", "peak_speed_rad_s", "dwell_s"});
+    const JointVector start = to_joint_vector(t.numbers("start_rad", n)), target = to_joint_vector(t.numbers("target_rad", n));
+    const double speed = t.number("peak_speed_rad_s");
+    if (!(speed > 0.0) || speed > 10.0) t.fail("peak_speed_rad_s", "expected in (0, 10]");
+    const double travel = (target - start).cwiseAbs().maxCoeff();
+    if (!(travel > 0.0)) t.fail("target_rad", "must differ from start_rad");
+    const double dwell = t.number("dwell_s", 2.0);
+    if (!(dwell >= 0.0) || dwell > 3600.0) t.fail("dwell_s", "expected in [0, 3600]");
+    return std::make_unique<WaypointTrajectory>(start, std::vector<WaypointTrajectory::Waypoint>{{target, 1.875 * travel / speed, dwell}});
+  }
+  t.fail("type", "unknown trajectory type '" + type + "' (excitation, pick, random, move)");
 }
 
 JointFrictionTruth parse_friction(const YamlFields& f, const JointFrictionTruth& base) {
@@ -83,7 +97,7 @@ JointFrictionTruth parse_friction(const YamlFields& f, const JointFrictionTruth&
 
 CollisionEvent parse_collision(const YamlFields& c, std::size_t n) {
   c.allow_only({"t_s", "link", "point_m", "direction", "profile", "peak_force_n", "duration_s", "rise_s",
-                "stiffness_n_per_m", "damping_n_s_per_m"});
+                "stiffness_n_per_m", "damping_n_s_per_m", "body_region"});
   CollisionEvent e;
   e.t_start = c.number("t_s");
   const long link = c.integer("link", -1);
@@ -91,11 +105,33 @@ CollisionEvent parse_collision(const YamlFields& c, std::size_t n) {
   e.link = static_cast<int>(link);
   const auto p = c.numbers("point_m", 3);
   e.point_in_link = {p[0], p[1], p[2]};
-  const auto d = c.numbers("direction", 3);
-  e.direction_base = {d[0], d[1], d[2]};
-  if (!(e.direction_base.norm() > 0.0)) c.fail("direction", "must not be zero");
-  if (!parse_profile(c.text("profile", "impact"), e.profile)) c.fail("profile", "expected impact, push or clamp");
-  e.peak_force_n = c.number("peak_force_n");
+  if (c.text("direction", "") == "against_motion") {
+    e.against_motion = true;  // resolved at the onset: the body part stands in the way
+  } else {
+    const auto d = c.numbers("direction", 3);
+    e.direction_base = {d[0], d[1], d[2]};
+    if (!(e.direction_base.norm() > 0.0)) c.fail("direction", "must not be zero");
+  }
+  if (!parse_profile(c.text("profile", "impact"), e.profile)) c.fail("profile", "expected impact, push, clamp or free");
+  // A body region (ISO/TS 15066 Annex A) gives a clamp or free contact its spring constant
+  // and, for a free contact, the body part's effective mass; the force is then what the
+  // arm's motion makes it (no cap unless peak_force_n is given).
+  e.body_region = c.text("body_region", "");
+  if (!e.body_region.empty()) {
+    try {
+      const safety::BodyRegion& r = safety::body_region(e.body_region);
+      e.stiffness_n_per_m = r.spring_n_per_m;
+      e.body_mass_kg = r.effective_mass_kg;
+    } catch (const std::invalid_argument& err) {
+      c.fail("body_region", err.what());
+    }
+    if (e.profile != CollisionProfile::clamp && e.profile != CollisionProfile::free) {
+      c.fail("body_region", "applies to clamp and free contacts only");
+    }
+  } else if (e.profile == CollisionProfile::free) {
+    c.fail("body_region", "a free contact needs a body region (its effective mass)");
+  }
+  e.peak_force_n = e.body_region.empty() ? c.number("peak_force_n") : c.number("peak_force_n", 1e4);
   if (!(e.peak_force_n > 0.0)) c.fail("peak_force_n", "expected > 0");
   e.duration_s = c.number("duration_s", e.duration_s);
   if (!(e.duration_s > 0.0)) c.fail("duration_s", "expected > 0");

@@ -102,6 +102,7 @@ SimulationResult run_simulation(const SimulationSetup& setup, const ControlOverr
     external = plant.external_torque();
     contact_link = plant.contact_link();
     result.peak_contact_force_n = std::max(result.peak_contact_force_n, plant.peak_contact_force());
+    if (!setup.collisions.empty()) result.contact_force_n.push_back(plant.peak_contact_force());
     if (progress && k % progress_every == 0) {
       progress(static_cast<double>(k) / static_cast<double>(cycles));
     }

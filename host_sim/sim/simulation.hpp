@@ -50,6 +50,9 @@ struct SimulationSetup {
 struct SimulationResult {
   io::Recording recording;  ///< empty when setup.record is false
   double peak_contact_force_n = 0.0;
+  /// Largest contact force within each control cycle [N] (only when the setup has
+  /// collisions): the force a person felt over time, for the ISO/TS 15066 assessment.
+  std::vector<double> contact_force_n;
   double simulated_s = 0.0;
   long cycles = 0;
 };

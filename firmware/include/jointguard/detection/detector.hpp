@@ -88,6 +88,8 @@ enum class Reaction : std::uint8_t {
   stop = 1,          ///< hold the position where the collision was detected
   zero_gravity = 2,  ///< torque mode: gravity and friction compensated, the arm yields
   retreat = 3,       ///< move back along the path for a short distance, then hold
+  reflex = 4,        ///< the collided joints push along the estimated contact torque (away
+                     ///< from the contact) for a moment, the others hold; then hold
 };
 
 }  // namespace jg

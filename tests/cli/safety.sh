@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# ISO/TS 15066 outcomes (issue 17): the shipped body-region scenarios stay within their
+# region's limits with the default reaction (stop), the clamped ones exceed them without a
+# reaction; the built-in safety table covers every region, contact kind and reaction; a
+# bad body region is refused naming the field.
+# Usage: safety.sh JOINTGUARD SOURCE_DIR
+set -euo pipefail
+J="$1"
+SRC="$2"
+T="$(mktemp -d)"
+trap 'rm -rf "${T}"' EXIT
+for s in hand_clamp lower_arm_free chest_clamp abdomen_free; do
+  reactions="stop"
+  case "${s}" in *clamp) reactions="stop none" ;; esac
+  for r in ${reactions}; do
+    "${J}" evaluate --scenario "${SRC}/scenarios/iso_${s}.yaml" --calibration 120 --free-run 30 --reaction "${r}" \
+      --json "${T}/${s}_${r}.json" > /dev/null
+  done
+done
+python3 - "${T}" <<'PY'
+import json, sys, os
+t = sys.argv[1]
+for s in ["hand_clamp", "lower_arm_free", "chest_clamp", "abdomen_free"]:
+    stop = json.load(open(os.path.join(t, s + "_stop.json")))["safety"]
+    assert stop["within_limits"], (s, stop)
+    assert stop["peak_quasi_static_n"] <= stop["limit_quasi_static_n"], (s, stop)
+    assert stop["peak_transient_n"] <= 2 * stop["limit_quasi_static_n"], (s, stop)
+    if s.endswith("clamp"):
+        none = json.load(open(os.path.join(t, s + "_none.json")))["safety"]
+        assert stop["peak_transient_n"] <= none["peak_transient_n"] + 1e-9, (s, stop, none)
+        assert not none["within_limits"], (s, none)  # without a reaction the clamp exceeds its limit
+        assert none["peak_quasi_static_n"] > 5 * stop["peak_quasi_static_n"] + 1, (s, none, stop)
+    print(s, "stop: transient %.1f N, quasi-static %.1f N" % (stop["peak_transient_n"], stop["peak_quasi_static_n"]))
+PY
+"${J}" evaluate --scenario safety --calibration 120 --json "${T}/table.json" > /dev/null
+python3 - "${T}/table.json" <<'PY'
+import json, sys
+cases = json.load(open(sys.argv[1]))["safety"]["cases"]
+assert len(cases) == 12 * 2 * 5, len(cases)
+assert {c["reaction"] for c in cases} == {"none", "stop", "zero_gravity", "retreat", "reflex"}
+assert all(c["detection_delay_s"] is not None for c in cases), "every contact detected"
+PY
+# A bad body region: exit 1, the field named.
+sed 's/body_region: hand/body_region: elbowx/' "${SRC}/scenarios/iso_hand_clamp.yaml" > "${T}/bad.yaml"
+sed -i "s#model: ../models/ref3.yaml#model: ${SRC}/models/ref3.yaml#" "${T}/bad.yaml"
+if "${J}" evaluate --scenario "${T}/bad.yaml" --json "${T}/bad.json" 2> "${T}/err"; then exit 1; fi
+grep -q "body_region" "${T}/err"
+test ! -e "${T}/bad.json"
+echo "safety: body-region scenarios within their limits with stop, table complete"
