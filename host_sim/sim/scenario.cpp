@@ -105,7 +105,8 @@ CollisionEvent parse_collision(const YamlFields& c, std::size_t n) {
   e.link = static_cast<int>(link);
   const auto p = c.numbers("point_m", 3);
   e.point_in_link = {p[0], p[1], p[2]};
-  if (c.text("direction", "") == "against_motion") {
+  const YAML::Node direction = c.has("direction") ? c.node()["direction"] : YAML::Node();
+  if (direction.IsScalar() && direction.as<std::string>() == "against_motion") {
     e.against_motion = true;  // resolved at the onset: the body part stands in the way
   } else {
     const auto d = c.numbers("direction", 3);
