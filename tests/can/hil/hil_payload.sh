@@ -2,7 +2,7 @@
 # as `jointguard node` processes and the simulated arm as `jointguard plant`, all on vcan0,
 # with candump recording the traffic. hil_check.sh checks the results on the host.
 set -eu
-candump -L vcan0 >out/capture.log &
+candump -r 4194304 -L vcan0 >out/capture.log &
 dump=$!
 sleep 0.5
 pids=""
@@ -22,7 +22,7 @@ cat out/plant.txt out/node1.txt out/node2.txt out/node3.txt
 [ "$rc" = 0 ] || exit "$rc"
 
 # Seven drives (the Franka model, 400 Hz): the 7-joint traffic for the bus-load table.
-candump -L vcan0 >out/capture7.log &
+candump -r 4194304 -L vcan0 >out/capture7.log &
 dump=$!
 sleep 0.5
 pids=""
@@ -56,7 +56,7 @@ node() {  # JOINT TAG
     --idle-exit 1 --startup-timeout 60 --json "out/$2_node$1.json" >"out/$2_node$1.txt" 2>&1
 }
 for fault in restart linkdown; do
-  candump -L vcan0 >"out/capture_$fault.log" &
+  candump -r 4194304 -L vcan0 >"out/capture_$fault.log" &
   dump=$!
   sleep 0.5
   node 1 "$fault" & p1=$!
