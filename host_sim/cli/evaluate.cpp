@@ -19,7 +19,9 @@ namespace jg::cli {
 namespace {
 struct EvaluateOptions {
   std::string scenario = "paper", model = JG_DEFAULT_MODEL, json, scalar = "float", reaction = "stop";
-  double rate = 1000.0, margin = 0.5, free_run_s = 0.0, calibration_s = 3600.0;
+  double rate = 1000.0, margin = 0.5, free_run_s = 0.0, calibration_s = 3600.0, hold_calibration_s = 1200.0;
+  double hold_settle_s = 0.15;
+  bool no_hold = false, free_run_without_holds = false;
   int count = 50, debounce = 1;
   unsigned long long seed = 1;
   ObserverOptions observer;
@@ -36,7 +38,9 @@ nlohmann::json run_json(const eval::RunResult& r) {
   nlohmann::json j{{"name", r.name}, {"t_collision", r.t_collision}, {"link_true", r.link_true},
                    {"link_isolated", r.link_isolated}, {"peak_force", r.peak_force_n},
                    {"max_true_torque_over_threshold", r.max_true_ratio},
-                   {"max_true_torque_over_moving_threshold", r.max_true_ratio_moving}};
+                   {"max_true_torque_over_moving_threshold", r.max_true_ratio_moving},
+                   {"isolable", r.isolable}, {"detected_by_hold", r.detected_by_hold},
+                   {"peak_true_torque_held", r.peak_true_torque_held}};
   j["t_detected"] = r.t_detected ? nlohmann::json(*r.t_detected) : nlohmann::json(nullptr);
   j["delay"] = r.t_detected ? nlohmann::json(*r.t_detected - r.t_collision) : nlohmann::json(nullptr);
   j["t_threshold_crossed"] = r.t_threshold ? nlohmann::json(*r.t_threshold) : nlohmann::json(nullptr);
@@ -62,6 +66,14 @@ Command add_evaluate(CLI::App& app) {
   cmd->add_option("--count", o->count, "Collisions in a campaign")->capture_default_str()->check(CLI::Range(1, 100000));
   cmd->add_option("--free-run", o->free_run_s, "Collision-free run for false alarms [s] (default 120 s paper, 600 s campaign)");
   cmd->add_option("--calibration", o->calibration_s, "Collision-free run the thresholds are calibrated on [s]")->capture_default_str()->check(CLI::Range(10.0, 86400.0));
+  cmd->add_option("--hold-calibration", o->hold_calibration_s,
+                  "Collision-free motion with holds the holding detector is calibrated on [s]")
+      ->capture_default_str()->check(CLI::Range(10.0, 86400.0));
+  cmd->add_option("--hold-settle", o->hold_settle_s, "Held time before the holding detector takes its reference [s]")
+      ->capture_default_str()->check(CLI::Range(0.0, 5.0));
+  cmd->add_flag("--no-hold", o->no_hold, "Band detector alone (no change detection while a joint holds)");
+  cmd->add_flag("--free-run-without-holds", o->free_run_without_holds,
+                "False-alarm run on random moves with short dwells only (the motion before holds were added)");
   cmd->add_option("--margin", o->margin, "Threshold margin above the observed band [N·m]")->capture_default_str()->check(finite_range(0.0, 1000.0));
   cmd->add_option("--debounce", o->debounce, "Cycles over threshold before a detection")->capture_default_str()->check(CLI::Range(1, 50));
   cmd->add_option("--reaction", o->reaction, "Reaction on detection")->check(CLI::IsMember({"none", "stop", "zero_gravity"}))->capture_default_str();
@@ -83,6 +95,9 @@ Command add_evaluate(CLI::App& app) {
             c.gains = o->observer.to_gains(c.rate_hz);
             c.debounce_cycles = o->debounce;
             c.calibration_s = o->calibration_s;
+            c.hold_calibration_s = o->no_hold ? 0.0 : o->hold_calibration_s;
+            c.hold_settle_s = o->hold_settle_s;
+            c.free_run_holds = !o->free_run_without_holds;
             c.reaction = reaction_of(o->reaction);
             Progress bar("evaluate");
             eval::prepare(c, o->margin, [&](double f) { bar.update(0.3 * f); });
@@ -113,6 +128,14 @@ Command add_evaluate(CLI::App& app) {
                         "(1.5x the moving threshold: %d/%d); isolation %d/%d\n",
                         sum.detected, sum.runs, sum.detectable_found, sum.detectable, sum.detectable_moving_found,
                         sum.detectable_moving, sum.isolated, sum.runs);
+            std::printf("isolable (the true torques name the link: the highest joint over its moving threshold): %d/%d; "
+                        "isolated of those %d/%d; detections first seen by the holding detector %d\n",
+                        sum.isolable, sum.runs, sum.isolated_of_isolable, sum.isolable, sum.detected_by_hold);
+            if (!c.hold_threshold.empty()) {
+              std::printf("holding detector: change threshold");
+              for (const double h : c.hold_threshold) std::printf(" %.3f", h);
+              std::printf(" N·m (settle %.0f ms, reference %.0f ms)\n", 1e3 * c.hold_settle_s, 1e3 * c.hold_reference_s);
+            }
             std::printf("delay min/median/max %.1f/%.1f/%.1f ms; false alarms %d in %.0f s (%.2f per hour)", 1e3 * sum.delay_min,
                         1e3 * sum.delay_median, 1e3 * sum.delay_max, alarms, free_s, per_hour);
             for (const double t : alarm_times) std::printf(" %.3f", t);
@@ -128,6 +151,13 @@ Command add_evaluate(CLI::App& app) {
               const double n = std::max(1, sum.runs);
               j["summary"] = {{"detection_rate", sum.detected / n},
                               {"isolation_accuracy", sum.isolated / n},
+                              {"isolation_ceiling", sum.isolable / n},
+                              {"isolable", sum.isolable},
+                              {"isolated_of_isolable", sum.isolated_of_isolable},
+                              {"detected_by_hold", sum.detected_by_hold},
+                              {"hold_change_threshold", c.hold_threshold},
+                              {"hold_settle_s", c.hold_settle_s}, {"hold_reference_s", c.hold_reference_s},
+                              {"hold_calibration_s", c.hold_calibration_s}, {"false_alarm_run_with_holds", c.free_run_holds},
                               {"detection_rate_over_1p5x_threshold", sum.detectable ? static_cast<double>(sum.detectable_found) / sum.detectable : 1.0},
                               {"over_1p5x_threshold", {{"collisions", sum.detectable}, {"detected", sum.detectable_found}}},
                               {"over_1p5x_moving_threshold", {{"collisions", sum.detectable_moving}, {"detected", sum.detectable_moving_found}}},

@@ -37,7 +37,7 @@ class BusEstimator final : public DistributedEstimator {
   void step(const EstimatorInput& in, sim::JointVector& mu) override {
     const double dt = config_.estimator.dt;
     bus_.run_until(time_);
-    master_.send_cycle(cycle_, in.q.data(), in.dq.data(), in.tau_m.data());
+    master_.send_cycle(cycle_, in.q.data(), in.dq.data(), in.tau_m.data(), in.holding);
     for (int k = 1; k <= kPollsPerCycle; ++k) {
       bus_.run_until(time_ + dt * k / kPollsPerCycle);
       for (auto& d : drives_) (void)d->poll();

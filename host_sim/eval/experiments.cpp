@@ -55,6 +55,16 @@ std::unique_ptr<Estimator> estimator_for(const ExperimentConfig& c) {
   f.observer = c.gains;
   f.compensate_friction = !c.friction.empty();
   f.friction = c.friction;
+  if (c.hold_calibration_s > 0.0 || !c.hold_threshold.empty()) {
+    // 1.5 velocity counts of the motor encoder (sensors.hpp: 10,000 counts per motor turn,
+    // differenced over one period) at the link side: the dither of a joint at rest.
+    const sim::SensorConfig sensors;
+    const auto drives = c.model.drives();
+    for (std::size_t j = 0; j < c.model.joints.size(); ++j) {
+      const double gear = j < drives.size() ? drives[j].gear_ratio : 100.0;
+      f.holding_velocity_deadband.push_back(1.5 * 2.0 * M_PI / sensors.motor_encoder_counts_per_rev / gear * c.rate_hz);
+    }
+  }
   return make_firmware_estimator(f, c.scalar);
 }
 
@@ -64,6 +74,9 @@ DetectionConfig detection_for(const ExperimentConfig& c) {
   d.low_speed_extra = c.low_speed_extra;
   d.low_speed_width = c.low_speed_width;
   d.debounce_cycles = c.debounce_cycles;
+  d.hold_threshold = c.hold_threshold;
+  d.hold_settle_s = c.hold_settle_s;
+  d.hold_reference_s = c.hold_reference_s;
   d.reaction = c.reaction;
   d.friction = c.friction;
   return d;
@@ -80,6 +93,9 @@ Summary summarize(const std::vector<RunResult>& runs) {
       if (r.t_threshold) after.push_back(*r.t_detected - *r.t_threshold);
     }
     s.isolated += r.link_isolated == r.link_true ? 1 : 0;
+    s.isolable += r.isolable ? 1 : 0;
+    s.isolated_of_isolable += r.isolable && r.link_isolated == r.link_true ? 1 : 0;
+    s.detected_by_hold += r.t_detected && r.detected_by_hold ? 1 : 0;
     if (r.max_true_ratio > 1.5) {
       ++s.detectable;
       s.detectable_found += r.t_detected ? 1 : 0;
@@ -106,6 +122,60 @@ Summary summarize(const std::vector<RunResult>& runs) {
   return s;
 }
 
+namespace {
+void calibrate_holding(const ExperimentConfig& c, Thresholds& t) {
+  // Collision-free moves in which joints hold (alone and while others move) and the arm
+  // dwells for up to 4 s: the holding detector's reference and deviations, as it runs in
+  // detection (armed while the whole arm holds, sim::holding_mask).
+  const auto home = home_of(c.model);
+  sim::JointVector lower = home, upper = home;
+  for (Eigen::Index j = 0; j < lower.size(); ++j) {
+    lower(j) -= 0.7;
+    upper(j) += 0.7;
+  }
+  auto moves = sim::make_random_moves_with_holds(home, lower, upper, 0.8, c.hold_calibration_s + 5.0, c.seed * 19 + 4);
+  sim::SimulationSetup free = base_setup(c, std::shared_ptr<const sim::Trajectory>(std::move(moves)), c.seed * 23 + 5);
+  free.meta.scenario = "calibration_holds";
+  free.duration_s = c.hold_calibration_s;
+  free.record = false;
+  auto est = estimator_for(c);
+  const std::size_t n = c.model.joints.size();
+  // A threshold never reached: the detector arms and takes its reference as in detection.
+  const HoldChangeParams<double> p = hold_params(1e9, c.hold_settle_s, c.hold_reference_s, 1.0 / c.rate_hz);
+  std::vector<HoldChangeState<double>> states(n);
+  t.hold_band.assign(n, 0.0);
+  t.hold_seconds.assign(n, 0.0);
+  bool started = false;
+  sim::JointVector mu;
+  constexpr double kSettleS = 0.5;
+  const sim::ControlOverride hook = [&](const sim::CycleContext& ctx) -> std::optional<sim::JointVector> {
+    const sim::Measurement& m = *ctx.measurement;
+    const JointMask holding = sim::holding_mask(*ctx.reference);
+    const EstimatorInput in{m.q, m.dq, m.tau_m, holding};
+    if (!started) {
+      est->reset(in);
+      started = true;
+    }
+    est->step(in, mu);
+    for (std::size_t j = 0; j < n; ++j) {
+      const auto i = static_cast<Eigen::Index>(j);
+      const bool held = ctx.t >= kSettleS && ((holding >> j) & 1U) != 0U;
+      (void)hold_change_step(p, states[j], held, mu(i));
+      if (states[j].armed) {
+        t.hold_band[j] = std::max(t.hold_band[j], hold_deviation(states[j], mu(i)));
+        t.hold_seconds[j] += 1.0 / c.rate_hz;
+      }
+    }
+    return std::nullopt;
+  };
+  (void)sim::run_simulation(free, hook);
+  t.hold_settle_s = c.hold_settle_s;
+  t.hold_reference_s = c.hold_reference_s;
+  t.hold_change.assign(n, 0.0);
+  for (std::size_t j = 0; j < n; ++j) t.hold_change[j] = kHoldFactor * t.hold_band[j] + kHoldMargin;
+}
+}  // namespace
+
 Thresholds calibrate(const ExperimentConfig& c, double margin_nm) {
   // Collision-free motion unlike the identification run: random moves. Not recorded: the
   // compensated and uncompensated observers run in the loop and feed the band statistics.
@@ -131,7 +201,7 @@ Thresholds calibrate(const ExperimentConfig& c, double margin_nm) {
   constexpr double kSettleS = 0.5;
   const sim::ControlOverride hook = [&](const sim::CycleContext& ctx) -> std::optional<sim::JointVector> {
     const sim::Measurement& m = *ctx.measurement;
-    const EstimatorInput in{m.q, m.dq, m.tau_m};
+    const EstimatorInput in{m.q, m.dq, m.tau_m, sim::holding_mask(*ctx.reference)};
     if (!started) {
       with->reset(in);
       without->reset(in);
@@ -148,7 +218,9 @@ Thresholds calibrate(const ExperimentConfig& c, double margin_nm) {
     return std::nullopt;
   };
   (void)sim::run_simulation(free, hook);
-  return stats.fit(margin_nm);
+  Thresholds t = stats.fit(margin_nm);
+  if (c.hold_calibration_s > 0.0) calibrate_holding(c, t);
+  return t;
 }
 
 Preparation prepare(ExperimentConfig& c, double margin_nm, const std::function<void(double)>& progress) {
@@ -169,6 +241,7 @@ Preparation prepare(ExperimentConfig& c, double margin_nm, const std::function<v
   c.thresholds = p.thresholds.threshold;
   c.low_speed_extra = p.thresholds.low_speed_extra;
   c.low_speed_width = p.thresholds.low_speed_width;
+  c.hold_threshold = p.thresholds.hold_change;
   if (progress) progress(1.0);
   return p;
 }
@@ -268,7 +341,8 @@ double false_alarms_per_hour(const ExperimentConfig& c, double seconds, int& ala
     lower(j) -= 0.7;
     upper(j) += 0.7;
   }
-  auto moves = sim::make_random_moves(home, lower, upper, 0.8, seconds + 5.0, c.seed * 31 + 7);
+  auto moves = c.free_run_holds ? sim::make_random_moves_with_holds(home, lower, upper, 0.8, seconds + 5.0, c.seed * 31 + 7)
+                                : sim::make_random_moves(home, lower, upper, 0.8, seconds + 5.0, c.seed * 31 + 7);
   sim::SimulationSetup setup = base_setup(c, std::shared_ptr<const sim::Trajectory>(std::move(moves)), c.seed * 37 + 11);
   setup.duration_s = seconds;
   auto est = estimator_for(c);

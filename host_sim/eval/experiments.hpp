@@ -29,7 +29,19 @@ struct ExperimentConfig {
   unsigned long long seed = 1;
   /// Collision-free random motion the thresholds are calibrated on [s].
   double calibration_s = 3600.0;
+  /// Change detection while holding: threshold per joint [N·m] (empty: off), windows [s],
+  /// and the collision-free motion with holds it is calibrated on [s] (0: no holding detector).
+  std::vector<double> hold_threshold;
+  double hold_settle_s = 0.15, hold_reference_s = 0.016;
+  double hold_calibration_s = 1200.0;
+  /// The false-alarm run's motion includes holds (make_random_moves_with_holds).
+  bool free_run_holds = true;
 };
+
+/// The holding detector's threshold from the largest collision-free deviation seen while
+/// armed: kHoldFactor x it + kHoldMargin [N·m].
+inline constexpr double kHoldFactor = 1.5;
+inline constexpr double kHoldMargin = 0.2;
 
 /// A simulation set-up on the model at the configured rate with realistic sensors and the
 /// paper's friction as truth.
@@ -43,7 +55,9 @@ struct Preparation {
   io::Recording excitation;
 };
 /// Thresholds from `c.calibration_s` of collision-free random motion with the configured
-/// estimator (rate, scalar, friction): BandStatistics::fit.
+/// estimator (rate, scalar, friction): BandStatistics::fit; then, when
+/// `c.hold_calibration_s` > 0, the holding detector's threshold from that long a
+/// collision-free motion with holds (its own seed).
 Thresholds calibrate(const ExperimentConfig& c, double margin_nm);
 
 Preparation prepare(ExperimentConfig& c, double margin_nm, const std::function<void(double)>& progress = {});
@@ -66,6 +80,11 @@ DetectionConfig detection_for(const ExperimentConfig& c);
 /// Campaign figures over runs.
 struct Summary {
   int runs = 0, detected = 0, isolated = 0;
+  /// Runs whose true torques make the collided link nameable (RunResult::isolable), and how
+  /// many of those were isolated.
+  int isolable = 0, isolated_of_isolable = 0;
+  /// Detections whose first cycle over came from the holding detector alone.
+  int detected_by_hold = 0;
   /// Collisions whose true torque exceeds 1.5x the threshold in effect on some joint, and
   /// how many of them were detected; the same against the moving threshold (stricter).
   int detectable = 0, detectable_found = 0, detectable_moving = 0, detectable_moving_found = 0;

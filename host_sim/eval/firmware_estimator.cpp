@@ -29,7 +29,7 @@ class FirmwareEstimator final : public Estimator {
       const auto i = static_cast<Eigen::Index>(j);
       OutwardMessage<S> next{};
       (void)joint_outward(params_[j], state_[j], from_float<S>(static_cast<float>(in.q(i)), st),
-                    from_float<S>(static_cast<float>(in.dq(i)), st), msg, next);
+                          from_float<S>(static_cast<float>(in.dq(i)), st), ((in.holding >> j) & 1U) != 0U, msg, next);
       msg = next;
     }
     InwardMessage<S> back = tip_message<S>();
@@ -38,7 +38,8 @@ class FirmwareEstimator final : public Estimator {
       const auto i = static_cast<Eigen::Index>(j);
       InwardMessage<S> up{};
       (void)joint_inward_and_estimate(params_[j], state_[j], from_float<S>(static_cast<float>(in.dq(i)), st),
-                                      from_float<S>(static_cast<float>(in.tau_m(i)), st), back, up);
+                                      from_float<S>(static_cast<float>(in.tau_m(i)), st), ((in.holding >> j) & 1U) != 0U,
+                                      back, up);
       back = up;
       mu(i) = to_double(state_[j].external_torque);
     }

@@ -14,6 +14,8 @@ struct FirmwareEstimatorConfig {
   ObserverGains observer{};
   bool compensate_friction = true;
   std::vector<LuGreParams<double>> friction;
+  /// JointEstimatorParams::holding_velocity_deadband per joint [rad/s] (empty: 0).
+  std::vector<double> holding_velocity_deadband;
 };
 
 /// scalar: "float" or "q". Throws when a parameter does not fit the scalar (range check).

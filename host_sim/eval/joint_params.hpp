@@ -42,6 +42,11 @@ JointEstimatorParams<S> joint_params(const FirmwareEstimatorConfig& c, std::size
                    convert<S>(threshold->low_speed_extra, st), convert<S>(threshold->inv_low_speed_width, st)};
     if (!st.ok()) throw std::invalid_argument(joint + "threshold band does not fit the scalar");
   }
+  if (j < c.holding_velocity_deadband.size()) {
+    NumericStatus st;
+    p.holding_velocity_deadband = convert<S>(c.holding_velocity_deadband[j], st);
+    if (!st.ok()) throw std::invalid_argument(joint + "holding velocity deadband does not fit the scalar");
+  }
   p.debounce.cycles = static_cast<std::uint8_t>(debounce_cycles < 1 ? 1 : (debounce_cycles > 255 ? 255 : debounce_cycles));
   return p;
 }

@@ -20,7 +20,7 @@ class SocketCanMasterImpl final : public SocketCanMaster {
   void step(const eval::EstimatorInput& in, sim::JointVector& mu) override {
     const hal::MonotonicClock clock;
     if (cycle_ == 0) wait_for_announcements(clock);
-    master_.send_cycle(cycle_, in.q.data(), in.dq.data(), in.tau_m.data());
+    master_.send_cycle(cycle_, in.q.data(), in.dq.data(), in.tau_m.data(), in.holding);
     const std::uint64_t start = clock.now_us();
     const std::uint64_t limit = 1000ULL * static_cast<std::uint64_t>(config_.cycle_timeout_ms);
     while (!master_.collect()) {

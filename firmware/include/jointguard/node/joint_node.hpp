@@ -44,8 +44,9 @@ class JointNode {
       // Joint 1's parent is the base; the last joint has no child.
       : config_(config), params_(params), port_(port), from_parent_(base_message(gravity)), from_child_(tip_message<S>()) {}
 
-  /// One control cycle with this joint's measurements. Returns the collision flag.
-  bool cycle(S q, S dq, S motor_torque) noexcept {
+  /// One control cycle with this joint's measurements; `holding`: the drive's controller
+  /// holds a constant setpoint (arms the change detector). Returns the collision flag.
+  bool cycle(S q, S dq, S motor_torque, bool holding = false) noexcept {
     receive_all();
     ++since_parent_;
     ++since_child_;
@@ -56,15 +57,16 @@ class JointNode {
       ++counters_.missed_cycles;
     }
     OutwardMessage<S> to_child{};
-    (void)joint_outward(params_, state_, q, dq, from_parent_, to_child);
+    (void)joint_outward(params_, state_, q, dq, holding, from_parent_, to_child);
     InwardMessage<S> to_parent{};
-    const bool flag = joint_inward_and_estimate(params_, state_, dq, motor_torque, from_child_, to_parent);
+    const bool flag = joint_inward_and_estimate(params_, state_, dq, motor_torque, holding, from_child_, to_parent);
     // Start-up: the chain's terms need one cycle per link to reach every node. Until then
     // the estimate is meaningless; the observer starts afresh once the chain is filled.
     const bool heard = (!has_parent || parent_seq_.started) && (!has_child || child_seq_.started);
     if (warmup_left_ > 0U && heard && --warmup_left_ == 0U) {
       state_.observer = ObserverState<S>{};
       state_.detector = JointDetectorState{};
+      state_.hold = HoldChangeState<S>{};  // the reference was taken on a meaningless estimate
       state_.flagged = false;
     }
     if (warmup_left_ > 0U) {

@@ -9,7 +9,8 @@
 // Every payload: byte 0 a sequence counter (wraps at 256), then fields as Q16.16
 // little-endian int32 (factor 2^-16, SI units) or bytes, then CRC-8/AUTOSAR over the bytes
 // before it; the rest of the frame zero. Lengths:
-//   momentum messages CAN FD 48 B (9 or 10 fields)   sensor sample CAN FD 16 B (3 fields)
+//   momentum messages CAN FD 48 B (9 or 10 fields)   sensor sample CAN FD 16 B (3 fields,
+//   CRC, then a flags byte and its copy: see SensorMessage)
 //   status and collision event 8 B: seq, external torque, flags, rejected, CRC
 //   cycle sync 8 B: seq, cycle counter (uint32 LE), reserved (2 B), CRC
 // (the 8-byte frames go as CAN FD with bit-rate switch on an FD bus)
@@ -51,6 +52,8 @@ inline constexpr std::uint8_t kOutwardFields = 9;
 inline constexpr std::uint8_t kInwardFields = 10;
 inline constexpr std::uint8_t kSensorFrameLength = 16;
 inline constexpr std::uint8_t kSensorFields = 3;
+/// Sensor sample flags (byte 14, repeated in byte 15; stable bits).
+inline constexpr std::uint8_t kSensorHolding = 0x01U;  ///< the drive's controller holds a constant setpoint
 inline constexpr std::uint8_t kStatusFrameLength = 8;
 inline constexpr std::uint8_t kSyncFrameLength = 8;
 /// The master's cycle sync (one per bus, joint field 0).
@@ -193,27 +196,46 @@ constexpr FrameError decode_inward(const std::uint8_t* buf, std::uint8_t length,
 }
 
 /// Host-in-the-loop sensor sample for joint j (plant -> node): what the drive's own encoder
-/// and current ADC would give, link side, SI units. Its sequence equals the cycle sync's.
+/// and current ADC would give, link side, SI units, and the drive's controller state (what
+/// the drive knows itself on the MCU). Its sequence equals the cycle sync's.
+/// Layout: seq, 3 fields, CRC (byte 13, over bytes 0-12 as before), flags (byte 14,
+/// kSensor* bits, the rest zero), the flags again (byte 15). The flags sit in what was zero
+/// padding, so a frame without flags is the former frame; the copy catches a corrupted
+/// flags byte, which the CRC does not cover (a mismatch or an unknown bit: bad_padding).
 template <class S>
 struct SensorMessage {
-  S position{};      ///< [rad]
-  S velocity{};      ///< [rad/s]
-  S motor_torque{};  ///< [N·m] (K_I i)
+  S position{};         ///< [rad]
+  S velocity{};         ///< [rad/s]
+  S motor_torque{};     ///< [N·m] (K_I i)
+  bool holding = false; ///< the setpoint is constant (kSensorHolding)
 };
 
 template <class S>
 constexpr std::uint8_t encode_sensor(const SensorMessage<S>& m, std::uint8_t sequence, std::uint8_t* buf) noexcept {
   const std::array<S, kSensorFields> v = {m.position, m.velocity, m.motor_torque};
-  return detail::encode_fields(v.data(), kSensorFields, sequence, buf, kSensorFrameLength);
+  const std::uint8_t length = detail::encode_fields(v.data(), kSensorFields, sequence, buf, kSensorFrameLength);
+  const std::uint8_t flags = m.holding ? kSensorHolding : std::uint8_t{0};
+  buf[kSensorFrameLength - 2U] = flags;
+  buf[kSensorFrameLength - 1U] = flags;
+  return length;
 }
 
 template <class S>
 constexpr FrameError decode_sensor(const std::uint8_t* buf, std::uint8_t length, SensorMessage<S>& m,
                                    std::uint8_t& sequence) noexcept {
+  if (length != kSensorFrameLength) {
+    return FrameError::wrong_length;
+  }
+  const std::uint8_t flags = buf[kSensorFrameLength - 2U];
+  if (flags != buf[kSensorFrameLength - 1U] || (flags & static_cast<std::uint8_t>(~kSensorHolding)) != 0U) {
+    return FrameError::bad_padding;
+  }
+  // The fields and their CRC: the frame less its two flag bytes (nothing left to pad).
+  constexpr auto kFieldsLength = static_cast<std::uint8_t>(kSensorFrameLength - 2U);
   std::array<S, kSensorFields> v{};
-  const FrameError e = detail::decode_fields(buf, length, kSensorFields, v.data(), sequence, kSensorFrameLength);
+  const FrameError e = detail::decode_fields(buf, kFieldsLength, kSensorFields, v.data(), sequence, kFieldsLength);
   if (e == FrameError::ok) {
-    m = {v[0], v[1], v[2]};
+    m = {v[0], v[1], v[2], flags != 0U};
   }
   return e;
 }
