@@ -3,7 +3,8 @@
 // hold without contact (simulated arm, firmware core in the loop, both scalars).
 #include <gtest/gtest.h>
 
-#include <cstdio>
+#include <algorithm>
+#include <cmath>
 
 #include "eval/experiments.hpp"
 #include "models/paper_friction.hpp"
@@ -58,14 +59,31 @@ eval::RunResult held_push(const eval::ExperimentConfig& c, int link, double torq
   return eval::run_detection(s, *est, eval::detection_for(c), "held push", true);
 }
 
-TEST(HoldingDetection, Probe) {
-  const auto c = config("float");
-  for (double h : c.hold_threshold) std::printf("hold threshold %.3f\n", h);
-  const auto r = held_push(c, 1, 2.0);
-  std::printf("detected %d at %.4f; held peak %.3f\n", r.t_detected ? 1 : 0, r.t_detected ? *r.t_detected : -1.0, r.peak_true_torque_held);
-  for (std::size_t k = 3400; k < 3700 && k < r.trace.t.size(); k += 10) {
-    std::printf("t %.3f mu %.3f %.3f %.3f ext %.3f tau_m1 %.3f\n", r.trace.t[k], r.trace.mu[0][k], r.trace.mu[1][k], r.trace.mu[2][k],
-                r.trace.tau_ext[0][k], r.recording.tau_m[0][k]);
+class HoldingDetection : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(HoldingDetection, TwoNewtonMetrePushOnAHeldJointIsDetectedAndAQuietHoldIsNot) {
+  const auto c = config(GetParam());
+  ASSERT_EQ(c.hold_threshold.size(), 3U);
+  for (const double h : c.hold_threshold) {
+    EXPECT_GT(h, 0.2) << "calibrated above the margin alone";
+    EXPECT_LT(h, 1.5) << "the change threshold sits well under the standstill allowance";
+  }
+  // Without contact: the whole 6 s hold passes without an alarm.
+  const auto quiet = held_push(c, 1, 0.0);
+  EXPECT_FALSE(quiet.t_detected.has_value());
+  EXPECT_TRUE(quiet.false_alarm_times.empty());
+  for (const int link : {1, 2, 3}) {
+    const auto r = held_push(c, link, 2.0);
+    double own = 0.0;
+    for (const double t : r.trace.tau_ext[static_cast<std::size_t>(link - 1)]) own = std::max(own, std::fabs(t));
+    EXPECT_NEAR(own, 2.0, 0.05) << "link " << link << ": the push loads its own joint with 2 N·m";
+    EXPECT_GE(r.peak_true_torque_held, own - 1e-9);
+    ASSERT_TRUE(r.t_detected.has_value()) << "link " << link;
+    EXPECT_TRUE(r.detected_by_hold) << "link " << link << ": the band alone (standstill allowance) would not see it";
+    EXPECT_LT(*r.t_detected - 3.5, 0.05) << "link " << link;
+    EXPECT_TRUE(r.false_alarm_times.empty());
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(Scalars, HoldingDetection, ::testing::Values(std::string("float"), std::string("q")));
 }  // namespace
