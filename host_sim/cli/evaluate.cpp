@@ -40,7 +40,7 @@ nlohmann::json run_json(const eval::RunResult& r) {
                    {"max_true_torque_over_threshold", r.max_true_ratio},
                    {"max_true_torque_over_moving_threshold", r.max_true_ratio_moving},
                    {"isolable", r.isolable}, {"detected_by_hold", r.detected_by_hold},
-                   {"peak_true_torque_held", r.peak_true_torque_held}};
+                   {"peak_true_torque_held", r.peak_true_torque_held}, {"held_push", r.held_push_nm}};
   j["t_detected"] = r.t_detected ? nlohmann::json(*r.t_detected) : nlohmann::json(nullptr);
   j["delay"] = r.t_detected ? nlohmann::json(*r.t_detected - r.t_collision) : nlohmann::json(nullptr);
   j["t_threshold_crossed"] = r.t_threshold ? nlohmann::json(*r.t_threshold) : nlohmann::json(nullptr);
@@ -57,7 +57,9 @@ Command add_evaluate(CLI::App& app) {
                                  "on the simulated arm with the firmware core in the loop. Friction is identified from an\n"
                                  "excitation run and thresholds calibrated on collision-free motion first.\n"
                                  "Example: jointguard evaluate --scenario paper --rate 125 --scalar q --json out/paper125.json");
-  cmd->add_option("--scenario", o->scenario, "paper, campaign or a scenario file (YAML)")->capture_default_str();
+  cmd->add_option("--scenario", o->scenario,
+                  "paper, campaign, held (pushes of 0.5-3 N·m on each link of a held arm) or a scenario file (YAML)")
+      ->capture_default_str();
   cmd->add_option("--model", o->model, "Robot file (YAML or URDF)")->capture_default_str()->check(CLI::ExistingFile);
   add_model_selection(cmd, o->model_options);
   cmd->add_option("--rate", o->rate, "Control and observer rate [Hz]")->capture_default_str()->check(CLI::Range(50.0, 20000.0));
@@ -83,7 +85,7 @@ Command add_evaluate(CLI::App& app) {
             eval::ExperimentConfig c;
             std::string model_path = o->model;
             std::unique_ptr<sim::Scenario> scenario;
-            if (o->scenario != "paper" && o->scenario != "campaign") {
+            if (o->scenario != "paper" && o->scenario != "campaign" && o->scenario != "held") {
               scenario = std::make_unique<sim::Scenario>(sim::load_scenario(o->scenario));
               model_path = (std::filesystem::path(o->scenario).parent_path() /
                             io::YamlFields::load_file(o->scenario).text("model")).string();
@@ -104,6 +106,8 @@ Command add_evaluate(CLI::App& app) {
             std::vector<eval::RunResult> runs;
             if (o->scenario == "paper") {
               runs = eval::paper_experiments(c, false);
+            } else if (o->scenario == "held") {
+              runs = eval::held_experiments(c);
             } else if (o->scenario == "campaign") {
               runs = eval::campaign(c, o->count, {2, 3}, [&](double f) { bar.update(0.3 + 0.5 * f); });
             } else {
@@ -131,6 +135,24 @@ Command add_evaluate(CLI::App& app) {
             std::printf("isolable (the true torques name the link: the highest joint over its moving threshold): %d/%d; "
                         "isolated of those %d/%d; detections first seen by the holding detector %d\n",
                         sum.isolable, sum.runs, sum.isolated_of_isolable, sum.isolable, sum.detected_by_hold);
+            nlohmann::json held_smallest = nlohmann::json::array();
+            if (o->scenario == "held") {
+              // Per link: the smallest push detected such that every larger one was too.
+              std::printf("smallest push detected on a held joint (every larger one detected too):");
+              for (int link = 1; link <= 3; ++link) {
+                double smallest = -1.0;
+                for (auto it = runs.rbegin(); it != runs.rend(); ++it) {
+                  if (it->link_true != link || it->held_push_nm <= 0.0) continue;
+                  if (!it->t_detected) break;
+                  smallest = it->held_push_nm;
+                }
+                std::printf(" link %d %s", link, smallest > 0.0 ? (std::to_string(smallest).substr(0, 4) + " N·m").c_str() : "none");
+                held_smallest.push_back(smallest > 0.0 ? nlohmann::json(smallest) : nlohmann::json(nullptr));
+              }
+              int quiet_alarms = 0;
+              for (const auto& r : runs) quiet_alarms += r.held_push_nm <= 0.0 ? static_cast<int>(r.false_alarm_times.size()) : 0;
+              std::printf("; alarms in the hold without contact: %d\n", quiet_alarms);
+            }
             if (!c.hold_threshold.empty()) {
               std::printf("holding detector: change threshold");
               for (const double h : c.hold_threshold) std::printf(" %.3f", h);
@@ -152,6 +174,7 @@ Command add_evaluate(CLI::App& app) {
               j["summary"] = {{"detection_rate", sum.detected / n},
                               {"isolation_accuracy", sum.isolated / n},
                               {"isolation_ceiling", sum.isolable / n},
+                              {"held_smallest_detected", held_smallest},
                               {"isolable", sum.isolable},
                               {"isolated_of_isolable", sum.isolated_of_isolable},
                               {"detected_by_hold", sum.detected_by_hold},

@@ -52,6 +52,7 @@ struct RunResult {
   /// The collided link is nameable at all: the highest joint whose true |tau_ext| clears
   /// its band (the threshold in effect) at some cycle of the contact is the collided link.
   bool isolable = false;
+  double held_push_nm = 0.0;               ///< held_push: the torque the push puts on its own joint [N·m]
   double peak_true_torque_held = 0.0;      ///< max true |tau_ext| on a joint while its controller held [N·m]
   Trace trace;
   io::Recording recording;  ///< the run's recording (kept only with record_trace)

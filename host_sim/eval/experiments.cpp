@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
+#include <stdexcept>
 
 #include "eval/firmware_estimator.hpp"
 #include "models/paper_friction.hpp"
@@ -296,6 +298,54 @@ std::vector<RunResult> paper_experiments(const ExperimentConfig& c, bool traces)
     const DetectionConfig d = detection_for(c);
     out.push_back(run_detection(setup, *est, d, s.name, traces));
   }
+  return out;
+}
+
+RunResult held_push(const ExperimentConfig& c, int link, double torque_nm, bool traces) {
+  const std::size_t n = c.model.joints.size();
+  const sim::JointVector home = home_of(c.model);
+  sim::JointVector there = home;
+  if (there.size() >= 3) {
+    there(0) += 0.5;
+    there(1) += 0.3;
+    there(2) -= 0.3;
+  }
+  auto traj = std::make_shared<sim::WaypointTrajectory>(home, std::vector<sim::WaypointTrajectory::Waypoint>{{there, 1.5, 6.0}});
+  sim::SimulationSetup s = base_setup(c, traj, c.seed * 41 + static_cast<unsigned long long>(link));
+  s.duration_s = 7.0;
+  if (torque_nm > 0.0) {
+    if (link < 1 || link > static_cast<int>(n)) throw std::invalid_argument("held_push: no link " + std::to_string(link));
+    sim::CollisionEvent e;
+    e.t_start = 3.5;
+    e.link = link;
+    e.point_in_link = {0.2, 0.0, 0.0};
+    const sim::ArmDynamics arm(s.plant.links);
+    const auto poses = arm.poses(there);
+    const Eigen::Vector3d axis = poses.rotation[link - 1].col(2);
+    const Eigen::Vector3d lever = poses.rotation[link - 1] * e.point_in_link;
+    const Eigen::Vector3d tangential = axis.cross(lever);
+    e.direction_base = tangential.normalized();
+    e.profile = sim::CollisionProfile::push;
+    e.peak_force_n = torque_nm / tangential.norm();
+    e.rise_s = 0.03;
+    e.duration_s = 1.0;
+    s.collisions = {e};
+  }
+  auto est = estimator_for(c);
+  char name[64];
+  std::snprintf(name, sizeof name, torque_nm > 0.0 ? "held, %.1f N·m on link %d" : "held, no contact", torque_nm, link);
+  RunResult r = run_detection(s, *est, detection_for(c), name, traces);
+  r.held_push_nm = torque_nm;
+  return r;
+}
+
+std::vector<RunResult> held_experiments(const ExperimentConfig& c) {
+  std::vector<RunResult> out;
+  const int links = std::min<int>(3, static_cast<int>(c.model.joints.size()));
+  for (int link = 1; link <= links; ++link) {
+    for (const double torque : {0.5, 1.0, 1.5, 2.0, 3.0}) out.push_back(held_push(c, link, torque, false));
+  }
+  out.push_back(held_push(c, 1, 0.0, false));
   return out;
 }
 

@@ -65,6 +65,13 @@ Preparation prepare(ExperimentConfig& c, double margin_nm, const std::function<v
 /// The paper's three collisions (waist, shoulder, elbow) during the pick task.
 std::vector<RunResult> paper_experiments(const ExperimentConfig& c, bool traces);
 
+/// The arm moves for 1.5 s to a posture and holds it for 6 s; with `torque_nm` > 0 a push
+/// (30 ms rise, 1 s) on link `link` at 3.5 s, tangential at 0.2 m on the link, loads that
+/// link's own joint with `torque_nm` (the joints below carry their own share).
+RunResult held_push(const ExperimentConfig& c, int link, double torque_nm, bool traces);
+/// held_push on every link with 0.5, 1, 1.5, 2 and 3 N·m, and one hold without contact.
+std::vector<RunResult> held_experiments(const ExperimentConfig& c);
+
 /// Random collisions (seeded) on `links`, each in its own short run from random motion.
 std::vector<RunResult> campaign(const ExperimentConfig& c, int count, const std::vector<int>& links,
                                 const std::function<void(double)>& progress = {});

@@ -28,35 +28,8 @@ eval::ExperimentConfig config(const std::string& scalar) {
   return c;
 }
 
-/// The arm moves to a posture, then holds it for 6 s; with `torque_nm` > 0 a push on link
-/// `link` at 3.5 s loads joint `link` with about that torque.
 eval::RunResult held_push(const eval::ExperimentConfig& c, int link, double torque_nm) {
-  sim::JointVector home(3), there(3);
-  home << 0.0, 0.6, -0.8;
-  there << 0.5, 0.9, -1.1;
-  auto traj = std::make_shared<sim::WaypointTrajectory>(
-      home, std::vector<sim::WaypointTrajectory::Waypoint>{{there, 1.5, 6.0}});
-  sim::SimulationSetup s = eval::base_setup(c, traj, 77);
-  s.duration_s = 7.0;
-  if (torque_nm > 0.0) {
-    sim::CollisionEvent e;
-    e.t_start = 3.5;
-    e.link = link;
-    e.point_in_link = {0.2, 0.0, 0.0};
-    const sim::ArmDynamics arm(s.plant.links);
-    const auto poses = arm.poses(there);
-    const Eigen::Vector3d axis = poses.rotation[link - 1].col(2);
-    const Eigen::Vector3d lever = poses.rotation[link - 1] * e.point_in_link;
-    const Eigen::Vector3d tangential = axis.cross(lever);
-    e.direction_base = tangential.normalized();
-    e.profile = sim::CollisionProfile::push;
-    e.peak_force_n = torque_nm / tangential.norm();
-    e.rise_s = 0.03;
-    e.duration_s = 1.0;
-    s.collisions = {e};
-  }
-  auto est = eval::estimator_for(c);
-  return eval::run_detection(s, *est, eval::detection_for(c), "held push", true);
+  return eval::held_push(c, link, torque_nm, true);
 }
 
 class HoldingDetection : public ::testing::TestWithParam<std::string> {};
