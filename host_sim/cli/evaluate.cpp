@@ -20,7 +20,7 @@ namespace {
 struct EvaluateOptions {
   std::string scenario = "paper", model = JG_DEFAULT_MODEL, json, scalar = "float", reaction = "stop";
   double rate = 1000.0, margin = 0.5, free_run_s = 0.0, calibration_s = 3600.0, hold_calibration_s = 1200.0;
-  double hold_settle_s = 0.15;
+  double hold_settle_s = 0.15, isolation_window_s = 0.0;
   bool no_hold = false, free_run_without_holds = false;
   int count = 50, debounce = 1;
   unsigned long long seed = 1;
@@ -39,7 +39,7 @@ nlohmann::json run_json(const eval::RunResult& r) {
                    {"link_isolated", r.link_isolated}, {"peak_force", r.peak_force_n},
                    {"max_true_torque_over_threshold", r.max_true_ratio},
                    {"max_true_torque_over_moving_threshold", r.max_true_ratio_moving},
-                   {"isolable", r.isolable}, {"detected_by_hold", r.detected_by_hold},
+                   {"isolable", r.isolable}, {"link_first_cycle", r.link_first_cycle}, {"detected_by_hold", r.detected_by_hold},
                    {"peak_true_torque_held", r.peak_true_torque_held}, {"held_push", r.held_push_nm}};
   j["t_detected"] = r.t_detected ? nlohmann::json(*r.t_detected) : nlohmann::json(nullptr);
   j["delay"] = r.t_detected ? nlohmann::json(*r.t_detected - r.t_collision) : nlohmann::json(nullptr);
@@ -73,6 +73,9 @@ Command add_evaluate(CLI::App& app) {
       ->capture_default_str()->check(CLI::Range(10.0, 86400.0));
   cmd->add_option("--hold-settle", o->hold_settle_s, "Held time before the holding detector takes its reference [s]")
       ->capture_default_str()->check(CLI::Range(0.0, 5.0));
+  cmd->add_option("--isolation-window", o->isolation_window_s,
+                  "Name the link from every joint taking part in the signature over this long from the detection [s] (0: the detection cycle)")
+      ->capture_default_str()->check(CLI::Range(0.0, 0.1));
   cmd->add_flag("--no-hold", o->no_hold, "Band detector alone (no change detection while a joint holds)");
   cmd->add_flag("--free-run-without-holds", o->free_run_without_holds,
                 "False-alarm run on random moves with short dwells only (the motion before holds were added)");
@@ -99,6 +102,7 @@ Command add_evaluate(CLI::App& app) {
             c.calibration_s = o->calibration_s;
             c.hold_calibration_s = o->no_hold ? 0.0 : o->hold_calibration_s;
             c.hold_settle_s = o->hold_settle_s;
+            c.isolation_window_s = o->isolation_window_s;
             c.free_run_holds = !o->free_run_without_holds;
             c.reaction = reaction_of(o->reaction);
             Progress bar("evaluate");
@@ -180,7 +184,7 @@ Command add_evaluate(CLI::App& app) {
                               {"detected_by_hold", sum.detected_by_hold},
                               {"hold_change_threshold", c.hold_threshold},
                               {"hold_settle_s", c.hold_settle_s}, {"hold_reference_s", c.hold_reference_s},
-                              {"hold_calibration_s", c.hold_calibration_s}, {"false_alarm_run_with_holds", c.free_run_holds},
+                              {"hold_calibration_s", c.hold_calibration_s}, {"isolation_window_s", c.isolation_window_s}, {"false_alarm_run_with_holds", c.free_run_holds},
                               {"detection_rate_over_1p5x_threshold", sum.detectable ? static_cast<double>(sum.detectable_found) / sum.detectable : 1.0},
                               {"over_1p5x_threshold", {{"collisions", sum.detectable}, {"detected", sum.detectable_found}}},
                               {"over_1p5x_moving_threshold", {{"collisions", sum.detectable_moving}, {"detected", sum.detectable_moving_found}}},

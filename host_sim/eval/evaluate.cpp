@@ -7,6 +7,7 @@
 
 namespace jg::eval {
 namespace {
+constexpr double kHeldSignatureFraction = 0.6;
 // One cycle of the estimator on a measurement; the first measurement also starts it.
 void estimate(Estimator& estimator, const sim::Measurement& m, JointMask holding, bool& started, sim::JointVector& mu) {
   const EstimatorInput in{m.q, m.dq, m.tau_m, holding};
@@ -64,6 +65,7 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
   sim::JointVector hold;
   sim::JointVector mu;
   JointMask mask = 0;
+  JointMask window_signature = 0;  // joints taking part in the signature since the detection
   double last_alarm_t = -1e9;
   const double isolation_fraction = d.isolation_fraction;
   const sim::ControlOverride hook = [&](const sim::CycleContext& ctx) -> std::optional<sim::JointVector> {
@@ -107,21 +109,34 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       last_alarm_t = ctx.t;
       for (auto& st : states) reset_detector(st);
       now = 0;
-    } else if (now != 0 && !out.t_detected) {
-      // Isolation from the signature at the detection cycle itself: joints crossing later
-      // mostly see the reaction's own transients, not the contact.
-      out.t_detected = ctx.t;
-      out.detected_by_hold = by_band == 0;
+    } else if ((now != 0 && !out.t_detected) ||
+               (out.t_detected && ctx.t <= *out.t_detected + d.isolation_window_s + 1e-9)) {
+      // Isolation from the signature at the detection cycle itself (isolation_window_s 0:
+      // joints crossing later mostly see the reaction's own transients, not the contact),
+      // or from every joint that takes part over a short window from it (a contact's own
+      // joint may lag a joint below it by a few cycles).
+      if (!out.t_detected) {
+        out.t_detected = ctx.t;
+        out.detected_by_hold = by_band == 0;
+        out.link_first_cycle = 0;
+      }
       // Signature with a lower bar than detection: a joint takes part when its estimate is
       // above 30 % of its threshold (about its collision-free band), so a contact whose own
       // joint sees less torque than a joint below it is still named by its own joint.
       JointMask signature = now;
+      // A joint whose holding detector is armed takes part by its change since arrival
+      // (|mu| there is mostly the friction it holds): over kHeldSignatureFraction of its
+      // change threshold, about the largest collision-free change (1.5x it + 0.2 N·m).
       for (std::size_t j = 0; j < n; ++j) {
-        if (std::fabs(mu(static_cast<Eigen::Index>(j))) > isolation_fraction * d.threshold[j]) {
-          signature |= static_cast<JointMask>(1U << j);
-        }
+        const double value = mu(static_cast<Eigen::Index>(j));
+        const bool part = hold_states[j].armed
+                              ? hold_deviation(hold_states[j], value) > kHeldSignatureFraction * hold_detector[j].change_threshold
+                              : std::fabs(value) > isolation_fraction * d.threshold[j];
+        if (part) signature |= static_cast<JointMask>(1U << j);
       }
-      out.link_isolated = isolate_link(signature);
+      window_signature |= signature;
+      out.link_isolated = isolate_link(window_signature);
+      if (out.link_first_cycle == 0) out.link_first_cycle = out.link_isolated;
       if (!reacting) hold = m.q;
       reacting = reacting || d.reaction != Reaction::none;
     }

@@ -19,6 +19,7 @@ struct DetectionConfig {
   std::vector<double> low_speed_extra;  ///< stiction allowance near standstill [N·m] (empty = 0)
   double low_speed_width = 0.03;        ///< [rad/s]
   double isolation_fraction = 0.3;      ///< joints above this share of their threshold join the signature
+  double isolation_window_s = 0.0;      ///< the signature gathered over this long from the detection [s]
   int debounce_cycles = 1;
   /// Change detection while a joint's controller holds (hold_detector.hpp): threshold per
   /// joint [N·m] (empty or 0: off), settle and reference windows [s].
@@ -39,6 +40,7 @@ struct RunResult {
   std::optional<double> t_threshold;       ///< first time the true |tau_ext| exceeds the threshold in effect
   std::optional<double> t_detected;
   int link_true = 0, link_isolated = 0;
+  int link_first_cycle = 0;                ///< the signature's link at the detection cycle alone
   double peak_force_n = 0.0;
   /// max over joints and samples of |tau_ext| / threshold in effect (the band at the
   /// measured velocity, standstill allowance included)

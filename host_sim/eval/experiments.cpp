@@ -77,6 +77,7 @@ DetectionConfig detection_for(const ExperimentConfig& c) {
   d.low_speed_width = c.low_speed_width;
   d.debounce_cycles = c.debounce_cycles;
   d.hold_threshold = c.hold_threshold;
+  d.isolation_window_s = c.isolation_window_s;
   d.hold_settle_s = c.hold_settle_s;
   d.hold_reference_s = c.hold_reference_s;
   d.reaction = c.reaction;

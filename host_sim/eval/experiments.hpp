@@ -34,6 +34,7 @@ struct ExperimentConfig {
   std::vector<double> hold_threshold;
   double hold_settle_s = 0.15, hold_reference_s = 0.016;
   double hold_calibration_s = 1200.0;
+  double isolation_window_s = 0.0;  ///< DetectionConfig::isolation_window_s
   /// The false-alarm run's motion includes holds (make_random_moves_with_holds).
   bool free_run_holds = true;
 };
