@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 
 #include "eval/experiments.hpp"
 #include "models/paper_friction.hpp"
@@ -59,4 +60,38 @@ TEST_P(HoldingDetection, TwoNewtonMetrePushOnAHeldJointIsDetectedAndAQuietHoldIs
 }
 
 INSTANTIATE_TEST_SUITE_P(Scalars, HoldingDetection, ::testing::Values(std::string("float"), std::string("q")));
+TEST(HoldingThresholdJson, RoundTripAndRefusals) {
+  eval::Thresholds t;
+  t.threshold = {1.8, 2.0, 1.2};
+  t.threshold_uncompensated = {14.0, 14.5, 11.8};
+  t.low_speed_extra = {7.7, 8.2, 8.7};
+  t.band = {1.3, 1.5, 0.7};
+  t.band_uncompensated = {13.5, 14.0, 11.3};
+  t.hold_change = {0.93, 0.95, 0.94};
+  t.hold_band = {0.49, 0.5, 0.49};
+  t.hold_seconds = {500.0, 500.0, 500.0};
+  t.hold_settle_s = 0.2;
+  const std::string path = ::testing::TempDir() + "/jg_hold_threshold.json";
+  eval::write_threshold_json(path, t, {1, 2, 3});
+  const eval::Thresholds back = eval::read_threshold_json(path, {3, 1, 2});
+  ASSERT_EQ(back.hold_change.size(), 3U);
+  EXPECT_DOUBLE_EQ(back.hold_change[0], 0.94) << "reordered to the joints asked for";
+  EXPECT_DOUBLE_EQ(back.hold_change[1], 0.93);
+  EXPECT_DOUBLE_EQ(back.hold_settle_s, 0.2);
+  EXPECT_DOUBLE_EQ(back.hold_reference_s, t.hold_reference_s);
+  auto refuse = [&](const std::string& text, const std::string& needle) {
+    { std::ofstream(path) << text; }
+    try {
+      (void)eval::read_threshold_json(path);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const std::exception& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
+  };
+  refuse(R"({"joints": [{"threshold": 1, "hold_change_threshold": -1}]})", "hold_change_threshold");
+  refuse(R"({"joints": [{"threshold": 1, "hold_change_threshold": 1}, {"threshold": 1}]})", "some joints only");
+  refuse(R"({"hold_settle_s": "x", "joints": [{"threshold": 1}]})", "hold_settle_s");
+}
+
 }  // namespace
