@@ -27,7 +27,8 @@ class BusEstimator final : public DistributedEstimator {
     const Vec3<S> gravity = gravity_of<S>(fc.model);
     for (std::size_t j = 0; j < n; ++j) {
       const JointThreshold<double>* band = c.node_thresholds.empty() ? nullptr : &c.node_thresholds[j];
-      const JointEstimatorParams<S> p = joint_params<S>(fc, j, band, c.debounce_cycles);
+      const HoldChangeParams<double>* hold = j < c.node_hold.size() ? &c.node_hold[j] : nullptr;
+      const JointEstimatorParams<S> p = joint_params<S>(fc, j, band, c.debounce_cycles, hold);
       DriveConfig dc{NodeConfig{static_cast<std::uint8_t>(j + 1), static_cast<std::uint8_t>(n), c.fault_cycles}, true};
       // A drive's node refers to the drive's relay port: drives never move.
       drives_.push_back(std::make_unique<JointDrive<S, can::SimPort>>(dc, p, bus_.attach(), gravity));

@@ -57,16 +57,7 @@ std::unique_ptr<Estimator> estimator_for(const ExperimentConfig& c) {
   f.observer = c.gains;
   f.compensate_friction = !c.friction.empty();
   f.friction = c.friction;
-  if (c.hold_calibration_s > 0.0 || !c.hold_threshold.empty()) {
-    // 1.5 velocity counts of the motor encoder (sensors.hpp: 10,000 counts per motor turn,
-    // differenced over one period) at the link side: the dither of a joint at rest.
-    const sim::SensorConfig sensors;
-    const auto drives = c.model.drives();
-    for (std::size_t j = 0; j < c.model.joints.size(); ++j) {
-      const double gear = j < drives.size() ? drives[j].gear_ratio : 100.0;
-      f.holding_velocity_deadband.push_back(1.5 * 2.0 * M_PI / sensors.motor_encoder_counts_per_rev / gear * c.rate_hz);
-    }
-  }
+  if (c.hold_calibration_s > 0.0 || !c.hold_threshold.empty()) f.holding_velocity_deadband = holding_deadband(c.model, c.rate_hz);
   return make_firmware_estimator(f, c.scalar);
 }
 
@@ -302,7 +293,7 @@ std::vector<RunResult> paper_experiments(const ExperimentConfig& c, bool traces)
   return out;
 }
 
-RunResult held_push(const ExperimentConfig& c, int link, double torque_nm, bool traces) {
+sim::SimulationSetup held_push_setup(const ExperimentConfig& c, int link, double torque_nm) {
   const std::size_t n = c.model.joints.size();
   const sim::JointVector home = home_of(c.model);
   sim::JointVector there = home;
@@ -332,6 +323,11 @@ RunResult held_push(const ExperimentConfig& c, int link, double torque_nm, bool 
     e.duration_s = 1.0;
     s.collisions = {e};
   }
+  return s;
+}
+
+RunResult held_push(const ExperimentConfig& c, int link, double torque_nm, bool traces) {
+  const sim::SimulationSetup s = held_push_setup(c, link, torque_nm);
   auto est = estimator_for(c);
   char name[64];
   std::snprintf(name, sizeof name, torque_nm > 0.0 ? "held, %.1f N·m on link %d" : "held, no contact", torque_nm, link);

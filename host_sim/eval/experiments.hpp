@@ -70,6 +70,8 @@ std::vector<RunResult> paper_experiments(const ExperimentConfig& c, bool traces)
 /// (30 ms rise, 1 s) on link `link` at 3.5 s, tangential at 0.2 m on the link, loads that
 /// link's own joint with `torque_nm` (the joints below carry their own share).
 RunResult held_push(const ExperimentConfig& c, int link, double torque_nm, bool traces);
+/// held_push's simulation set-up (for other estimators).
+sim::SimulationSetup held_push_setup(const ExperimentConfig& c, int link, double torque_nm);
 /// held_push on every link with 0.5, 1, 1.5, 2 and 3 N·m, and one hold without contact.
 std::vector<RunResult> held_experiments(const ExperimentConfig& c);
 

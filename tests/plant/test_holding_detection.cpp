@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fstream>
 
+#include "eval/distributed_estimator.hpp"
 #include "eval/experiments.hpp"
 #include "models/paper_friction.hpp"
 
@@ -92,6 +93,39 @@ TEST(HoldingThresholdJson, RoundTripAndRefusals) {
   refuse(R"({"joints": [{"threshold": 1, "hold_change_threshold": -1}]})", "hold_change_threshold");
   refuse(R"({"joints": [{"threshold": 1, "hold_change_threshold": 1}, {"threshold": 1}]})", "some joints only");
   refuse(R"({"hold_settle_s": "x", "joints": [{"threshold": 1}]})", "hold_settle_s");
+}
+
+TEST(HoldingDetection, DrivesOnTheBusDetectFromTheSensorFramesHoldingFlag) {
+  // The same 2 N·m push on the held waist, estimated by the drives on a simulated CAN FD
+  // bus: the holding flag reaches them in the sensor frames and their own detectors flag.
+  const auto c = config("q");
+  eval::DistributedConfig dc;
+  dc.estimator.model = c.model;
+  dc.estimator.dt = 1.0 / c.rate_hz;
+  dc.estimator.observer = c.gains;
+  dc.estimator.friction = c.friction;
+  dc.estimator.holding_velocity_deadband = eval::holding_deadband(c.model, c.rate_hz);
+  for (std::size_t j = 0; j < 3; ++j) {
+    dc.node_thresholds.push_back({c.thresholds[j], 0.0, c.low_speed_extra[j], 1.0 / c.low_speed_width});
+  }
+  auto run = [&](bool with_hold, double torque) {  // with_hold false: the drives' band alone
+    eval::DistributedConfig d = dc;
+    if (with_hold) {
+      for (const double h : c.hold_threshold) d.node_hold.push_back(eval::hold_params(h, c.hold_settle_s, c.hold_reference_s, d.estimator.dt));
+    }
+    auto est = eval::make_distributed_estimator(d, "q");
+    auto detection = eval::detection_for(c);
+    detection.hold_threshold.clear();  // only the drives' own detectors hold the change threshold
+    return eval::run_detection(eval::held_push_setup(c, 1, torque), *est, detection, "bus", false);
+  };
+  const auto with_hold = run(true, 2.0);
+  ASSERT_TRUE(with_hold.t_node_flagged.has_value());
+  EXPECT_LT(*with_hold.t_node_flagged - 3.5, 0.06);
+  EXPECT_EQ(with_hold.link_node_isolated, 1);
+  EXPECT_FALSE(run(true, 0.0).t_node_flagged.has_value()) << "a quiet hold";
+  const auto band_only = run(false, 2.0);
+  EXPECT_TRUE(!band_only.t_node_flagged || *band_only.t_node_flagged > *with_hold.t_node_flagged)
+      << "the holding detector flags before the drives' band (if the band sees it at all)";
 }
 
 }  // namespace
