@@ -6,10 +6,19 @@ template Error joint_outward<float>(const JointEstimatorParams<float>&, JointEst
                                    const OutwardMessage<float>&, OutwardMessage<float>&) noexcept;
 template Error joint_outward<q16>(const JointEstimatorParams<q16>&, JointEstimatorState<q16>&, q16, q16,
                                  const OutwardMessage<q16>&, OutwardMessage<q16>&) noexcept;
+template Error joint_outward<float>(const JointEstimatorParams<float>&, JointEstimatorState<float>&, float, float, bool,
+                                   const OutwardMessage<float>&, OutwardMessage<float>&) noexcept;
+template Error joint_outward<q16>(const JointEstimatorParams<q16>&, JointEstimatorState<q16>&, q16, q16, bool,
+                                 const OutwardMessage<q16>&, OutwardMessage<q16>&) noexcept;
 template bool joint_inward_and_estimate<float>(const JointEstimatorParams<float>&, JointEstimatorState<float>&, float,
                                                float, const InwardMessage<float>&, InwardMessage<float>&,
                                                ObserverInputStatus*) noexcept;
 template bool joint_inward_and_estimate<q16>(const JointEstimatorParams<q16>&, JointEstimatorState<q16>&, q16, q16,
+                                             const InwardMessage<q16>&, InwardMessage<q16>&, ObserverInputStatus*) noexcept;
+template bool joint_inward_and_estimate<float>(const JointEstimatorParams<float>&, JointEstimatorState<float>&, float,
+                                               float, bool, const InwardMessage<float>&, InwardMessage<float>&,
+                                               ObserverInputStatus*) noexcept;
+template bool joint_inward_and_estimate<q16>(const JointEstimatorParams<q16>&, JointEstimatorState<q16>&, q16, q16, bool,
                                              const InwardMessage<q16>&, InwardMessage<q16>&, ObserverInputStatus*) noexcept;
 }  // namespace jg
 

@@ -24,7 +24,9 @@ namespace jg::cli {
 namespace {
 struct EvaluateOptions {
   std::string scenario = "paper", model = JG_DEFAULT_MODEL, json, scalar = "float", reaction = "stop";
-  double rate = 1000.0, margin = 0.5, free_run_s = 0.0, calibration_s = 3600.0;
+  double rate = 1000.0, margin = 0.5, free_run_s = 0.0, calibration_s = 3600.0, hold_calibration_s = 1200.0;
+  double hold_settle_s = 0.15, isolation_window_s = 0.0;
+  bool no_hold = false, free_run_without_holds = false;
   int count = 50, debounce = 1, jobs = 0;
   double speed = 0.8;
   bool sweep = false;
@@ -113,7 +115,10 @@ Command add_evaluate(CLI::App& app) {
                                  "on the simulated arm with the firmware core in the loop. Friction is identified from an\n"
                                  "excitation run and thresholds calibrated on collision-free motion first.\n"
                                  "Example: jointguard evaluate --scenario paper --rate 125 --scalar q --json out/paper125.json");
-  cmd->add_option("--scenario", o->scenario, "paper, campaign, safety (ISO/TS 15066 body regions) or a scenario file (YAML)")->capture_default_str();
+  cmd->add_option("--scenario", o->scenario,
+                  "paper, campaign, held (pushes of 0.5-3 N·m on each link of a held arm), safety (ISO/TS 15066 body "
+                  "regions) or a scenario file (YAML)")
+      ->capture_default_str();
   cmd->add_option("--speed", o->speed, "safety: peak waist speed of the test swing [rad/s]")->capture_default_str()->check(finite_range(0.05, 3.0));
   cmd->add_flag("--sweep", o->sweep, "safety: also the largest speed each region and reaction allow");
   cmd->add_option("--model", o->model, "Robot file (YAML or URDF)")->capture_default_str()->check(CLI::ExistingFile);
@@ -124,6 +129,17 @@ Command add_evaluate(CLI::App& app) {
   cmd->add_option("--count", o->count, "Collisions in a campaign")->capture_default_str()->check(CLI::Range(1, 100000));
   cmd->add_option("--free-run", o->free_run_s, "Collision-free run for false alarms [s] (default 120 s paper, 600 s campaign)");
   cmd->add_option("--calibration", o->calibration_s, "Collision-free run the thresholds are calibrated on [s]")->capture_default_str()->check(CLI::Range(10.0, 86400.0));
+  cmd->add_option("--hold-calibration", o->hold_calibration_s,
+                  "Collision-free motion with holds the holding detector is calibrated on [s]")
+      ->capture_default_str()->check(CLI::Range(10.0, 86400.0));
+  cmd->add_option("--hold-settle", o->hold_settle_s, "Held time before the holding detector takes its reference [s]")
+      ->capture_default_str()->check(CLI::Range(0.0, 5.0));
+  cmd->add_option("--isolation-window", o->isolation_window_s,
+                  "Name the link from every joint taking part in the signature over this long from the detection [s] (0: the detection cycle)")
+      ->capture_default_str()->check(CLI::Range(0.0, 0.1));
+  cmd->add_flag("--no-hold", o->no_hold, "Band detector alone (no change detection while a joint holds)");
+  cmd->add_flag("--free-run-without-holds", o->free_run_without_holds,
+                "False-alarm run on random moves with short dwells only (the motion before holds were added)");
   cmd->add_option("--margin", o->margin, "Threshold margin above the observed band [N·m]")->capture_default_str()->check(finite_range(0.0, 1000.0));
   cmd->add_option("--debounce", o->debounce, "Cycles over threshold before a detection")->capture_default_str()->check(CLI::Range(1, 50));
   cmd->add_option("--reaction", o->reaction, "Reaction on detection")->check(CLI::IsMember({"none", "stop", "zero_gravity", "retreat", "reflex"}))->capture_default_str();
@@ -146,7 +162,7 @@ Command add_evaluate(CLI::App& app) {
             eval::ExperimentConfig c;
             std::string model_path = o->model;
             std::unique_ptr<sim::Scenario> scenario;
-            if (o->scenario != "paper" && o->scenario != "campaign" && o->scenario != "safety") {
+            if (o->scenario != "paper" && o->scenario != "campaign" && o->scenario != "safety" && o->scenario != "held") {
               scenario = std::make_unique<sim::Scenario>(sim::load_scenario(o->scenario));
               model_path = (std::filesystem::path(o->scenario).parent_path() /
                             io::YamlFields::load_file(o->scenario).text("model")).string();
@@ -158,6 +174,10 @@ Command add_evaluate(CLI::App& app) {
             c.gains = o->observer.to_gains(c.rate_hz);
             c.debounce_cycles = o->debounce;
             c.calibration_s = o->calibration_s;
+            c.hold_calibration_s = o->no_hold ? 0.0 : o->hold_calibration_s;
+            c.hold_settle_s = o->hold_settle_s;
+            c.isolation_window_s = o->isolation_window_s;
+            c.free_run_holds = !o->free_run_without_holds;
             c.reaction = reaction_of(o->reaction);
             eval::RunSplit split;
             split.jobs = o->jobs == 0 ? eval::default_jobs() : o->jobs;
@@ -177,6 +197,11 @@ Command add_evaluate(CLI::App& app) {
             if (o->scenario == "paper") {
               fig.runs = eval::paper_experiments(c, false, split);
               runs_total = std::min<std::size_t>(3, c.model.joints.size());
+            } else if (o->scenario == "held") {
+              // A short fixed set: the first shard runs all of it, the others none.
+              runs_total = static_cast<std::size_t>(5 * std::min<int>(3, static_cast<int>(c.model.joints.size())) + 1);
+              if (split.shard == 1) fig.runs = eval::held_experiments(c);
+              for (std::size_t i = 0; i < fig.runs.size(); ++i) fig.runs[i].index = static_cast<int>(i);
             } else if (o->scenario == "campaign") {
               fig.runs = eval::campaign(c, o->count, {2, 3}, [&](double f) { bar.update(0.3 + 0.5 * f); }, split);
               runs_total = static_cast<std::size_t>(o->count);
@@ -210,7 +235,10 @@ Command add_evaluate(CLI::App& app) {
             fig.config = {{"threshold", c.thresholds}, {"threshold_low_speed_extra", c.low_speed_extra},
                           {"threshold_low_speed_width", c.low_speed_width}, {"calibration_s", c.calibration_s},
                           {"margin", o->margin}, {"rate", c.rate_hz}, {"scalar", c.scalar},
-                          {"observer", to_string(c.gains.kind)}, {"gains", {c.gains.k1, c.gains.k2, c.gains.k3}}};
+                          {"observer", to_string(c.gains.kind)}, {"gains", {c.gains.k1, c.gains.k2, c.gains.k3}},
+                          {"hold_change_threshold", c.hold_threshold}, {"hold_settle_s", c.hold_settle_s},
+                          {"hold_reference_s", c.hold_reference_s}, {"hold_calibration_s", c.hold_calibration_s},
+                          {"isolation_window_s", c.isolation_window_s}, {"false_alarm_run_with_holds", c.free_run_holds}};
             if (!o->shard.empty()) {
               const auto segments = static_cast<std::size_t>(std::max(1.0, std::ceil(free_s / eval::kFreeRunSegmentS - 1e-9)));
               const nlohmann::json identity = {{"scenario", o->scenario}, {"count", o->count}, {"seed", o->seed},

@@ -14,7 +14,9 @@ nlohmann::json run_json(const eval::RunResult& r) {
   nlohmann::json j{{"name", r.name}, {"index", r.index}, {"t_collision", r.t_collision}, {"link_true", r.link_true},
                    {"link_isolated", r.link_isolated}, {"peak_force", r.peak_force_n},
                    {"max_true_torque_over_threshold", r.max_true_ratio},
-                   {"max_true_torque_over_moving_threshold", r.max_true_ratio_moving}};
+                   {"max_true_torque_over_moving_threshold", r.max_true_ratio_moving},
+                   {"isolable", r.isolable}, {"link_first_cycle", r.link_first_cycle}, {"detected_by_hold", r.detected_by_hold},
+                   {"peak_true_torque_held", r.peak_true_torque_held}, {"held_push", r.held_push_nm}};
   j["t_detected"] = optional_json(r.t_detected);
   j["delay"] = r.t_detected ? nlohmann::json(*r.t_detected - r.t_collision) : nlohmann::json(nullptr);
   j["t_threshold_crossed"] = optional_json(r.t_threshold);
@@ -41,6 +43,11 @@ eval::RunResult run_from_json(const nlohmann::json& j) {
   r.peak_force_n = j.at("peak_force").get<double>();
   r.max_true_ratio = j.at("max_true_torque_over_threshold").get<double>();
   r.max_true_ratio_moving = j.at("max_true_torque_over_moving_threshold").get<double>();
+  r.isolable = j.at("isolable").get<bool>();
+  r.link_first_cycle = j.at("link_first_cycle").get<int>();
+  r.detected_by_hold = j.at("detected_by_hold").get<bool>();
+  r.peak_true_torque_held = j.at("peak_true_torque_held").get<double>();
+  r.held_push_nm = j.at("held_push").get<double>();
   return r;
 }
 
@@ -48,6 +55,24 @@ struct FreeRunTotals {
   int alarms = 0;
   std::vector<double> times;
 };
+/// Per link 1-3 of a `held` evaluation: the smallest push detected such that every larger
+/// one was detected too (null: none); empty when the runs are not held pushes.
+nlohmann::json held_smallest(const std::vector<eval::RunResult>& runs) {
+  nlohmann::json out = nlohmann::json::array();
+  const bool held = std::any_of(runs.begin(), runs.end(), [](const auto& r) { return r.held_push_nm > 0.0; });
+  if (!held) return out;
+  for (int link = 1; link <= 3; ++link) {
+    double smallest = -1.0;
+    for (auto it = runs.rbegin(); it != runs.rend(); ++it) {
+      if (it->link_true != link || it->held_push_nm <= 0.0) continue;
+      if (!it->t_detected) break;
+      smallest = it->held_push_nm;
+    }
+    out.push_back(smallest > 0.0 ? nlohmann::json(smallest) : nlohmann::json(nullptr));
+  }
+  return out;
+}
+
 FreeRunTotals totals_of(const std::vector<eval::FreeRunSegment>& segments) {
   FreeRunTotals t;
   for (const auto& s : segments) t.times.insert(t.times.end(), s.alarm_times.begin(), s.alarm_times.end());
@@ -66,6 +91,11 @@ nlohmann::json evaluate_json(const EvaluateFigures& f) {
   nlohmann::json s = f.config;
   s.update({{"detection_rate", sum.detected / n},
             {"isolation_accuracy", sum.isolated / n},
+            {"isolation_ceiling", sum.isolable / n},
+            {"isolable", sum.isolable},
+            {"isolated_of_isolable", sum.isolated_of_isolable},
+            {"detected_by_hold", sum.detected_by_hold},
+            {"held_smallest_detected", held_smallest(f.runs)},
             {"detection_rate_over_1p5x_threshold", sum.detectable ? static_cast<double>(sum.detectable_found) / sum.detectable : 1.0},
             {"over_1p5x_threshold", {{"collisions", sum.detectable}, {"detected", sum.detectable_found}}},
             {"over_1p5x_moving_threshold", {{"collisions", sum.detectable_moving}, {"detected", sum.detectable_moving_found}}},
@@ -97,6 +127,24 @@ void print_figures(const EvaluateFigures& f) {
               "(1.5x the moving threshold: %d/%d); isolation %d/%d\n",
               sum.detected, sum.runs, sum.detectable_found, sum.detectable, sum.detectable_moving_found,
               sum.detectable_moving, sum.isolated, sum.runs);
+  std::printf("isolable (the true torques name the link: the highest joint over its moving threshold): %d/%d; "
+              "isolated of those %d/%d; detections first seen by the holding detector %d\n",
+              sum.isolable, sum.runs, sum.isolated_of_isolable, sum.isolable, sum.detected_by_hold);
+  const nlohmann::json smallest = held_smallest(f.runs);
+  if (!smallest.empty()) {
+    std::printf("smallest push detected on a held joint (every larger one detected too):");
+    for (std::size_t k = 0; k < smallest.size(); ++k) {
+      std::printf(" link %zu %s", k + 1, smallest[k].is_null() ? "none" : (std::to_string(smallest[k].get<double>()).substr(0, 4) + " N·m").c_str());
+    }
+    int quiet_alarms = 0;
+    for (const auto& r : f.runs) quiet_alarms += r.held_push_nm <= 0.0 ? static_cast<int>(r.false_alarm_times.size()) : 0;
+    std::printf("; alarms in the hold without contact: %d\n", quiet_alarms);
+  }
+  if (f.config.contains("hold_change_threshold") && !f.config["hold_change_threshold"].empty()) {
+    std::printf("holding detector: change threshold");
+    for (const auto& h : f.config["hold_change_threshold"]) std::printf(" %.3f", h.get<double>());
+    std::printf(" N·m\n");
+  }
   const double per_hour = f.free_run_s > 0.0 ? fr.alarms * 3600.0 / f.free_run_s : 0.0;
   std::printf("delay min/median/max %.1f/%.1f/%.1f ms; false alarms %d in %.0f s (%.2f per hour)", 1e3 * sum.delay_min,
               1e3 * sum.delay_median, 1e3 * sum.delay_max, fr.alarms, f.free_run_s, per_hour);

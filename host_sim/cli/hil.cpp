@@ -7,11 +7,13 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/hil_common.hpp"
+#include "eval/evaluate.hpp"
 #include "eval/joint_params.hpp"
 #include "eval/pipeline.hpp"
 #include "io/yaml_fields.hpp"
@@ -48,9 +50,20 @@ int run_node(const NodeOptions& o) {
   if (!o.friction.empty()) fc.friction = eval::read_friction_json(o.friction);
   fc.compensate_friction = !fc.friction.empty();
   std::vector<JointThreshold<double>> bands;
-  if (!o.threshold.empty()) bands = eval::threshold_bands(eval::read_threshold_json(o.threshold));
+  eval::Thresholds thresholds;
+  if (!o.threshold.empty()) {
+    thresholds = eval::read_threshold_json(o.threshold);
+    bands = eval::threshold_bands(thresholds);
+  }
   if (!bands.empty() && bands.size() != n) throw std::invalid_argument(o.threshold + ": one threshold per joint needed");
-  const JointEstimatorParams<S> p = eval::joint_params<S>(fc, j, bands.empty() ? nullptr : &bands[j], o.debounce);
+  // A threshold file with a holding detector: run it on the sensor frames' holding flag.
+  std::optional<HoldChangeParams<double>> hold;
+  if (thresholds.hold_change.size() == n) {
+    fc.holding_velocity_deadband = eval::holding_deadband(model, o.rate);
+    hold = eval::hold_params(thresholds.hold_change[j], thresholds.hold_settle_s, thresholds.hold_reference_s, fc.dt);
+  }
+  const JointEstimatorParams<S> p =
+      eval::joint_params<S>(fc, j, bands.empty() ? nullptr : &bands[j], o.debounce, hold ? &*hold : nullptr);
   hal::SocketCanPort port(o.iface);
   const DriveConfig dc{NodeConfig{static_cast<std::uint8_t>(o.joint), static_cast<std::uint8_t>(n), static_cast<std::uint8_t>(o.fault_cycles)},
                        true};

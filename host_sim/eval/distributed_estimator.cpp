@@ -45,9 +45,9 @@ class BusEstimator final : public DistributedEstimator {
           if (f.joint == 0 || f.joint == j + 1) bad.q(j) = bad.dq(j) = bad.tau_m(j) = std::numeric_limits<double>::quiet_NaN();
         }
       }
-      master_.send_cycle(cycle_, bad.q.data(), bad.dq.data(), bad.tau_m.data());
+      master_.send_cycle(cycle_, bad.q.data(), bad.dq.data(), bad.tau_m.data(), in.holding);
     } else {
-      master_.send_cycle(cycle_, in.q.data(), in.dq.data(), in.tau_m.data());
+      master_.send_cycle(cycle_, in.q.data(), in.dq.data(), in.tau_m.data(), in.holding);
     }
     for (int k = 1; k <= kPollsPerCycle; ++k) {
       bus_.run_until(time_ + dt * k / kPollsPerCycle);
@@ -89,7 +89,8 @@ class BusEstimator final : public DistributedEstimator {
     const auto& fc = config_.estimator;
     const std::size_t n = fc.model.joints.size();
     const JointThreshold<double>* band = config_.node_thresholds.empty() ? nullptr : &config_.node_thresholds[j];
-    const JointEstimatorParams<S> p = joint_params<S>(fc, j, band, config_.debounce_cycles);
+    const HoldChangeParams<double>* hold = j < config_.node_hold.size() ? &config_.node_hold[j] : nullptr;
+    const JointEstimatorParams<S> p = joint_params<S>(fc, j, band, config_.debounce_cycles, hold);
     const DriveConfig dc{NodeConfig{static_cast<std::uint8_t>(j + 1), static_cast<std::uint8_t>(n), config_.fault_cycles}, true};
     // A drive's node refers to the drive's relay port: drives never move.
     return std::make_unique<JointDrive<S, can::SimPort>>(dc, p, *ports_[j], gravity_of<S>(fc.model));

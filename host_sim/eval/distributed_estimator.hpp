@@ -29,6 +29,8 @@ struct DistributedConfig {
   /// The drives' own detector bands (empty: the drives never flag).
   std::vector<JointThreshold<double>> node_thresholds;
   int debounce_cycles = 1;
+  /// The drives' holding detectors (empty: off), one per joint.
+  std::vector<HoldChangeParams<double>> node_hold;
   std::uint8_t fault_cycles = 5;
 };
 

@@ -15,6 +15,7 @@ namespace jg::eval {
 
 struct EstimatorInput {
   sim::JointVector q, dq, tau_m;  ///< measured position, velocity, motor torque (link side)
+  JointMask holding = 0;          ///< bit j: joint j+1's controller holds a constant setpoint
 };
 
 class Estimator {

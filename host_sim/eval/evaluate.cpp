@@ -7,9 +7,10 @@
 
 namespace jg::eval {
 namespace {
+constexpr double kHeldSignatureFraction = 0.6;
 // One cycle of the estimator on a measurement; the first measurement also starts it.
-void estimate(Estimator& estimator, const sim::Measurement& m, bool& started, sim::JointVector& mu) {
-  const EstimatorInput in{m.q, m.dq, m.tau_m};
+void estimate(Estimator& estimator, const sim::Measurement& m, JointMask holding, bool& started, sim::JointVector& mu) {
+  const EstimatorInput in{m.q, m.dq, m.tau_m, holding};
   if (!started) {
     estimator.reset(in);
     started = true;
@@ -17,6 +18,16 @@ void estimate(Estimator& estimator, const sim::Measurement& m, bool& started, si
   estimator.step(in, mu);
 }
 }  // namespace
+
+HoldChangeParams<double> hold_params(double threshold, double settle_s, double reference_s, double dt) {
+  HoldChangeParams<double> p;
+  p.change_threshold = threshold;
+  const auto cycles = [dt](double s) { return std::min(65535.0, std::ceil(std::max(0.0, s) / dt - 1e-9)); };
+  p.settle_cycles = static_cast<std::uint16_t>(cycles(settle_s));
+  p.reference_cycles = static_cast<std::uint16_t>(std::max(1.0, cycles(reference_s)));
+  p.inv_reference_cycles = 1.0 / p.reference_cycles;
+  return p;
+}
 
 RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator, const DetectionConfig& d,
                         const std::string& name, bool record_trace) {
@@ -33,9 +44,20 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
     thresholds[j] = {d.threshold[j], d.per_speed.empty() ? 0.0 : d.per_speed[j],
                      d.low_speed_extra.empty() ? 0.0 : d.low_speed_extra[j], 1.0 / d.low_speed_width};
   }
+  std::vector<HoldChangeParams<double>> hold_detector(n);
+  std::vector<HoldChangeState<double>> hold_states(n);
+  const double dt = 1.0 / setup.control_rate_hz;
+  for (std::size_t j = 0; j < n; ++j) {
+    hold_detector[j] = hold_params(j < d.hold_threshold.size() ? d.hold_threshold[j] : 0.0, d.hold_settle_s, d.hold_reference_s, dt);
+  }
+  // Per cycle, for the ground truth below: the holding mask and each joint's threshold in
+  // effect (the band at the measured velocity, or the change threshold while the holding
+  // detector is armed, whichever is lower).
+  const bool record_ground_truth = !setup.collisions.empty() || record_trace;
+  std::vector<JointMask> holding_trace;
+  std::vector<double> in_effect_trace;
   std::vector<LuGreDiscrete<double>> friction(d.friction.size());
   std::vector<LuGreState<double>> friction_state(d.friction.size());
-  const double dt = 1.0 / setup.control_rate_hz;
   for (std::size_t j = 0; j < d.friction.size(); ++j) {
     if (discretize(d.friction[j], dt, friction[j]) != Error::ok) throw std::invalid_argument("detection: invalid LuGre");
   }
@@ -50,11 +72,13 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
   JointMask collided = 0;
   sim::JointVector mu;
   JointMask mask = 0;
+  JointMask window_signature = 0;  // joints taking part in the signature since the detection
   double last_alarm_t = -1e9;
   const double isolation_fraction = d.isolation_fraction;
   const sim::ControlOverride hook = [&](const sim::CycleContext& ctx) -> std::optional<sim::JointVector> {
     const sim::Measurement& m = *ctx.measurement;
-    estimate(estimator, m, started, mu);
+    const JointMask holding = sim::holding_mask(*ctx.reference);
+    estimate(estimator, m, holding, started, mu);
     if (!reacting && d.reaction == Reaction::retreat) {
       if (path.size() == path_capacity) path.erase(path.begin());
       path.push_back(m.q);
@@ -79,12 +103,21 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       out.link_node_isolated = isolate_link(reported);
     }
     JointMask now = 0;
+    JointMask by_band = 0;
     for (std::size_t j = 0; j < n; ++j) {
-      if (detector_step(thresholds[j], DebounceSettings{static_cast<std::uint8_t>(d.debounce_cycles)}, states[j],
-                        mu(static_cast<Eigen::Index>(j)), m.dq(static_cast<Eigen::Index>(j)))) {
+      const auto i = static_cast<Eigen::Index>(j);
+      const bool changed = hold_change_step(hold_detector[j], hold_states[j], ((holding >> j) & 1U) != 0U, mu(i));
+      if (detector_step(thresholds[j], DebounceSettings{static_cast<std::uint8_t>(d.debounce_cycles)}, states[j], mu(i),
+                        m.dq(i), changed)) {
         now |= static_cast<JointMask>(1U << j);
       }
+      const double band = threshold_at(thresholds[j], m.dq(i));
+      if (band < std::fabs(mu(i))) by_band |= static_cast<JointMask>(1U << j);
+      if (record_ground_truth) {
+        in_effect_trace.push_back(hold_states[j].armed ? std::min(band, hold_detector[j].change_threshold) : band);
+      }
     }
+    if (record_ground_truth) holding_trace.push_back(holding);
     if (now != 0 && (setup.collisions.empty() || ctx.t < out.t_collision)) {
       // An alarm with no contact: count one per episode (a new one only after 0.5 s below
       // every threshold), re-arm, do not react.
@@ -94,21 +127,35 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       last_alarm_t = ctx.t;
       for (auto& st : states) reset_detector(st);
       now = 0;
-    } else if (now != 0 && !out.t_detected) {
-      // Isolation from the signature at the detection cycle itself: joints crossing later
-      // mostly see the reaction's own transients, not the contact.
-      out.t_detected = ctx.t;
+    } else if ((now != 0 && !out.t_detected) ||
+               (out.t_detected && ctx.t <= *out.t_detected + d.isolation_window_s + 1e-9)) {
+      // Isolation from the signature at the detection cycle itself (isolation_window_s 0:
+      // joints crossing later mostly see the reaction's own transients, not the contact),
+      // or from every joint that takes part over a short window from it (a contact's own
+      // joint may lag a joint below it by a few cycles).
+      if (!out.t_detected) {
+        out.t_detected = ctx.t;
+        out.detected_by_hold = by_band == 0;
+        out.link_first_cycle = 0;
+      }
       // Signature with a lower bar than detection: a joint takes part when its estimate is
       // above 30 % of its threshold (about its collision-free band), so a contact whose own
       // joint sees less torque than a joint below it is still named by its own joint.
       JointMask signature = now;
+      // A joint whose holding detector is armed takes part by its change since arrival
+      // (|mu| there is mostly the friction it holds): over kHeldSignatureFraction of its
+      // change threshold, about the largest collision-free change (1.5x it + 0.2 N·m).
       for (std::size_t j = 0; j < n; ++j) {
-        if (std::fabs(mu(static_cast<Eigen::Index>(j))) > isolation_fraction * d.threshold[j]) {
-          signature |= static_cast<JointMask>(1U << j);
-        }
+        const double value = mu(static_cast<Eigen::Index>(j));
+        const bool part = hold_states[j].armed
+                              ? hold_deviation(hold_states[j], value) > kHeldSignatureFraction * hold_detector[j].change_threshold
+                              : std::fabs(value) > isolation_fraction * d.threshold[j];
+        if (part) signature |= static_cast<JointMask>(1U << j);
       }
-      out.link_isolated = isolate_link(signature);
-      collided = signature;
+      window_signature |= signature;
+      out.link_isolated = isolate_link(window_signature);
+      if (out.link_first_cycle == 0) out.link_first_cycle = out.link_isolated;
+      collided = window_signature;
       if (!reacting) {
         hold = m.q;
         t_reaction = ctx.t;
@@ -168,19 +215,30 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
   // The ground truth (external torque, contact) comes from the recording; a collision-free
   // run needs none, and recording six hours would take gigabytes.
   sim::SimulationSetup s = setup;
-  s.record = !setup.collisions.empty() || record_trace;
+  s.record = record_ground_truth;
   sim::SimulationResult r = sim::run_simulation(s, hook);
   const auto& rec = r.recording;
   for (std::size_t k = 0; k < rec.samples(); ++k) {
+    const bool traced = k < holding_trace.size();
+    int highest_clear = 0;  // the highest joint whose true torque clears its moving band
     for (std::size_t j = 0; j < n; ++j) {
-      // Against the threshold in effect (the band at the velocity the detector saw), and
-      // against the moving threshold alone (stricter: counts impacts on a joint at rest).
+      // Against the threshold in effect (the band at the velocity the detector saw, or the
+      // change threshold of an armed holding detector), and against the moving threshold
+      // alone (stricter: counts impacts on a joint at rest).
       const double magnitude = std::fabs(rec.tau_ext[j][k]);
-      const double ratio = magnitude / threshold_at(thresholds[j], rec.dq[j][k]);
+      const double in_effect = traced ? in_effect_trace[k * n + j] : threshold_at(thresholds[j], rec.dq[j][k]);
+      const double ratio = magnitude / in_effect;
       out.max_true_ratio = std::max(out.max_true_ratio, ratio);
       out.max_true_ratio_moving = std::max(out.max_true_ratio_moving, magnitude / d.threshold[j]);
       if (!out.t_threshold && ratio > 1.0) out.t_threshold = rec.t[k];
+      if (magnitude > d.threshold[j]) highest_clear = static_cast<int>(j) + 1;
+      if (traced && ((holding_trace[k] >> j) & 1U) != 0U) {
+        out.peak_true_torque_held = std::max(out.peak_true_torque_held, magnitude);
+      }
     }
+    // Isolable: at some cycle of the run the true torques name the collided link (the
+    // highest joint over its noise band, the moving threshold, is the collided link's).
+    if (highest_clear != 0 && highest_clear == out.link_true) out.isolable = true;
   }
   out.peak_force_n = r.peak_contact_force_n;
   out.contact_force_n = std::move(r.contact_force_n);
@@ -199,7 +257,7 @@ std::vector<double> observer_band(const sim::SimulationSetup& setup, Estimator& 
   sim::JointVector mu;
   const sim::ControlOverride hook = [&](const sim::CycleContext& ctx) -> std::optional<sim::JointVector> {
     const sim::Measurement& m = *ctx.measurement;
-    estimate(estimator, m, started, mu);
+    estimate(estimator, m, sim::holding_mask(*ctx.reference), started, mu);
     if (ctx.t >= settle_s) {
       for (std::size_t j = 0; j < n; ++j) band[j] = std::max(band[j], std::fabs(mu(static_cast<Eigen::Index>(j))));
     }

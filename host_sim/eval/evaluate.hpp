@@ -8,6 +8,7 @@
 
 #include "eval/estimator.hpp"
 #include "jointguard/detection/detector.hpp"
+#include "jointguard/detection/hold_detector.hpp"
 #include "sim/simulation.hpp"
 
 namespace jg::eval {
@@ -18,7 +19,12 @@ struct DetectionConfig {
   std::vector<double> low_speed_extra;  ///< stiction allowance near standstill [N·m] (empty = 0)
   double low_speed_width = 0.03;        ///< [rad/s]
   double isolation_fraction = 0.3;      ///< joints above this share of their threshold join the signature
+  double isolation_window_s = 0.0;      ///< the signature gathered over this long from the detection [s]
   int debounce_cycles = 1;
+  /// Change detection while a joint's controller holds (hold_detector.hpp): threshold per
+  /// joint [N·m] (empty or 0: off), settle and reference windows [s].
+  std::vector<double> hold_threshold;
+  double hold_settle_s = 0.15, hold_reference_s = 0.016;
   Reaction reaction = Reaction::stop;
   std::vector<LuGreParams<double>> friction;  ///< for the zero-gravity mode's friction compensation
   double retreat_rad = 0.1;   ///< retreat: joint-space path length [rad] to go back along
@@ -39,6 +45,7 @@ struct RunResult {
   std::optional<double> t_threshold;       ///< first time the true |tau_ext| exceeds the threshold in effect
   std::optional<double> t_detected;
   int link_true = 0, link_isolated = 0;
+  int link_first_cycle = 0;                ///< the signature's link at the detection cycle alone
   double peak_force_n = 0.0;
   /// max over joints and samples of |tau_ext| / threshold in effect (the band at the
   /// measured velocity, standstill allowance included)
@@ -50,6 +57,12 @@ struct RunResult {
   std::optional<double> t_input_fault;     ///< first cycle a drive reported an input fault (the arm holds)
   std::optional<double> t_comm_fault;      ///< first cycle a drive reported a communication fault (the arm holds)
   std::vector<double> contact_force_n;     ///< contact force per control cycle [N] (runs with collisions)
+  bool detected_by_hold = false;           ///< the first detection came from the holding detector alone
+  /// The collided link is nameable at all: the highest joint whose true |tau_ext| clears
+  /// its band (the threshold in effect) at some cycle of the contact is the collided link.
+  bool isolable = false;
+  double held_push_nm = 0.0;               ///< held_push: the torque the push puts on its own joint [N·m]
+  double peak_true_torque_held = 0.0;      ///< max true |tau_ext| on a joint while its controller held [N·m]
   Trace trace;
   io::Recording recording;  ///< the run's recording (kept only with record_trace)
 };
@@ -57,6 +70,10 @@ struct RunResult {
 /// Runs one scenario. `record_trace` keeps mu and tau_ext per cycle for plots.
 RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator, const DetectionConfig& detection,
                         const std::string& name, bool record_trace);
+
+/// The holding detector's parameters from seconds at sample time dt: settle and reference
+/// windows rounded up to whole cycles (at least one cycle of reference).
+HoldChangeParams<double> hold_params(double threshold, double settle_s, double reference_s, double dt);
 
 /// Collision-free run for calibration: max |mu| per joint (the observer band).
 std::vector<double> observer_band(const sim::SimulationSetup& setup, Estimator& estimator, double settle_s = 0.5);

@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <iterator>
 #include <random>
+#include <stdexcept>
 
 #include "eval/firmware_estimator.hpp"
 #include "eval/parallel.hpp"
@@ -57,6 +59,7 @@ std::unique_ptr<Estimator> estimator_for(const ExperimentConfig& c) {
   f.observer = c.gains;
   f.compensate_friction = !c.friction.empty();
   f.friction = c.friction;
+  if (c.hold_calibration_s > 0.0 || !c.hold_threshold.empty()) f.holding_velocity_deadband = holding_deadband(c.model, c.rate_hz);
   return make_firmware_estimator(f, c.scalar);
 }
 
@@ -66,6 +69,10 @@ DetectionConfig detection_for(const ExperimentConfig& c) {
   d.low_speed_extra = c.low_speed_extra;
   d.low_speed_width = c.low_speed_width;
   d.debounce_cycles = c.debounce_cycles;
+  d.hold_threshold = c.hold_threshold;
+  d.isolation_window_s = c.isolation_window_s;
+  d.hold_settle_s = c.hold_settle_s;
+  d.hold_reference_s = c.hold_reference_s;
   d.reaction = c.reaction;
   d.friction = c.friction;
   return d;
@@ -82,6 +89,9 @@ Summary summarize(const std::vector<RunResult>& runs) {
       if (r.t_threshold) after.push_back(*r.t_detected - *r.t_threshold);
     }
     s.isolated += r.link_isolated == r.link_true ? 1 : 0;
+    s.isolable += r.isolable ? 1 : 0;
+    s.isolated_of_isolable += r.isolable && r.link_isolated == r.link_true ? 1 : 0;
+    s.detected_by_hold += r.t_detected && r.detected_by_hold ? 1 : 0;
     if (r.max_true_ratio > 1.5) {
       ++s.detectable;
       s.detectable_found += r.t_detected ? 1 : 0;
@@ -108,6 +118,60 @@ Summary summarize(const std::vector<RunResult>& runs) {
   return s;
 }
 
+namespace {
+void calibrate_holding(const ExperimentConfig& c, Thresholds& t) {
+  // Collision-free moves in which joints hold (alone and while others move) and the arm
+  // dwells for up to 4 s: the holding detector's reference and deviations, as it runs in
+  // detection (armed while the whole arm holds, sim::holding_mask).
+  const auto home = home_of(c.model);
+  sim::JointVector lower = home, upper = home;
+  for (Eigen::Index j = 0; j < lower.size(); ++j) {
+    lower(j) -= 0.7;
+    upper(j) += 0.7;
+  }
+  auto moves = sim::make_random_moves_with_holds(home, lower, upper, 0.8, c.hold_calibration_s + 5.0, c.seed * 19 + 4);
+  sim::SimulationSetup free = base_setup(c, std::shared_ptr<const sim::Trajectory>(std::move(moves)), c.seed * 23 + 5);
+  free.meta.scenario = "calibration_holds";
+  free.duration_s = c.hold_calibration_s;
+  free.record = false;
+  auto est = estimator_for(c);
+  const std::size_t n = c.model.joints.size();
+  // A threshold never reached: the detector arms and takes its reference as in detection.
+  const HoldChangeParams<double> p = hold_params(1e9, c.hold_settle_s, c.hold_reference_s, 1.0 / c.rate_hz);
+  std::vector<HoldChangeState<double>> states(n);
+  t.hold_band.assign(n, 0.0);
+  t.hold_seconds.assign(n, 0.0);
+  bool started = false;
+  sim::JointVector mu;
+  constexpr double kSettleS = 0.5;
+  const sim::ControlOverride hook = [&](const sim::CycleContext& ctx) -> std::optional<sim::JointVector> {
+    const sim::Measurement& m = *ctx.measurement;
+    const JointMask holding = sim::holding_mask(*ctx.reference);
+    const EstimatorInput in{m.q, m.dq, m.tau_m, holding};
+    if (!started) {
+      est->reset(in);
+      started = true;
+    }
+    est->step(in, mu);
+    for (std::size_t j = 0; j < n; ++j) {
+      const auto i = static_cast<Eigen::Index>(j);
+      const bool held = ctx.t >= kSettleS && ((holding >> j) & 1U) != 0U;
+      (void)hold_change_step(p, states[j], held, mu(i));
+      if (states[j].armed) {
+        t.hold_band[j] = std::max(t.hold_band[j], hold_deviation(states[j], mu(i)));
+        t.hold_seconds[j] += 1.0 / c.rate_hz;
+      }
+    }
+    return std::nullopt;
+  };
+  (void)sim::run_simulation(free, hook);
+  t.hold_settle_s = c.hold_settle_s;
+  t.hold_reference_s = c.hold_reference_s;
+  t.hold_change.assign(n, 0.0);
+  for (std::size_t j = 0; j < n; ++j) t.hold_change[j] = kHoldFactor * t.hold_band[j] + kHoldMargin;
+}
+}  // namespace
+
 Thresholds calibrate(const ExperimentConfig& c, double margin_nm) {
   // Collision-free motion unlike the identification run: random moves. Not recorded: the
   // compensated and uncompensated observers run in the loop and feed the band statistics.
@@ -133,7 +197,7 @@ Thresholds calibrate(const ExperimentConfig& c, double margin_nm) {
   constexpr double kSettleS = 0.5;
   const sim::ControlOverride hook = [&](const sim::CycleContext& ctx) -> std::optional<sim::JointVector> {
     const sim::Measurement& m = *ctx.measurement;
-    const EstimatorInput in{m.q, m.dq, m.tau_m};
+    const EstimatorInput in{m.q, m.dq, m.tau_m, sim::holding_mask(*ctx.reference)};
     if (!started) {
       with->reset(in);
       without->reset(in);
@@ -150,7 +214,9 @@ Thresholds calibrate(const ExperimentConfig& c, double margin_nm) {
     return std::nullopt;
   };
   (void)sim::run_simulation(free, hook);
-  return stats.fit(margin_nm);
+  Thresholds t = stats.fit(margin_nm);
+  if (c.hold_calibration_s > 0.0) calibrate_holding(c, t);
+  return t;
 }
 
 Preparation prepare(ExperimentConfig& c, double margin_nm, const std::function<void(double)>& progress) {
@@ -172,6 +238,7 @@ Preparation prepare(ExperimentConfig& c, double margin_nm, const std::function<v
   c.thresholds = p.thresholds.threshold;
   c.low_speed_extra = p.thresholds.low_speed_extra;
   c.low_speed_width = p.thresholds.low_speed_width;
+  c.hold_threshold = p.thresholds.hold_change;
   if (progress) progress(1.0);
   return p;
 }
@@ -233,6 +300,59 @@ std::vector<RunResult> paper_experiments(const ExperimentConfig& c, bool traces,
     slots[slot].index = static_cast<int>(chosen[slot]);
   });
   for (auto& r : slots) out.push_back(std::move(r));
+  return out;
+}
+
+sim::SimulationSetup held_push_setup(const ExperimentConfig& c, int link, double torque_nm) {
+  const std::size_t n = c.model.joints.size();
+  const sim::JointVector home = home_of(c.model);
+  sim::JointVector there = home;
+  if (there.size() >= 3) {
+    there(0) += 0.5;
+    there(1) += 0.3;
+    there(2) -= 0.3;
+  }
+  auto traj = std::make_shared<sim::WaypointTrajectory>(home, std::vector<sim::WaypointTrajectory::Waypoint>{{there, 1.5, 6.0}});
+  sim::SimulationSetup s = base_setup(c, traj, c.seed * 41 + static_cast<unsigned long long>(link));
+  s.duration_s = 7.0;
+  if (torque_nm > 0.0) {
+    if (link < 1 || link > static_cast<int>(n)) throw std::invalid_argument("held_push: no link " + std::to_string(link));
+    sim::CollisionEvent e;
+    e.t_start = 3.5;
+    e.link = link;
+    e.point_in_link = {0.2, 0.0, 0.0};
+    const sim::ArmDynamics arm(s.plant.links);
+    const auto poses = arm.poses(there);
+    const Eigen::Vector3d axis = poses.rotation[link - 1].col(2);
+    const Eigen::Vector3d lever = poses.rotation[link - 1] * e.point_in_link;
+    const Eigen::Vector3d tangential = axis.cross(lever);
+    e.direction_base = tangential.normalized();
+    e.profile = sim::CollisionProfile::push;
+    e.peak_force_n = torque_nm / tangential.norm();
+    e.rise_s = 0.03;
+    e.duration_s = 1.0;
+    s.collisions = {e};
+  }
+  return s;
+}
+
+RunResult held_push(const ExperimentConfig& c, int link, double torque_nm, bool traces) {
+  const sim::SimulationSetup s = held_push_setup(c, link, torque_nm);
+  auto est = estimator_for(c);
+  char name[64];
+  std::snprintf(name, sizeof name, torque_nm > 0.0 ? "held, %.1f N·m on link %d" : "held, no contact", torque_nm, link);
+  RunResult r = run_detection(s, *est, detection_for(c), name, traces);
+  r.held_push_nm = torque_nm;
+  return r;
+}
+
+std::vector<RunResult> held_experiments(const ExperimentConfig& c) {
+  std::vector<RunResult> out;
+  const int links = std::min<int>(3, static_cast<int>(c.model.joints.size()));
+  for (int link = 1; link <= links; ++link) {
+    for (const double torque : {0.5, 1.0, 1.5, 2.0, 3.0}) out.push_back(held_push(c, link, torque, false));
+  }
+  out.push_back(held_push(c, 1, 0.0, false));
   return out;
 }
 
@@ -299,7 +419,8 @@ std::vector<FreeRunSegment> free_run_segments(const ExperimentConfig& c, double 
     // Segment 0 keeps the seeds of the single run this replaced; the others are apart from
     // every other seed of the evaluation (a large odd stride).
     const unsigned long long stride = 1000003ULL * k;
-    auto moves = sim::make_random_moves(home, lower, upper, 0.8, length + 5.0, c.seed * 31 + 7 + stride);
+    auto moves = c.free_run_holds ? sim::make_random_moves_with_holds(home, lower, upper, 0.8, length + 5.0, c.seed * 31 + 7 + stride)
+                                  : sim::make_random_moves(home, lower, upper, 0.8, length + 5.0, c.seed * 31 + 7 + stride);
     sim::SimulationSetup setup = base_setup(c, std::shared_ptr<const sim::Trajectory>(std::move(moves)), c.seed * 37 + 11 + stride);
     setup.duration_s = length;
     auto est = estimator_for(c);

@@ -31,7 +31,20 @@ struct ExperimentConfig {
   double calibration_s = 3600.0;
   /// Threads for the identification's independent GA runs (the result does not depend on it).
   int jobs = 2;
+  /// Change detection while holding: threshold per joint [N·m] (empty: off), windows [s],
+  /// and the collision-free motion with holds it is calibrated on [s] (0: no holding detector).
+  std::vector<double> hold_threshold;
+  double hold_settle_s = 0.15, hold_reference_s = 0.016;
+  double hold_calibration_s = 1200.0;
+  double isolation_window_s = 0.0;  ///< DetectionConfig::isolation_window_s
+  /// The false-alarm run's motion includes holds (make_random_moves_with_holds).
+  bool free_run_holds = true;
 };
+
+/// The holding detector's threshold from the largest collision-free deviation seen while
+/// armed: kHoldFactor x it + kHoldMargin [N·m].
+inline constexpr double kHoldFactor = 1.5;
+inline constexpr double kHoldMargin = 0.2;
 
 /// A simulation set-up on the model at the configured rate with realistic sensors and the
 /// paper's friction as truth.
@@ -45,7 +58,9 @@ struct Preparation {
   io::Recording excitation;
 };
 /// Thresholds from `c.calibration_s` of collision-free random motion with the configured
-/// estimator (rate, scalar, friction): BandStatistics::fit.
+/// estimator (rate, scalar, friction): BandStatistics::fit; then, when
+/// `c.hold_calibration_s` > 0, the holding detector's threshold from that long a
+/// collision-free motion with holds (its own seed).
 Thresholds calibrate(const ExperimentConfig& c, double margin_nm);
 
 Preparation prepare(ExperimentConfig& c, double margin_nm, const std::function<void(double)>& progress = {});
@@ -64,6 +79,15 @@ struct RunSplit {
 
 /// The paper's three collisions (waist, shoulder, elbow) during the pick task.
 std::vector<RunResult> paper_experiments(const ExperimentConfig& c, bool traces, const RunSplit& split = {});
+
+/// The arm moves for 1.5 s to a posture and holds it for 6 s; with `torque_nm` > 0 a push
+/// (30 ms rise, 1 s) on link `link` at 3.5 s, tangential at 0.2 m on the link, loads that
+/// link's own joint with `torque_nm` (the joints below carry their own share).
+RunResult held_push(const ExperimentConfig& c, int link, double torque_nm, bool traces);
+/// held_push's simulation set-up (for other estimators).
+sim::SimulationSetup held_push_setup(const ExperimentConfig& c, int link, double torque_nm);
+/// held_push on every link with 0.5, 1, 1.5, 2 and 3 N·m, and one hold without contact.
+std::vector<RunResult> held_experiments(const ExperimentConfig& c);
 
 /// Random collisions (seeded) on `links`, each in its own short run from random motion.
 /// Runs of other shards are left out; the result is in index order.
@@ -94,6 +118,11 @@ DetectionConfig detection_for(const ExperimentConfig& c);
 /// Campaign figures over runs.
 struct Summary {
   int runs = 0, detected = 0, isolated = 0;
+  /// Runs whose true torques make the collided link nameable (RunResult::isolable), and how
+  /// many of those were isolated.
+  int isolable = 0, isolated_of_isolable = 0;
+  /// Detections whose first cycle over came from the holding detector alone.
+  int detected_by_hold = 0;
   /// Collisions whose true torque exceeds 1.5x the threshold in effect on some joint, and
   /// how many of them were detected; the same against the moving threshold (stricter).
   int detectable = 0, detectable_found = 0, detectable_moving = 0, detectable_moving_found = 0;

@@ -2,7 +2,10 @@
 
 #include "eval/joint_params.hpp"
 
+#include <cmath>
 #include <stdexcept>
+
+#include "plant/sensors.hpp"
 #include <vector>
 
 namespace jg::eval {
@@ -29,7 +32,7 @@ class FirmwareEstimator final : public Estimator {
       const auto i = static_cast<Eigen::Index>(j);
       OutwardMessage<S> next{};
       (void)joint_outward(params_[j], state_[j], from_float<S>(static_cast<float>(in.q(i)), st),
-                    from_float<S>(static_cast<float>(in.dq(i)), st), msg, next);
+                          from_float<S>(static_cast<float>(in.dq(i)), st), ((in.holding >> j) & 1U) != 0U, msg, next);
       msg = next;
     }
     InwardMessage<S> back = tip_message<S>();
@@ -38,7 +41,8 @@ class FirmwareEstimator final : public Estimator {
       const auto i = static_cast<Eigen::Index>(j);
       InwardMessage<S> up{};
       (void)joint_inward_and_estimate(params_[j], state_[j], from_float<S>(static_cast<float>(in.dq(i)), st),
-                                      from_float<S>(static_cast<float>(in.tau_m(i)), st), back, up);
+                                      from_float<S>(static_cast<float>(in.tau_m(i)), st), ((in.holding >> j) & 1U) != 0U,
+                                      back, up);
       back = up;
       mu(i) = to_double(state_[j].external_torque);
     }
@@ -53,6 +57,17 @@ class FirmwareEstimator final : public Estimator {
 };
 
 }  // namespace
+
+std::vector<double> holding_deadband(const robot::RobotModel& model, double rate_hz) {
+  const sim::SensorConfig sensors;
+  const auto drives = model.drives();
+  std::vector<double> out;
+  for (std::size_t j = 0; j < model.joints.size(); ++j) {
+    const double gear = j < drives.size() ? drives[j].gear_ratio : 100.0;
+    out.push_back(1.5 * 2.0 * M_PI / sensors.motor_encoder_counts_per_rev / gear * rate_hz);
+  }
+  return out;
+}
 
 std::unique_ptr<Estimator> make_firmware_estimator(const FirmwareEstimatorConfig& c, const std::string& scalar) {
   if (scalar == "float") return std::make_unique<FirmwareEstimator<float>>(c);

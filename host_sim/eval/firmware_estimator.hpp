@@ -14,7 +14,14 @@ struct FirmwareEstimatorConfig {
   ObserverGains observer{};
   bool compensate_friction = true;
   std::vector<LuGreParams<double>> friction;
+  /// JointEstimatorParams::holding_velocity_deadband per joint [rad/s] (empty: 0).
+  std::vector<double> holding_velocity_deadband;
 };
+
+/// The holding velocity deadband per joint [rad/s]: 1.5 counts of the motor encoder
+/// (sim::SensorConfig: 10,000 counts per motor turn, differenced over one period) at the
+/// link side, the velocity dither of a joint at rest.
+std::vector<double> holding_deadband(const robot::RobotModel& model, double rate_hz);
 
 /// scalar: "float" or "q". Throws when a parameter does not fit the scalar (range check).
 std::unique_ptr<Estimator> make_firmware_estimator(const FirmwareEstimatorConfig& c, const std::string& scalar);

@@ -12,9 +12,11 @@
 namespace jg::eval {
 
 /// `threshold` null: the node never flags (detection is done by the evaluation).
+/// `hold` null: no change detection while holding.
 template <class S>
 JointEstimatorParams<S> joint_params(const FirmwareEstimatorConfig& c, std::size_t j,
-                                     const JointThreshold<double>* threshold = nullptr, int debounce_cycles = 1) {
+                                     const JointThreshold<double>* threshold = nullptr, int debounce_cycles = 1,
+                                     const HoldChangeParams<double>* hold = nullptr) {
   JointEstimatorParams<S> p{};
   const std::string joint = "joint " + std::to_string(j + 1) + ": ";
   if (const Error e = convert_link(c.model.joints[j].link, p.link); e != Error::ok) {
@@ -41,6 +43,17 @@ JointEstimatorParams<S> joint_params(const FirmwareEstimatorConfig& c, std::size
     p.threshold = {convert<S>(threshold->base, st), convert<S>(threshold->per_speed, st),
                    convert<S>(threshold->low_speed_extra, st), convert<S>(threshold->inv_low_speed_width, st)};
     if (!st.ok()) throw std::invalid_argument(joint + "threshold band does not fit the scalar");
+  }
+  if (j < c.holding_velocity_deadband.size()) {
+    NumericStatus st;
+    p.holding_velocity_deadband = convert<S>(c.holding_velocity_deadband[j], st);
+    if (!st.ok()) throw std::invalid_argument(joint + "holding velocity deadband does not fit the scalar");
+  }
+  if (hold != nullptr) {
+    NumericStatus st;
+    p.hold = {convert<S>(hold->change_threshold, st), hold->settle_cycles, hold->reference_cycles,
+              convert<S>(hold->inv_reference_cycles, st)};
+    if (!st.ok()) throw std::invalid_argument(joint + "holding change threshold does not fit the scalar");
   }
   p.debounce.cycles = static_cast<std::uint8_t>(debounce_cycles < 1 ? 1 : (debounce_cycles > 255 ? 255 : debounce_cycles));
   return p;

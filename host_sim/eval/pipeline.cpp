@@ -130,7 +130,8 @@ Thresholds read_threshold_json(const std::string& path, const std::vector<int>& 
   const Thresholds all = read_threshold_json(path);
   Thresholds out = all;
   for (auto [dst, src] : {std::pair{&out.threshold, &all.threshold}, {&out.threshold_uncompensated, &all.threshold_uncompensated},
-                          {&out.low_speed_extra, &all.low_speed_extra}}) {
+                          {&out.low_speed_extra, &all.low_speed_extra}, {&out.hold_change, &all.hold_change}}) {
+    if (src->size() != order.size()) continue;  // optional fields the file does not give
     for (std::size_t k = 0; k < order.size(); ++k) (*dst)[k] = (*src)[order[k]];
   }
   return out;
@@ -148,6 +149,16 @@ void write_threshold_json(const std::string& path, const Thresholds& t, const st
                            {"threshold_uncompensated", t.threshold_uncompensated[i]}, {"band", t.band[i]},
                            {"band_uncompensated", t.band_uncompensated[i]},
                            {"shrink_factor", t.band[i] > 0 ? t.band_uncompensated[i] / t.band[i] : 0.0}});
+    if (i < t.hold_change.size()) {
+      auto& e = j["joints"].back();
+      e["hold_change_threshold"] = t.hold_change[i];
+      if (i < t.hold_band.size()) e["hold_band"] = t.hold_band[i];
+      if (i < t.hold_seconds.size()) e["hold_seconds"] = t.hold_seconds[i];
+    }
+  }
+  if (!t.hold_change.empty()) {
+    j["hold_settle_s"] = t.hold_settle_s;
+    j["hold_reference_s"] = t.hold_reference_s;
   }
   write_json_atomic(path, j);
 }
@@ -163,6 +174,25 @@ Thresholds read_threshold_json(const std::string& path) {
     t.low_speed_extra.push_back(e.contains("low_speed_extra") ? field(e, "low_speed_extra", path, i) : 0.0);
     if (e.contains("low_speed_width")) t.low_speed_width = field(e, "low_speed_width", path, i);
     if (!(t.threshold.back() > 0.0)) throw io::FormatError(path + ": joints[" + std::to_string(i) + "]: threshold must be > 0");
+    if (e.contains("hold_change_threshold")) {
+      if (t.hold_change.size() != i) {
+        throw io::FormatError(path + ": joints[" + std::to_string(i) + "]: field 'hold_change_threshold': given for some joints only");
+      }
+      t.hold_change.push_back(field(e, "hold_change_threshold", path, i));
+      if (!(t.hold_change.back() >= 0.0)) {
+        throw io::FormatError(path + ": joints[" + std::to_string(i) + "]: field 'hold_change_threshold' must be >= 0 (0: off)");
+      }
+    }
+  }
+  if (!t.hold_change.empty() && t.hold_change.size() != t.threshold.size()) {
+    throw io::FormatError(path + ": field 'hold_change_threshold': given for some joints only");
+  }
+  for (const char* key : {"hold_settle_s", "hold_reference_s"}) {
+    if (!j.contains(key)) continue;
+    if (!j[key].is_number() || !(j[key].get<double>() >= 0.0) || !(j[key].get<double>() <= 10.0)) {
+      throw io::FormatError(path + ": field '" + key + "' must be a number of seconds in [0, 10]");
+    }
+    (std::string(key) == "hold_settle_s" ? t.hold_settle_s : t.hold_reference_s) = j[key].get<double>();
   }
   return t;
 }

@@ -34,6 +34,11 @@ struct Thresholds {
   std::vector<double> threshold_uncompensated; ///< without [N·m]
   std::vector<double> band, band_uncompensated;  ///< observed max |mu| before the margin
   double margin = 0.0;
+  /// Change detection while holding (hold_detector.hpp; empty: off): threshold per joint
+  /// [N·m], the largest collision-free deviation from the reference seen while armed
+  /// [N·m], the settle and reference windows [s] and the armed time seen per joint [s].
+  std::vector<double> hold_change, hold_band, hold_seconds;
+  double hold_settle_s = 0.15, hold_reference_s = 0.016;
 };
 /// Contract JSON (--threshold): {"joints": [{"joint", "threshold", "threshold_uncompensated"}]}
 void write_threshold_json(const std::string& path, const Thresholds& t, const std::vector<int>& joint_ids,

@@ -48,15 +48,17 @@ class BusMaster {
     port_.set_filters(static_cast<const hal::CanFilter*>(filters), 2);
   }
 
-  /// Sensor samples (link side, SI) of every joint, then the sync of `cycle`.
-  void send_cycle(std::uint32_t cycle, const double* position, const double* velocity, const double* motor_torque) {
+  /// Sensor samples (link side, SI) of every joint, then the sync of `cycle`. `holding`:
+  /// bit j set when joint j+1's controller holds a constant setpoint.
+  void send_cycle(std::uint32_t cycle, const double* position, const double* velocity, const double* motor_torque,
+                  JointMask holding = 0) {
     const auto seq = static_cast<std::uint8_t>(cycle & 0xFFU);
     for (std::size_t j = 0; j < torque_.size(); ++j) {
       hal::CanFrame f{};
       f.fd = true;
       f.id = protocol::frame_id(protocol::MessageKind::sensor, static_cast<std::uint8_t>(j + 1));
       const protocol::SensorMessage<q16> m{q16::from_double(position[j]), q16::from_double(velocity[j]),
-                                           q16::from_double(motor_torque[j])};
+                                           q16::from_double(motor_torque[j]), ((holding >> j) & 1U) != 0U};
       f.length = protocol::encode_sensor(m, seq, static_cast<std::uint8_t*>(f.data));
       // A value that is not finite must not reach the drive as a number (Q16.16 would
       // turn NaN into 0): its field carries the invalid marker, the drive flags an input fault.

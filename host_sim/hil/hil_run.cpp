@@ -23,6 +23,9 @@ HilResult run_hil(const sim::Scenario& scenario, const HilConfig& c) {
   d.low_speed_extra = c.thresholds.low_speed_extra;
   d.low_speed_width = c.thresholds.low_speed_width;
   d.debounce_cycles = c.debounce_cycles;
+  d.hold_threshold = c.thresholds.hold_change;
+  d.hold_settle_s = c.thresholds.hold_settle_s;
+  d.hold_reference_s = c.thresholds.hold_reference_s;
   d.reaction = c.reaction;
   d.friction = c.friction;
   HilResult out;
@@ -35,6 +38,14 @@ HilResult run_hil(const sim::Scenario& scenario, const HilConfig& c) {
     dc.estimator.compensate_friction = !c.friction.empty();
     dc.estimator.friction = c.friction;
     dc.node_thresholds = eval::threshold_bands(c.thresholds);
+    if (!c.thresholds.hold_change.empty()) {
+      // The threshold file carries a holding detector: the drives run it on the holding
+      // flag of their sensor frames, with the estimate's velocity deadband.
+      dc.estimator.holding_velocity_deadband = eval::holding_deadband(c.model, setup.control_rate_hz);
+      for (const double h : c.thresholds.hold_change) {
+        dc.node_hold.push_back(eval::hold_params(h, c.thresholds.hold_settle_s, c.thresholds.hold_reference_s, dc.estimator.dt));
+      }
+    }
     dc.debounce_cycles = c.debounce_cycles;
     dc.fault_specs = c.faults;
     auto est = eval::make_distributed_estimator(dc, c.scalar);

@@ -76,7 +76,7 @@ class SocketCanMasterImpl final : public SocketCanMaster {
         if (f.joint == 0 || f.joint == j + 1) sample.q(j) = sample.dq(j) = sample.tau_m(j) = std::numeric_limits<double>::quiet_NaN();
       }
     }
-    master_.send_cycle(cycle_, sample.q.data(), sample.dq.data(), sample.tau_m.data());
+    master_.send_cycle(cycle_, sample.q.data(), sample.dq.data(), sample.tau_m.data(), in.holding);
     wait_for_statuses(clock);
     for (std::size_t j = 0; j < answered_.size(); ++j) answered_[j] = !contains(master_.missing(), static_cast<int>(j + 1));
     master_.end_cycle();

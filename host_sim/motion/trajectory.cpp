@@ -106,4 +106,35 @@ std::unique_ptr<Trajectory> make_random_moves(const JointVector& start, const Jo
   return std::make_unique<WaypointTrajectory>(start, std::move(wps));
 }
 
+std::unique_ptr<Trajectory> make_random_moves_with_holds(const JointVector& start, const JointVector& lower,
+                                                         const JointVector& upper, double max_speed, double total_s,
+                                                         unsigned long long seed, const HoldingMotion& holds) {
+  if (!(max_speed > 0.0) || lower.size() != start.size() || upper.size() != start.size() || start.size() < 1 ||
+      !(holds.long_dwell_min_s >= 0.0) || !(holds.long_dwell_max_s >= holds.long_dwell_min_s)) {
+    throw std::invalid_argument("make_random_moves_with_holds: bounds, speed or dwell invalid");
+  }
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<WaypointTrajectory::Waypoint> wps;
+  JointVector from = start;
+  double t = 0.0;
+  while (t < total_s) {
+    JointVector target = from;
+    const auto keep_moving = static_cast<Eigen::Index>(unit(rng) * static_cast<double>(start.size())) % start.size();
+    for (Eigen::Index j = 0; j < start.size(); ++j) {
+      const double draw = lower(j) + (upper(j) - lower(j)) * unit(rng);
+      if (j == keep_moving || unit(rng) >= holds.hold_probability) target(j) = draw;
+    }
+    const double distance = (target - from).cwiseAbs().maxCoeff();
+    const double move = std::max(0.5, 1.875 * distance / max_speed);
+    const double dwell = unit(rng) < holds.long_dwell_probability
+                             ? holds.long_dwell_min_s + (holds.long_dwell_max_s - holds.long_dwell_min_s) * unit(rng)
+                             : 0.2 * unit(rng);
+    wps.push_back({target, move, dwell});
+    t += move + dwell;
+    from = target;
+  }
+  return std::make_unique<WaypointTrajectory>(start, std::move(wps));
+}
+
 }  // namespace jg::sim

@@ -1,6 +1,7 @@
 // Joint-space reference trajectories for the simulated controller.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -20,6 +21,18 @@ class Trajectory {
   [[nodiscard]] virtual double duration() const = 0;
   [[nodiscard]] virtual int joints() const = 0;
 };
+
+/// The holding flags the controller gives the drives: every bit set when the whole arm
+/// holds its setpoint (every joint's reference velocity and acceleration exactly zero, as
+/// in a dwell), else none. A joint held while others move is not flagged: the reaction
+/// torques of the moving links load its held friction, so its estimate drifts by up to
+/// 2 N·m without contact (measured in the holding calibration). At most 8 joints.
+[[nodiscard]] inline std::uint8_t holding_mask(const TrajectorySample& r) {
+  for (Eigen::Index j = 0; j < r.dq.size(); ++j) {
+    if (r.dq(j) != 0.0 || r.ddq(j) != 0.0) return 0;
+  }
+  return static_cast<std::uint8_t>(r.dq.size() >= 8 ? 0xFFU : (1U << r.dq.size()) - 1U);
+}
 
 /// The paper's excitation on the selected joints about an offset posture; `direction`
 /// -1 runs the same path with reversed velocity (paper Table 2 validation).
@@ -83,5 +96,19 @@ std::unique_ptr<Trajectory> make_pick_task(const JointVector& home, const JointV
 std::unique_ptr<Trajectory> make_random_moves(const JointVector& start, const JointVector& lower,
                                               const JointVector& upper, double max_speed, double total_s,
                                               unsigned long long seed);
+
+/// Random moves in which joints hold: in each move every joint stays where it is with
+/// probability `hold_probability` (at least one joint moves), and a dwell lasts
+/// `long_dwell_min_s`..`long_dwell_max_s` with probability `long_dwell_probability`, else
+/// up to 0.2 s (as make_random_moves). A joint that stays holds a constant setpoint while
+/// the others move: what a cobot does when a person walks up to it.
+struct HoldingMotion {
+  double hold_probability = 0.4;
+  double long_dwell_probability = 0.3;
+  double long_dwell_min_s = 0.5, long_dwell_max_s = 4.0;
+};
+std::unique_ptr<Trajectory> make_random_moves_with_holds(const JointVector& start, const JointVector& lower,
+                                                         const JointVector& upper, double max_speed, double total_s,
+                                                         unsigned long long seed, const HoldingMotion& holds = {});
 
 }  // namespace jg::sim

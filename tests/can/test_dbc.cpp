@@ -43,7 +43,7 @@ TEST(Dbc, DescribesEveryFrameTheProtocolSends) {
   f.length = protocol::encode_sync(70000U, f.data);
   sent.push_back(f);
   f.id = protocol::frame_id(protocol::MessageKind::sensor, 2);
-  f.length = protocol::encode_sensor(protocol::SensorMessage<q16>{q16::from_double(-1.25), q16::from_double(0.5), q16::from_double(12.0)}, 7, f.data);
+  f.length = protocol::encode_sensor(protocol::SensorMessage<q16>{q16::from_double(-1.25), q16::from_double(0.5), q16::from_double(12.0), true}, 7, f.data);
   sent.push_back(f);
   f.id = protocol::frame_id(protocol::MessageKind::status, 3);
   f.length = protocol::encode_status(protocol::StatusMessage<q16>{q16::from_double(-3.5), protocol::kStatusCollision | protocol::kStatusReady, 4}, 9, f.data);
@@ -77,6 +77,9 @@ TEST(Dbc, DescribesEveryFrameTheProtocolSends) {
   EXPECT_EQ(signal(dbc, 0x010, "seq", got[0].frame), 70000 % 256);
   EXPECT_DOUBLE_EQ(signal(dbc, 0x062, "q", got[1].frame), -1.25);
   EXPECT_DOUBLE_EQ(signal(dbc, 0x062, "tau_m", got[1].frame), 12.0);
+  EXPECT_EQ(signal(dbc, 0x062, "holding", got[1].frame), 1.0);
+  EXPECT_EQ(signal(dbc, 0x062, "flags_copy", got[1].frame), 1.0);
+  EXPECT_EQ(signal(dbc, 0x062, "crc", got[1].frame), got[1].frame.data[13]);
   EXPECT_DOUBLE_EQ(signal(dbc, 0x053, "external_torque", got[2].frame), -3.5);
   EXPECT_EQ(signal(dbc, 0x053, "collision", got[2].frame), 1.0);
   EXPECT_EQ(signal(dbc, 0x053, "comm_fault", got[2].frame), 0.0);

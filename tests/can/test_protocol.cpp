@@ -191,4 +191,31 @@ TEST(Hal, LoopbackHonoursFiltersCapacityAndLengths) {
   EXPECT_EQ(r.id, 0x035U) << "the outward frame was filtered out";
   EXPECT_FALSE(port.receive(r));
 }
+TEST(Protocol, SensorHoldingFlagTravelsInTheFormerPaddingWithItsCopy) {
+  std::uint8_t buf[64];
+  std::uint8_t seq = 0;
+  const SensorMessage<jg::q16> free{jg::q16::from_double(0.5), jg::q16::from_double(-0.25), jg::q16::from_double(3.0)};
+  ASSERT_EQ(encode_sensor(free, 9, buf), kSensorFrameLength);
+  EXPECT_EQ(buf[14], 0U) << "without the flag the frame is the former frame";
+  EXPECT_EQ(buf[15], 0U);
+  std::uint8_t held_buf[64];
+  SensorMessage<jg::q16> held = free;
+  held.holding = true;
+  ASSERT_EQ(encode_sensor(held, 9, held_buf), kSensorFrameLength);
+  for (int i = 0; i < 14; ++i) EXPECT_EQ(held_buf[i], buf[i]) << "fields and CRC unchanged, byte " << i;
+  EXPECT_EQ(held_buf[14], kSensorHolding);
+  EXPECT_EQ(held_buf[15], kSensorHolding);
+  SensorMessage<float> back{};
+  ASSERT_EQ(decode_sensor(held_buf, kSensorFrameLength, back, seq), FrameError::ok);
+  EXPECT_TRUE(back.holding);
+  EXPECT_EQ(back.motor_torque, 3.0F);
+  ASSERT_EQ(decode_sensor(buf, kSensorFrameLength, back, seq), FrameError::ok);
+  EXPECT_FALSE(back.holding);
+  held_buf[15] = 0U;  // a flipped flag byte: the copy disagrees
+  EXPECT_EQ(decode_sensor(held_buf, kSensorFrameLength, back, seq), FrameError::bad_padding);
+  held_buf[14] = 0x03U;  // an unknown bit, copied
+  held_buf[15] = 0x03U;
+  EXPECT_EQ(decode_sensor(held_buf, kSensorFrameLength, back, seq), FrameError::bad_padding);
+}
+
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include "golden_io.hpp"
 #include "jointguard/detection/detector.hpp"
+#include "jointguard/detection/hold_detector.hpp"
 #include "jointguard/dynamics/momentum_recursion.hpp"
 
 namespace jg::golden {
@@ -26,12 +27,16 @@ void read_setup(Cursor& c, Setup<S>& s) {
   for (auto& l : s.links) visit(l, rd);
 }
 
-/// Every sample: momentum recursion, LuGre, observer with the prediction inside, detector.
+/// Every sample: momentum recursion, LuGre, observer with the prediction inside, detector
+/// (band, and the holding detector over the pick task's 0.5 s dwell at the workpiece,
+/// 3.2-3.7 s of make_input.cpp's run: its change bits are mask bits 3..5).
 template <class S>
 void run_chain(const Setup<S>& s, const float* samples, std::uint32_t n, Cursor& out, NumericStatus& st) {
   LuGreState<S> friction_state[kJoints]{};
   ObserverState<S> observer_state[kJoints]{};
   JointDetectorState detector[kJoints]{};
+  HoldChangeState<S> hold[kJoints]{};
+  const HoldChangeParams<S> hold_params{from_double<S>(0.3), 150U, 16U, from_double<S>(1.0 / 16.0)};
   const JointThreshold<S> threshold{from_double<S>(5.0), from_double<S>(2.0)};
   const Vec3<S> gravity{S{}, S{}, from_double<S>(-9.81)};
   for (std::uint32_t k = 0; k < n; ++k) {
@@ -48,7 +53,10 @@ void run_chain(const Setup<S>& s, const float* samples, std::uint32_t n, Cursor&
     for (int j = 0; j < kJoints; ++j) {
       const S f = lugre_step(s.friction[j], friction_state[j], dq[j]);
       const S r = observer_step(s.observer[j], observer_state[j], m[j].momentum, tau[j], m[j].beta, f);
-      if (detector_step(threshold, DebounceSettings{2}, detector[j], -r, dq[j])) mask |= 1U << static_cast<unsigned>(j);
+      const bool holding = k >= 3200U && k < 3700U;
+      const bool changed = hold_change_step(hold_params, hold[j], holding, -r);
+      if (changed) mask |= 1U << static_cast<unsigned>(3 + j);
+      if (detector_step(threshold, DebounceSettings{2}, detector[j], -r, dq[j], changed)) mask |= 1U << static_cast<unsigned>(j);
       put(out, m[j].momentum);
       put(out, m[j].beta);
       put(out, f);

@@ -39,4 +39,20 @@ TEST(CampaignSummary, CountsVisibleCollisionsAgainstBothThresholds) {
   EXPECT_EQ(s.after_crossing_within_10ms, 2);
   EXPECT_NEAR(s.after_crossing_max, 0.0029, 1e-12);
 }
+
+TEST(CampaignSummary, IsolationAgainstItsCeiling) {
+  std::vector<jg::eval::RunResult> runs = {
+      run(3.0, 3.0, true, 2, 2),   // isolable, isolated
+      run(3.0, 3.0, true, 3, 2),   // isolable, named one link low
+      run(1.2, 1.2, true, 3, 3),   // not isolable (own joint under its band), named right anyway
+      run(0.5, 0.5, false, 2, 0),  // not isolable, missed
+  };
+  runs[0].isolable = runs[1].isolable = true;
+  runs[2].detected_by_hold = true;
+  const jg::eval::Summary s = jg::eval::summarize(runs);
+  EXPECT_EQ(s.isolated, 2);
+  EXPECT_EQ(s.isolable, 2);
+  EXPECT_EQ(s.isolated_of_isolable, 1);
+  EXPECT_EQ(s.detected_by_hold, 1);
+}
 }  // namespace

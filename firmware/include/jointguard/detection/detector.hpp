@@ -47,11 +47,10 @@ template <class S>
   return threshold.base + sum_of_products(threshold.per_speed, jg::abs(velocity), threshold.low_speed_extra, jg::exp(-(u * u)));
 }
 
-/// One joint, one cycle: updates the debounce counter and returns the (latched) flag.
-template <class S>
-[[nodiscard]] constexpr bool detector_step(const JointThreshold<S>& threshold, DebounceSettings debounce,
-                                           JointDetectorState& state, S external_torque, S velocity) noexcept {
-  if (threshold_at(threshold, velocity) < jg::abs(external_torque)) {
+/// One joint, one cycle: `over` (this cycle's estimate outside every bound in effect)
+/// updates the debounce counter; returns the (latched) flag.
+[[nodiscard]] constexpr bool debounce_step(DebounceSettings debounce, JointDetectorState& state, bool over) noexcept {
+  if (over) {
     if (state.over_count < 255U) {
       ++state.over_count;
     }
@@ -63,6 +62,16 @@ template <class S>
     state.flagged = true;
   }
   return state.flagged;
+}
+
+/// One joint, one cycle against the band: updates the debounce counter and returns the
+/// (latched) flag. `also_over`: another bound of this joint (the holding detector,
+/// hold_detector.hpp) is exceeded this cycle; it shares the debounce.
+template <class S>
+[[nodiscard]] constexpr bool detector_step(const JointThreshold<S>& threshold, DebounceSettings debounce,
+                                           JointDetectorState& state, S external_torque, S velocity,
+                                           bool also_over = false) noexcept {
+  return debounce_step(debounce, state, also_over || threshold_at(threshold, velocity) < jg::abs(external_torque));
 }
 
 constexpr void reset_detector(JointDetectorState& state) noexcept { state = JointDetectorState{}; }

@@ -108,9 +108,10 @@ class JointDrive {
   JointDrive& operator=(JointDrive&&) = delete;
   ~JointDrive() = default;
 
-  /// The drive's own sample (MCU: from the encoder and current ADC before the sync).
-  void set_sample(S position, S velocity, S motor_torque) noexcept {
-    sample_ = {position, velocity, motor_torque};
+  /// The drive's own sample (MCU: from the encoder and current ADC before the sync) and
+  /// its controller's state (`holding`: the setpoint is constant).
+  void set_sample(S position, S velocity, S motor_torque, bool holding = false) noexcept {
+    sample_ = {position, velocity, motor_torque, holding};
     has_sample_ = true;
     sample_valid_ = true;  // a NaN from the drive's own sensors is caught by the estimator
   }
@@ -211,7 +212,8 @@ class JointDrive {
     synced_ = true;
     last_cycle_ = pending_cycle_;
     node_.set_cycle(static_cast<std::uint8_t>(last_cycle_ & 0xFFU));
-    const bool flag = node_.cycle(sample_.position, sample_.velocity, sample_.motor_torque, sample_valid_);
+    const bool flag =
+        node_.cycle(sample_.position, sample_.velocity, sample_.motor_torque, sample_.holding, sample_valid_);
     ++counters_.cycles;
     const NodeCounters& nc = node_.counters();
     const std::uint32_t rejected =

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "jointguard/detection/detector.hpp"
+#include "jointguard/detection/hold_detector.hpp"
 #include "jointguard/dynamics/momentum_recursion.hpp"
 #include "jointguard/friction/lugre.hpp"
 #include "jointguard/observer/momentum_observer.hpp"
@@ -18,7 +19,14 @@ struct JointEstimatorParams {
   ObserverCoeffs<S> observer{};
   JointThreshold<S> threshold{};
   DebounceSettings debounce{};
+  HoldChangeParams<S> hold{};  ///< change detection while holding (threshold 0: off)
   bool compensate_friction = true;
+  /// While the drive holds, a measured |velocity| up to this [rad/s] is taken as 0: the
+  /// one-count dither of the velocity (position differences) of a joint at rest. Fed to the
+  /// estimate it would swing the LuGre bristles between +-tau_s and put a momentum step of
+  /// inertia x one count into the observer each time (about 1 N·m at 1 kHz), while the
+  /// joint, and the friction it holds, stand still. 0: off. Set it to 1-2 counts per sample.
+  S holding_velocity_deadband{};
 };
 
 template <class S>
@@ -27,6 +35,7 @@ struct JointEstimatorState {
   LuGreState<S> friction{};
   ObserverState<S> observer{};
   JointDetectorState detector{};
+  HoldChangeState<S> hold{};
   JointMomentum<S> momentum{};
   S friction_torque{};
   S external_torque{};  ///< estimate of the contact's torque on this joint (J^T F) [N·m]
@@ -70,6 +79,12 @@ constexpr bool finite_inputs(S a, S b, const InwardMessage<S>& m) noexcept {
 }
 }  // namespace detail
 
+/// The velocity the estimate uses: 0 while holding within the dither deadband, else dq.
+template <class S>
+[[nodiscard]] constexpr S estimate_velocity(const JointEstimatorParams<S>& p, S dq, bool holding) noexcept {
+  return holding && !(p.holding_velocity_deadband < jg::abs(dq)) ? S{} : dq;
+}
+
 /// Phase 1: own joint state + the parent's outward message -> message for the child.
 /// Non-finite inputs: the last good message is repeated and the cycle is marked faulty
 /// (Error::not_finite); the estimator's state is not touched.
@@ -100,12 +115,21 @@ constexpr Error joint_outward(const JointEstimatorParams<S>& p, JointEstimatorSt
   return joint_outward(p, s, q, dq, from_parent, to_child);
 }
 
+/// Phase 1 of a drive that reports holding (`holding`: its controller holds a constant
+/// setpoint; the velocity within the deadband is then taken as 0, estimate_velocity()).
+template <class S>
+constexpr Error joint_outward(const JointEstimatorParams<S>& p, JointEstimatorState<S>& s, S q, S dq, bool holding,
+                              const OutwardMessage<S>& from_parent, OutwardMessage<S>& to_child) noexcept {
+  return joint_outward(p, s, q, estimate_velocity(p, dq, holding), from_parent, to_child);
+}
+
 /// Phase 2: the child's inward message -> message for the parent; then friction, observer
-/// and detector. Returns the joint's (latched) collision flag.
-/// A faulty cycle (here or in phase 1) keeps the last good outputs and flag.
+/// and detector. `holding`: the drive's controller holds a constant setpoint this cycle
+/// (arms the change detector, hold_detector.hpp). Returns the joint's (latched) collision
+/// flag. A faulty cycle (here or in phase 1) keeps the last good outputs, flag and hold state.
 template <class S>
 constexpr bool joint_inward_and_estimate(const JointEstimatorParams<S>& p, JointEstimatorState<S>& s, S dq, S motor_torque,
-                                         const InwardMessage<S>& from_child, InwardMessage<S>& to_parent,
+                                         bool holding, const InwardMessage<S>& from_child, InwardMessage<S>& to_parent,
                                          ObserverInputStatus* status = nullptr) noexcept {
   if (s.input_fault || !detail::finite_inputs(dq, motor_torque, from_child)) {
     if (!s.input_fault) {
@@ -118,14 +142,24 @@ constexpr bool joint_inward_and_estimate(const JointEstimatorParams<S>& p, Joint
     }
     return s.flagged;
   }
+  dq = estimate_velocity(p, dq, holding);
   inward_step(p.link, dq, s.outward, from_child, to_parent, s.momentum);
   s.last_to_parent = to_parent;
   s.friction_torque = p.compensate_friction ? lugre_step(p.friction, s.friction, dq) : S{};
   const S r = observer_step(p.observer, s.observer, s.momentum.momentum, motor_torque, s.momentum.beta, s.friction_torque,
                             status);
   s.external_torque = -r;
-  s.flagged = detector_step(p.threshold, p.debounce, s.detector, s.external_torque, dq);
+  const bool changed = hold_change_step(p.hold, s.hold, holding, s.external_torque);
+  s.flagged = detector_step(p.threshold, p.debounce, s.detector, s.external_torque, dq, changed);
   return s.flagged;
+}
+
+/// The same for a drive that does not report holding (the band alone).
+template <class S>
+constexpr bool joint_inward_and_estimate(const JointEstimatorParams<S>& p, JointEstimatorState<S>& s, S dq, S motor_torque,
+                                         const InwardMessage<S>& from_child, InwardMessage<S>& to_parent,
+                                         ObserverInputStatus* status = nullptr) noexcept {
+  return joint_inward_and_estimate(p, s, dq, motor_torque, false, from_child, to_parent, status);
 }
 
 }  // namespace jg

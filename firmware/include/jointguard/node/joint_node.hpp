@@ -45,8 +45,9 @@ class JointNode {
       : config_(config), params_(params), port_(port), from_parent_(base_message(gravity)), from_child_(tip_message<S>()) {}
 
   /// One control cycle with this joint's measurements. Returns the collision flag.
+  /// `holding`: the drive's controller holds a constant setpoint (arms the change detector).
   /// `sample_valid` false: the sample is unusable (an input fault, as a NaN would be).
-  bool cycle(S q, S dq, S motor_torque, bool sample_valid = true) noexcept {
+  bool cycle(S q, S dq, S motor_torque, bool holding = false, bool sample_valid = true) noexcept {
     receive_all();
     ++since_parent_;
     ++since_child_;
@@ -60,11 +61,15 @@ class JointNode {
       ++counters_.missed_cycles;
     }
     // to_child_/to_parent_ are members: written whole every cycle, never zeroed per cycle.
-    (void)joint_outward(params_, state_, q, dq, from_parent_, to_child_, sample_valid);
+    if (sample_valid) {
+      (void)joint_outward(params_, state_, q, dq, holding, from_parent_, to_child_);
+    } else {
+      (void)joint_outward(params_, state_, q, dq, from_parent_, to_child_, false);
+    }
     if (state_.input_fault) {
       rewarm();  // the observer misses this cycle's balance: start afresh once the inputs are good
     }
-    const bool flag = joint_inward_and_estimate(params_, state_, dq, motor_torque, from_child_, to_parent_);
+    const bool flag = joint_inward_and_estimate(params_, state_, dq, motor_torque, holding, from_child_, to_parent_);
     // Start-up: the chain's terms need one cycle per link to reach every node. Until then
     // the estimate is meaningless; the observer starts afresh once the chain is filled.
     // Warming up at the start of this cycle: the estimate just computed came from the observer
@@ -78,6 +83,7 @@ class JointNode {
       if (warmup_left_ == 0U) {
         state_.observer = ObserverState<S>{};
         state_.detector = JointDetectorState{};
+        state_.hold = HoldChangeState<S>{};  // the reference was taken on a meaningless estimate
         state_.flagged = false;
       }
     }

@@ -9,7 +9,8 @@
 // Every payload: byte 0 a sequence counter (wraps at 256), then fields as Q16.16
 // little-endian int32 (factor 2^-16, SI units) or bytes, then CRC-8/AUTOSAR over the bytes
 // before it; the rest of the frame zero. Lengths:
-//   momentum messages CAN FD 48 B (9 or 10 fields)   sensor sample CAN FD 16 B (3 fields)
+//   momentum messages CAN FD 48 B (9 or 10 fields)   sensor sample CAN FD 16 B (3 fields,
+//   CRC, then a flags byte and its copy: see SensorMessage)
 //   status and collision event 8 B: seq, external torque, flags, rejected, CRC
 //   cycle sync 8 B: seq, cycle counter (uint32 LE), reserved (2 B), CRC
 // (the 8-byte frames go as CAN FD with bit-rate switch on an FD bus)
@@ -52,6 +53,8 @@ inline constexpr std::uint8_t kOutwardFields = 9;
 inline constexpr std::uint8_t kInwardFields = 10;
 inline constexpr std::uint8_t kSensorFrameLength = 16;
 inline constexpr std::uint8_t kSensorFields = 3;
+/// Sensor sample flags (byte 14, repeated in byte 15; stable bits).
+inline constexpr std::uint8_t kSensorHolding = 0x01U;  ///< the drive's controller holds a constant setpoint
 inline constexpr std::uint8_t kStatusFrameLength = 8;
 inline constexpr std::uint8_t kSyncFrameLength = 8;
 /// The master's cycle sync (one per bus, joint field 0).
@@ -302,12 +305,18 @@ constexpr FrameError decode_inward(const std::uint8_t* buf, std::uint8_t length,
 }
 
 /// Host-in-the-loop sensor sample for joint j (plant -> node): what the drive's own encoder
-/// and current ADC would give, link side, SI units. Its sequence equals the cycle sync's.
+/// and current ADC would give, link side, SI units, and the drive's controller state (what
+/// the drive knows itself on the MCU). Its sequence equals the cycle sync's.
+/// Layout: seq, 3 fields, CRC (byte 13, over bytes 0-12 as before), flags (byte 14,
+/// kSensor* bits, the rest zero), the flags again (byte 15). The flags sit in what was zero
+/// padding, so a frame without flags is the former frame; the copy catches a corrupted
+/// flags byte, which the CRC does not cover (a mismatch or an unknown bit: bad_padding).
 template <class S>
 struct SensorMessage {
-  S position{};      ///< [rad]
-  S velocity{};      ///< [rad/s]
-  S motor_torque{};  ///< [N·m] (K_I i)
+  S position{};         ///< [rad]
+  S velocity{};         ///< [rad/s]
+  S motor_torque{};     ///< [N·m] (K_I i)
+  bool holding = false; ///< the setpoint is constant (kSensorHolding)
 };
 
 template <class S>
@@ -316,17 +325,34 @@ constexpr std::uint8_t encode_sensor(const SensorMessage<S>& m, std::uint8_t seq
   detail::put_i32(buf + 1, detail::to_wire(m.position));
   detail::put_i32(buf + 5, detail::to_wire(m.velocity));
   detail::put_i32(buf + 9, detail::to_wire(m.motor_torque));
-  return detail::finish(buf, detail::field_bytes(kSensorFields), kSensorFrameLength);
+  // The fields and their CRC fill the frame less its last two bytes, which carry the flags
+  // twice (a mismatched copy or an unknown bit is refused: the CRC does not cover them).
+  constexpr auto kFieldsLength = static_cast<std::uint8_t>(kSensorFrameLength - 2U);
+  (void)detail::finish(buf, detail::field_bytes(kSensorFields), kFieldsLength);
+  const std::uint8_t flags = m.holding ? kSensorHolding : std::uint8_t{0};
+  buf[kSensorFrameLength - 2U] = flags;
+  buf[kSensorFrameLength - 1U] = flags;
+  return kSensorFrameLength;
 }
 
 template <class S>
 constexpr FrameError decode_sensor(const std::uint8_t* buf, std::uint8_t length, SensorMessage<S>& m,
                                    std::uint8_t& sequence) noexcept {
-  const FrameError e = detail::check(buf, length, detail::field_bytes(kSensorFields), kSensorFrameLength);
+  if (length != kSensorFrameLength) {
+    return FrameError::wrong_length;
+  }
+  const std::uint8_t flags = buf[kSensorFrameLength - 2U];
+  if (flags != buf[kSensorFrameLength - 1U] || (flags & static_cast<std::uint8_t>(~kSensorHolding)) != 0U) {
+    return FrameError::bad_padding;
+  }
+  // The fields and their CRC: the frame less its two flag bytes (nothing left to pad).
+  constexpr auto kFieldsLength = static_cast<std::uint8_t>(kSensorFrameLength - 2U);
+  const FrameError e = detail::check(buf, kFieldsLength, detail::field_bytes(kSensorFields), kFieldsLength);
   if (e == FrameError::ok) {
     detail::from_wire(detail::get_i32(buf + 1), m.position);
     detail::from_wire(detail::get_i32(buf + 5), m.velocity);
     detail::from_wire(detail::get_i32(buf + 9), m.motor_torque);
+    m.holding = flags != 0U;
     sequence = buf[0];
   }
   return e;
