@@ -10,7 +10,7 @@ SRC="$2"
 T="$(mktemp -d)"
 trap 'rm -rf "${T}"' EXIT
 # Small but complete: 5 collisions, a free run of two segments (700 s), a short calibration.
-args=(--scenario campaign --count 5 --free-run 700 --calibration 20)
+args=(--scenario campaign --count 5 --free-run 700 --calibration 20 --no-hold)
 "${J}" evaluate "${args[@]}" --jobs 1 --json "${T}/jobs1.json" > "${T}/jobs1.log"
 "${J}" evaluate "${args[@]}" --jobs 2 --json "${T}/jobs2.json" > /dev/null
 cmp "${T}/jobs1.json" "${T}/jobs2.json"

@@ -72,7 +72,7 @@ for _ in $(seq 1 30); do
 done
 sinfo -h -o "%t" | grep -qE "idle|mix" || skip "the node never became idle: $(sinfo 2>&1 | tail -2)"
 
-args=(--scenario campaign --count 5 --free-run 700 --calibration 20)
+args=(--scenario campaign --count 5 --free-run 700 --calibration 20 --no-hold)
 "${J}" evaluate "${args[@]}" --jobs 1 --json "${T}/single.json" > /dev/null
 merge_job=$(JG_BIN="${J}" bash "${SRC}/scripts/cluster/slurm_submit.sh" "${T}/out" 3 -- "${args[@]}")
 for _ in $(seq 1 600); do
