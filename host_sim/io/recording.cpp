@@ -317,6 +317,11 @@ Recording read_recording(const std::string& path, const ReadOptions& options) {
     if (has_tau_j && !has(Kind::tau_j)) {
       fail(path, 1, "tau_j" + std::to_string(j), "joint torque given for some joints but not this one");
     }
+    // Without this, a recording with tau_ext1 but not tau_ext2 had an empty tau_ext column
+    // for joint 2 beside full ones, and regularize read past its end (found by fuzzing).
+    if (has_tau_ext && !has(Kind::tau_ext)) {
+      fail(path, 1, "tau_ext" + std::to_string(j), "external torque given for some joints but not this one");
+    }
     if (!has_current && !has_tau_m && !has_tau_j) {
       fail(path, 1, "i" + std::to_string(j) + "/tau_m" + std::to_string(j) + "/tau_j" + std::to_string(j),
            "need motor current i<j>, motor torque tau_m<j> or joint torque tau_j<j>");

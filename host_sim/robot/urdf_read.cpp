@@ -63,6 +63,28 @@ std::string without_format_characters(std::string text) {
   return text;
 }
 
+/// urdfdom's links own their children (shared_ptr): a joint whose child is its own parent,
+/// or a loop of joints, makes a cycle that is never freed (found by fuzzing, a leak per
+/// file read). Clearing the child lists frees it; the model is unusable after this.
+void break_cycles(urdf::ModelInterface& m) {
+  for (auto& [name, link] : m.links_) {
+    if (!link) continue;
+    link->child_links.clear();
+    link->child_joints.clear();
+  }
+  m.root_link_.reset();
+}
+
+/// The model, owned so that its cycles (if any) are broken when the last user drops it.
+urdf::ModelInterfaceSharedPtr owned(urdf::ModelInterfaceSharedPtr m) {
+  if (!m) return m;
+  urdf::ModelInterface* raw = m.get();
+  return {raw, [m](urdf::ModelInterface*) mutable {
+            break_cycles(*m);
+            m.reset();
+          }};
+}
+
 urdf::ModelInterfaceSharedPtr parse(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) refuse(path, "cannot read the file");
@@ -77,7 +99,7 @@ urdf::ModelInterfaceSharedPtr parse(const std::string& path) {
   const std::string harmless = without_format_characters(text);
   bool copy_parsed = false;
   try {
-    copy_parsed = urdf::parseURDF(harmless) != nullptr;
+    copy_parsed = owned(urdf::parseURDF(harmless)) != nullptr;
   } catch (const std::exception& e) {  // urdfdom mostly logs, but may throw (version attribute)
     capture.errors.emplace_back(e.what());
   }
@@ -89,7 +111,7 @@ urdf::ModelInterfaceSharedPtr parse(const std::string& path) {
   }
   urdf::ModelInterfaceSharedPtr model;
   try {
-    model = urdf::parseURDF(text);
+    model = owned(urdf::parseURDF(text));
   } catch (const std::exception& e) {
     refuse(path, std::string("not a valid URDF: ") + e.what());
   }
@@ -143,8 +165,20 @@ void check_joint(const std::string& path, const urdf::Joint& j) {
 
 }  // namespace
 
+/// Refuses links that are their own ancestor (a joint from a link to itself, a loop of
+/// joints): urdfdom accepts them when another link is the root.
+void check_tree(const std::string& path, const urdf::ModelInterface& m) {
+  for (const auto& [name, link] : m.links_) {
+    std::size_t steps = 0;
+    for (urdf::LinkSharedPtr up = link->getParent(); up; up = up->getParent()) {
+      if (up == link || ++steps > m.links_.size()) refuse(path, "link '" + name + "' is its own ancestor: the joints form a loop");
+    }
+  }
+}
+
 urdf::ModelInterfaceSharedPtr read_urdf(const std::string& path) {
   urdf::ModelInterfaceSharedPtr model = parse(path);
+  check_tree(path, *model);
   for (const auto& [name, link] : model->links_) check_inertial(path, *link);
   for (const auto& [name, joint] : model->joints_) check_joint(path, *joint);
   return model;
