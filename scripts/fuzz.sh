@@ -17,6 +17,8 @@ READERS=("$@")
 cmake --preset fuzz > /dev/null
 cmake --build --preset fuzz
 ROOT="$PWD"
+# The targets write each input to a file: in memory when /dev/shm is there.
+if [ -z "${JG_FUZZ_TMP:-}" ] && [ -w /dev/shm ]; then export JG_FUZZ_TMP=/dev/shm; fi
 OUT="$ROOT/build/fuzz/long"
 mkdir -p "$OUT"
 status=0
