@@ -21,6 +21,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   jg::fuzz::expect_clean<jg::io::FormatError>(path, [&] {
     const jg::sim::Scenario s = jg::sim::load_scenario(path);
     (void)s;
-  });
+  }, /*other_files=*/true);  // errors inside the robot file it names name that file
   return 0;
 }
