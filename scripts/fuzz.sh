@@ -39,6 +39,8 @@ for r in "${READERS[@]}"; do
   set -e
   secs=$(( $(date +%s) - start ))
   runs=$(grep -ho "stat::number_of_executed_units: *[0-9]*" "$W"/fuzz-0.log | grep -o "[0-9]*$" | tail -1 || true)
+  if compgen -G "$W/crash-*" > /dev/null || compgen -G "$W/leak-*" > /dev/null || compgen -G "$W/timeout-*" > /dev/null ||
+     compgen -G "$W/oom-*" > /dev/null; then rc=${rc/#0/1}; fi
   if [ "$rc" = 0 ]; then result=ok; else result="FINDING (exit $rc, see $W/fuzz-0.log)"; status=1; fi
   printf '%-12s %12s %8s %s\n' "$r" "${runs:-?}" "$secs" "$result" | tee -a "$OUT/summary.txt"
 done
