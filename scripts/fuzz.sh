@@ -13,7 +13,7 @@ SECONDS_PER_READER="${1:-600}"
 RUNS="${2:-10000000}"
 shift $(( $# > 2 ? 2 : $# ))
 READERS=("$@")
-[ ${#READERS[@]} -gt 0 ] || READERS=(recording robot_yaml urdf scenario param_json dbc candump)
+[ ${#READERS[@]} -gt 0 ] || READERS=(recording robot_yaml urdf scenario param_json dbc candump drive)
 cmake --preset fuzz > /dev/null
 cmake --build --preset fuzz
 ROOT="$PWD"
