@@ -64,10 +64,13 @@ inline bool names_existing_file(const std::string& message) {
 
 template <class Error, class Read>
 void expect_clean(const std::string& path, Read&& read, bool other_files = false) {
+  static const bool verbose = std::getenv("JG_FUZZ_VERBOSE") != nullptr;  // the replay driver's report
   try {
     read();
+    if (verbose) std::fprintf(stderr, "  read\n");
   } catch (const Error& e) {
     const std::string message = e.what();
+    if (verbose) std::fprintf(stderr, "  refused: %s\n", message.c_str());
     if (message.rfind(path, 0) != 0 && !(other_files && names_existing_file(message))) {
       finding("error message does not name the file", message);
     }

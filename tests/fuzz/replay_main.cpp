@@ -2,6 +2,7 @@
 // folders given on the command line (the seed corpus and the regression inputs), so the
 // corpus is checked in every preset, under ASan/UBSan in host-san.
 #include <algorithm>
+#include <cstdlib>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -23,6 +24,7 @@ void run_file(const std::filesystem::path& p, std::size_t& count) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  setenv("JG_FUZZ_VERBOSE", "1", 1);  // each input: read, or refused with the reader's message
   std::size_t count = 0;
   for (int i = 1; i < argc; ++i) {
     const std::filesystem::path arg(argv[i]);
