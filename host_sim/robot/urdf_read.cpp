@@ -87,6 +87,33 @@ urdf::ModelInterfaceSharedPtr owned(urdf::ModelInterfaceSharedPtr m) {
           }};
 }
 
+/// Refuses text TinyXML (urdfdom's parser) cannot be given: a NUL byte, or bytes that are not
+/// UTF-8. TinyXML skips a multi-byte character by the length its lead byte announces, so a
+/// lead byte at the end of the file made it read past the buffer (ASan heap-buffer-overflow
+/// in TiXmlBase::ReadName, found by fuzzing).
+void check_text(const std::string& path, const std::string& text) {
+  std::size_t line = 1;
+  for (std::size_t k = 0; k < text.size();) {
+    const auto c = static_cast<unsigned char>(text[k]);
+    if (c == '\n') ++line;
+    if (c == 0) refuse(path, "line " + std::to_string(line) + ": a NUL byte: not a text file");
+    std::size_t len = 1;
+    if (c >= 0xF0 && c <= 0xF4) {
+      len = 4;
+    } else if (c >= 0xE0) {
+      len = c <= 0xEF ? 3 : 0;
+    } else if (c >= 0xC2) {
+      len = 2;
+    } else if (c >= 0x80) {
+      len = 0;
+    }
+    bool ok = len != 0 && k + len <= text.size();
+    for (std::size_t i = 1; ok && i < len; ++i) ok = (static_cast<unsigned char>(text[k + i]) & 0xC0U) == 0x80U;
+    if (!ok) refuse(path, "line " + std::to_string(line) + ": bytes that are not UTF-8 text (a URDF is XML in UTF-8)");
+    k += len;
+  }
+}
+
 /// Refuses, before urdfdom sees them, joints whose child is their parent, links that are the
 /// child of two joints and loops of joints: urdfdom links such a tree into shared_ptr
 /// cycles and, when it then refuses the file (e.g. two roots), leaks them (found by
@@ -124,6 +151,7 @@ urdf::ModelInterfaceSharedPtr parse(const std::string& path) {
   std::stringstream buffer;
   buffer << in.rdbuf();
   const std::string text = buffer.str();
+  check_text(path, text);
   check_joint_graph(path, text);
   LoggingGuard guard;
   // First pass on the harmless copy, only to hear urdfdom's complaints: it logs some errors
