@@ -39,6 +39,10 @@ nlohmann::json read_json(const std::string& path) {
   } catch (const nlohmann::json::parse_error& e) {
     // e.byte is one past the offending character; the library's text quotes raw input.
     throw io::FormatError(where(path, text, e.byte) + ": invalid JSON (syntax error or text that is not UTF-8)");
+  } catch (const nlohmann::json::out_of_range&) {
+    // The parser throws out_of_range.406 (no position) for a number beyond a double, such
+    // as 1e999 (found by fuzzing: it escaped as nlohmann's raw message).
+    throw io::FormatError(path + ": invalid JSON: a number beyond the range of a double");
   }
 }
 

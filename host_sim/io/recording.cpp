@@ -121,6 +121,8 @@ RecordingMeta read_meta(const std::filesystem::path& json_path) {
     }
     throw FormatError(json_path.string() + ":" + std::to_string(line) + ":" + std::to_string(column) +
                       ": invalid JSON (syntax error or text that is not UTF-8)");
+  } catch (const nlohmann::json::out_of_range&) {  // out_of_range.406: a number beyond a double
+    throw FormatError(json_path.string() + ": invalid JSON: a number beyond the range of a double");
   }
   if (!j.is_object()) throw FormatError(json_path.string() + ": expected a JSON object {\"model\": ..., \"sample_time\": ...}");
   auto field = [&](const char* key, auto& dst) {

@@ -76,5 +76,7 @@ printf '{"joints": 3}\n' > "$W/th_obj.json"
 expect 1 "th_obj.json: field 'joints': missing or not a list" -- "${REPLAY[@]}" --friction "$FR" --threshold "$W/th_obj.json"
 printf '{"joints": [\n  {"joint": 1,, "sigma0": 1}]}\n' > "$W/fr_syntax.json"
 expect 1 "fr_syntax.json:2:[0-9]*: invalid JSON" -- "${REPLAY[@]}" --friction "$W/fr_syntax.json" --threshold "$TH"
+printf '{"joints": [{"joint": 1, "threshold": 1e999}]}\n' > "$W/th_huge.json"
+expect 1 "th_huge.json: invalid JSON: a number beyond the range of a double" -- "${REPLAY[@]}" --friction "$FR" --threshold "$W/th_huge.json"
 ! grep -q "json.exception" "$W/err.txt" || { echo "raw nlohmann message"; cat "$W/err.txt"; exit 1; }
 echo "bounds: ok"

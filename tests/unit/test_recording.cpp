@@ -99,6 +99,8 @@ TEST_F(RecordingTest, PartialGroundTruthBinaryFieldsAndBadSideFileAreRefused) {
   p = write("side.csv", "t,q1,dq1,i1\n0,0,0,0\n0.001,0,0,0\n");
   write("side.json", "{\n  \"model\": ref3\n}\n");
   EXPECT_NE(error_of(p).find("side.json:2:"), std::string::npos) << error_of(p);
+  write("side.json", "{\"sample_time\": 1e999}\n");  // nlohmann's out_of_range.406 escaped before
+  EXPECT_NE(error_of(p).find("side.json: invalid JSON: a number beyond the range of a double"), std::string::npos) << error_of(p);
   write("side.json", "{\"sample_time\": -1}\n");
   EXPECT_NE(error_of(p).find("side.json: field 'sample_time': must be >= 0"), std::string::npos) << error_of(p);
 }
