@@ -1,6 +1,8 @@
 #include "can/dbc.hpp"
 
+#include <cerrno>
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <fstream>
@@ -35,6 +37,31 @@ std::string printable(const std::string& text) {
   for (const char c : text.substr(0, 80)) out.push_back(c >= 0x20 && c < 0x7F ? c : '?');
   if (text.size() > 80) out += "...";
   return out;
+}
+
+/// A finite decimal number (a signal's factor or offset, a capture's time stamp), or a
+/// failure naming the file, line and field: strtod alone read "abc" as 0 and took "nan".
+double real(const std::string& text, const std::string& path, int line, const char* field) {
+  const char* begin = text.c_str();
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(begin, &end);
+  if (text.empty() || end != begin + text.size() || errno == ERANGE || !std::isfinite(v)) {
+    fail(path, line, std::string(field) + " '" + printable(text) + "' is not a finite number");
+  }
+  return v;
+}
+
+/// Whether every bit of the signal lies in a payload of `length` bytes: Intel signals run
+/// up from the start bit; Motorola signals down from it within a byte, then on to the next
+/// byte's bit 7 (the walk of decode_signal).
+bool fits(const DbcSignal& s, unsigned length) {
+  const std::uint64_t bits = 8ULL * length;
+  if (s.start >= bits) return false;
+  if (s.little_endian) return std::uint64_t{s.start} + s.size <= bits;
+  std::uint64_t bit = s.start;
+  for (unsigned b = 0; b + 1 < s.size; ++b) bit = (bit % 8 == 0) ? bit + 15 : bit - 1;
+  return bit < bits;
 }
 
 int hex_digit(char c) {
@@ -85,12 +112,13 @@ Dbc read_dbc(const std::string& path) {
       s.size = number(m[3], 10, path, line, "signal size");
       s.little_endian = m[4] == "1";
       s.is_signed = m[5] == "-";
-      s.factor = std::strtod(m[6].str().c_str(), nullptr);
-      s.offset = std::strtod(m[7].str().c_str(), nullptr);
+      s.factor = real(m[6], path, line, "signal factor");
+      s.offset = real(m[7], path, line, "signal offset");
       s.unit = m[8];
       if (s.size == 0 || s.size > 64) fail(path, line, "signal " + s.name + ": size " + std::to_string(s.size) + " not in 1..64");
-      if (s.little_endian && s.start + s.size > 8 * current->length) {
-        fail(path, line, "signal " + s.name + " ends beyond the message's " + std::to_string(current->length) + " bytes");
+      // Checked for both byte orders (a start bit near 2^32 wrapped the old Intel-only sum).
+      if (!fits(s, current->length)) {
+        fail(path, line, "signal " + s.name + " lies outside the message's " + std::to_string(current->length) + " bytes");
       }
       current->signals.push_back(s);
     } else if (std::regex_match(text, m, ba)) {
@@ -144,7 +172,7 @@ std::vector<CapturedFrame> read_candump_log(const std::string& path) {
       fail(path, line, "not a candump -L line: '" + printable(text) + "'");
     }
     CapturedFrame c;
-    c.t = std::strtod(stamp.c_str() + 1, nullptr);
+    c.t = real(stamp.substr(1, stamp.size() - 2), path, line, "time stamp");
     c.interface = iface;
     const auto hash = body.find('#');
     if (hash == std::string::npos || hash == 0) fail(path, line, "frame without '#': '" + printable(body) + "'");
@@ -154,9 +182,14 @@ std::vector<CapturedFrame> read_candump_log(const std::string& path) {
     }
     c.frame.id = number(id, 16, path, line, "identifier");
     c.frame.extended = id.size() > 3;
+    // candump writes 3 hex digits for an 11-bit identifier and 8 for a 29-bit one.
+    if (c.frame.id > (c.frame.extended ? 0x1FFFFFFFU : 0x7FFU)) {
+      fail(path, line, "identifier '" + id + "' is beyond " + (c.frame.extended ? "29" : "11") + " bits");
+    }
     std::size_t pos = hash + 1;
     if (pos < body.size() && body[pos] == '#') {
       c.frame.fd = true;
+      if (pos + 1 >= body.size() || hex_digit(body[pos + 1]) < 0) fail(path, line, "CAN FD frame without its flags nibble after '##'");
       pos += 2;  // '#' and the flags nibble
     } else if (pos < body.size() && body[pos] == 'R') {
       fail(path, line, "remote frames are not part of the joint protocol");
@@ -165,7 +198,7 @@ std::vector<CapturedFrame> read_candump_log(const std::string& path) {
     if (hex.size() % 2 != 0 || hex.size() / 2 > 64) fail(path, line, "payload '" + printable(hex) + "' is not whole bytes (at most 64)");
     for (std::size_t i = 0; i < hex.size(); i += 2) {
       const int hi = hex_digit(hex[i]), lo = hex_digit(hex[i + 1]);
-      if (hi < 0 || lo < 0) fail(path, line, "payload byte '" + hex.substr(i, 2) + "' is not hexadecimal");
+      if (hi < 0 || lo < 0) fail(path, line, "payload byte '" + printable(hex.substr(i, 2)) + "' is not hexadecimal");
       c.frame.data[i / 2] = static_cast<std::uint8_t>(hi * 16 + lo);
     }
     c.frame.length = static_cast<std::uint8_t>(hex.size() / 2);

@@ -24,28 +24,7 @@ double sample_time(const io::Recording& r) {
 
 double sample_rate(const io::Recording& rec) { return 1.0 / sample_time(rec); }
 
-namespace {
-nlohmann::json read_json(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw io::FormatError(path + ": cannot open");
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw io::FormatError(path + ": invalid JSON at byte " + std::to_string(e.byte));
-  }
-}
-
 using io::write_json_atomic;
-
-double field(const nlohmann::json& j, const char* key, const std::string& path, std::size_t index) {
-  if (!j.contains(key) || !j[key].is_number()) {
-    throw io::FormatError(path + ": joints[" + std::to_string(index) + "]: field '" + key + "' missing or not a number");
-  }
-  const double v = j[key].get<double>();
-  if (!std::isfinite(v)) throw io::FormatError(path + ": joints[" + std::to_string(index) + "]: field '" + key + "' not finite");
-  return v;
-}
-}  // namespace
 
 void write_friction_json(const std::string& path, const std::vector<ident::IdentificationResult>& r,
                          const std::vector<int>& joint_ids, const nlohmann::json& extra) {
@@ -67,74 +46,6 @@ void write_friction_json(const std::string& path, const std::vector<ident::Ident
     j["joints"].push_back(e);
   }
   write_json_atomic(path, j);
-}
-
-std::vector<LuGreParams<double>> read_friction_json(const std::string& path) {
-  const auto j = read_json(path);
-  if (!j.contains("joints") || !j["joints"].is_array()) throw io::FormatError(path + ": field 'joints' missing");
-  std::vector<LuGreParams<double>> out;
-  for (std::size_t i = 0; i < j["joints"].size(); ++i) {
-    const auto& e = j["joints"][i];
-    LuGreParams<double> p{field(e, "sigma0", path, i), field(e, "sigma1", path, i), field(e, "sigma2", path, i),
-                          field(e, "tau_c", path, i),  field(e, "tau_s", path, i),  field(e, "w_s", path, i)};
-    if (validate(p) != Error::ok) throw io::FormatError(path + ": joints[" + std::to_string(i) + "]: invalid LuGre parameters");
-    out.push_back(p);
-  }
-  return out;
-}
-
-namespace {
-/// For each of `joint_ids`, the index of its entry in the file's "joints" array.
-std::vector<std::size_t> joint_order(const std::string& path, const std::vector<int>& joint_ids) {
-  const auto j = read_json(path);
-  if (!j.contains("joints") || !j["joints"].is_array()) throw io::FormatError(path + ": field 'joints' missing");
-  const auto& a = j["joints"];
-  if (a.size() != joint_ids.size()) {
-    throw io::FormatError(path + ": field 'joints': " + std::to_string(a.size()) + " entries, the recording has " +
-                          std::to_string(joint_ids.size()) + " joints");
-  }
-  std::vector<std::size_t> order(joint_ids.size(), a.size());
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    int id = joint_ids[i];
-    if (a[i].contains("joint")) {
-      if (!a[i]["joint"].is_number_integer()) {
-        throw io::FormatError(path + ": joints[" + std::to_string(i) + "]: field 'joint' is not an integer");
-      }
-      id = a[i]["joint"].get<int>();
-    }
-    const auto it = std::find(joint_ids.begin(), joint_ids.end(), id);
-    if (it == joint_ids.end()) {
-      throw io::FormatError(path + ": joints[" + std::to_string(i) + "]: field 'joint': joint " + std::to_string(id) +
-                            " is not in the recording");
-    }
-    const auto k = static_cast<std::size_t>(it - joint_ids.begin());
-    if (order[k] != a.size()) {
-      throw io::FormatError(path + ": joints[" + std::to_string(i) + "]: field 'joint': joint " + std::to_string(id) + " given twice");
-    }
-    order[k] = i;
-  }
-  return order;
-}
-}  // namespace
-
-std::vector<LuGreParams<double>> read_friction_json(const std::string& path, const std::vector<int>& joint_ids) {
-  const auto order = joint_order(path, joint_ids);
-  const auto all = read_friction_json(path);
-  std::vector<LuGreParams<double>> out;
-  for (const std::size_t i : order) out.push_back(all[i]);
-  return out;
-}
-
-Thresholds read_threshold_json(const std::string& path, const std::vector<int>& joint_ids) {
-  const auto order = joint_order(path, joint_ids);
-  const Thresholds all = read_threshold_json(path);
-  Thresholds out = all;
-  for (auto [dst, src] : {std::pair{&out.threshold, &all.threshold}, {&out.threshold_uncompensated, &all.threshold_uncompensated},
-                          {&out.low_speed_extra, &all.low_speed_extra}, {&out.hold_change, &all.hold_change}}) {
-    if (src->size() != order.size()) continue;  // optional fields the file does not give
-    for (std::size_t k = 0; k < order.size(); ++k) (*dst)[k] = (*src)[order[k]];
-  }
-  return out;
 }
 
 void write_threshold_json(const std::string& path, const Thresholds& t, const std::vector<int>& joint_ids,
@@ -161,40 +72,6 @@ void write_threshold_json(const std::string& path, const Thresholds& t, const st
     j["hold_reference_s"] = t.hold_reference_s;
   }
   write_json_atomic(path, j);
-}
-
-Thresholds read_threshold_json(const std::string& path) {
-  const auto j = read_json(path);
-  if (!j.contains("joints") || !j["joints"].is_array()) throw io::FormatError(path + ": field 'joints' missing");
-  Thresholds t;
-  for (std::size_t i = 0; i < j["joints"].size(); ++i) {
-    const auto& e = j["joints"][i];
-    t.threshold.push_back(field(e, "threshold", path, i));
-    t.threshold_uncompensated.push_back(e.contains("threshold_uncompensated") ? field(e, "threshold_uncompensated", path, i) : 0.0);
-    t.low_speed_extra.push_back(e.contains("low_speed_extra") ? field(e, "low_speed_extra", path, i) : 0.0);
-    if (e.contains("low_speed_width")) t.low_speed_width = field(e, "low_speed_width", path, i);
-    if (!(t.threshold.back() > 0.0)) throw io::FormatError(path + ": joints[" + std::to_string(i) + "]: threshold must be > 0");
-    if (e.contains("hold_change_threshold")) {
-      if (t.hold_change.size() != i) {
-        throw io::FormatError(path + ": joints[" + std::to_string(i) + "]: field 'hold_change_threshold': given for some joints only");
-      }
-      t.hold_change.push_back(field(e, "hold_change_threshold", path, i));
-      if (!(t.hold_change.back() >= 0.0)) {
-        throw io::FormatError(path + ": joints[" + std::to_string(i) + "]: field 'hold_change_threshold' must be >= 0 (0: off)");
-      }
-    }
-  }
-  if (!t.hold_change.empty() && t.hold_change.size() != t.threshold.size()) {
-    throw io::FormatError(path + ": field 'hold_change_threshold': given for some joints only");
-  }
-  for (const char* key : {"hold_settle_s", "hold_reference_s"}) {
-    if (!j.contains(key)) continue;
-    if (!j[key].is_number() || !(j[key].get<double>() >= 0.0) || !(j[key].get<double>() <= 10.0)) {
-      throw io::FormatError(path + ": field '" + key + "' must be a number of seconds in [0, 10]");
-    }
-    (std::string(key) == "hold_settle_s" ? t.hold_settle_s : t.hold_reference_s) = j[key].get<double>();
-  }
-  return t;
 }
 
 std::vector<std::vector<double>> motor_torque(const io::Recording& rec, const robot::RobotModel& model) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 namespace jg::io {
@@ -15,6 +16,38 @@ std::string where(const std::string& file, const YAML::Mark& m) {
     os << ':' << m.line + 1 << ':' << m.column + 1;
   }
   return os.str();
+}
+
+/// Nodes visited by check_keys before the file is refused: far above any robot or scenario
+/// file, reached only by aliases that expand exponentially (a "billion laughs" document).
+constexpr std::size_t kMaxNodes = 100000;
+
+/// yaml-cpp keeps both entries of a key written twice and reads the first: refused, naming
+/// the second occurrence (`path` is the field path so far, e.g. "joints[1]"). Keys must be
+/// plain scalars (a `? [list]` key cannot name a field).
+void check_keys(const std::string& file, const YAML::Node& node, const std::string& path, std::size_t& visited) {
+  if (++visited > kMaxNodes) {
+    throw FormatError(where(file, node.Mark()) + ": more than " + std::to_string(kMaxNodes) +
+                      " YAML nodes (aliases expanding?); a robot or scenario file is far smaller");
+  }
+  if (node.IsSequence()) {
+    for (std::size_t i = 0; i < node.size(); ++i) check_keys(file, node[i], path + "[" + std::to_string(i) + "]", visited);
+  } else if (node.IsMap()) {
+    std::map<std::string, YAML::Mark> seen;
+    for (const auto& kv : node) {
+      if (!kv.first.IsScalar()) {
+        throw FormatError(where(file, kv.first.Mark()) + ": field '" + path + "': a key must be plain text");
+      }
+      const std::string key = kv.first.Scalar();
+      const std::string field = path.empty() ? key : path + "." + key;
+      const auto [it, inserted] = seen.emplace(key, kv.first.Mark());
+      if (!inserted) {
+        throw FormatError(where(file, kv.first.Mark()) + ": field '" + field + "': duplicate key (first given on line " +
+                          std::to_string(it->second.line + 1) + ")");
+      }
+      check_keys(file, kv.second, field, visited);
+    }
+  }
 }
 }  // namespace
 
@@ -28,6 +61,8 @@ YamlFields YamlFields::load_file(const std::string& path) {
     if (!root.IsMap()) {
       throw FormatError(path + ": expected a mapping of keys at the top level");
     }
+    std::size_t visited = 0;
+    check_keys(path, root, "", visited);
     return YamlFields(path, root);
   } catch (const YAML::Exception& e) {
     throw FormatError(where(path, e.mark) + ": YAML syntax: " + e.msg);

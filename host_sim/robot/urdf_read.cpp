@@ -1,10 +1,12 @@
 #include "robot/urdf_read.hpp"
 
 #include <console_bridge/console.h>
+#include <tinyxml.h>
 
 #include <Eigen/Dense>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 
@@ -63,12 +65,97 @@ std::string without_format_characters(std::string text) {
   return text;
 }
 
+/// urdfdom's links own their children (shared_ptr): a joint whose child is its own parent,
+/// or a loop of joints, makes a cycle that is never freed (found by fuzzing, a leak per
+/// file read). Clearing the child lists frees it; the model is unusable after this.
+void break_cycles(urdf::ModelInterface& m) {
+  for (auto& [name, link] : m.links_) {
+    if (!link) continue;
+    link->child_links.clear();
+    link->child_joints.clear();
+  }
+  m.root_link_.reset();
+}
+
+/// The model, owned so that its cycles (if any) are broken when the last user drops it.
+urdf::ModelInterfaceSharedPtr owned(urdf::ModelInterfaceSharedPtr m) {
+  if (!m) return m;
+  urdf::ModelInterface* raw = m.get();
+  return {raw, [m](urdf::ModelInterface*) mutable {
+            break_cycles(*m);
+            m.reset();
+          }};
+}
+
+/// Refuses text TinyXML (urdfdom's parser) cannot be given: a NUL byte, or bytes that are not
+/// UTF-8. TinyXML skips a multi-byte character by the length its lead byte announces, so a
+/// lead byte at the end of the file made it read past the buffer (ASan heap-buffer-overflow
+/// in TiXmlBase::ReadName, found by fuzzing).
+void check_text(const std::string& path, const std::string& text) {
+  std::size_t line = 1;
+  for (std::size_t k = 0; k < text.size();) {
+    const auto c = static_cast<unsigned char>(text[k]);
+    if (c == '\n') ++line;
+    if (c == 0) refuse(path, "line " + std::to_string(line) + ": a NUL byte: not a text file");
+    std::size_t len = 1;
+    if (c >= 0xF0 && c <= 0xF4) {
+      len = 4;
+    } else if (c >= 0xE0) {
+      len = c <= 0xEF ? 3 : 0;
+    } else if (c >= 0xC2) {
+      len = 2;
+    } else if (c >= 0x80) {
+      len = 0;
+    }
+    bool ok = len != 0 && k + len <= text.size();
+    for (std::size_t i = 1; ok && i < len; ++i) ok = (static_cast<unsigned char>(text[k + i]) & 0xC0U) == 0x80U;
+    if (!ok) refuse(path, "line " + std::to_string(line) + ": bytes that are not UTF-8 text (a URDF is XML in UTF-8)");
+    k += len;
+  }
+}
+
+/// Refuses, before urdfdom sees them, joints whose child is their parent, links that are the
+/// child of two joints and loops of joints: urdfdom links such a tree into shared_ptr
+/// cycles and, when it then refuses the file (e.g. two roots), leaks them (found by
+/// fuzzing). Files TinyXML cannot read are left to urdfdom's error.
+void check_joint_graph(const std::string& path, const std::string& text) {
+  TiXmlDocument doc;
+  doc.Parse(text.c_str());
+  const TiXmlElement* robot = doc.Error() ? nullptr : doc.FirstChildElement("robot");
+  if (robot == nullptr) return;
+  std::map<std::string, std::string> parent_of;
+  for (const TiXmlElement* j = robot->FirstChildElement("joint"); j != nullptr; j = j->NextSiblingElement("joint")) {
+    const TiXmlElement* p = j->FirstChildElement("parent");
+    const TiXmlElement* c = j->FirstChildElement("child");
+    const char* name = j->Attribute("name");
+    if (p == nullptr || c == nullptr || p->Attribute("link") == nullptr || c->Attribute("link") == nullptr) continue;
+    const std::string parent = p->Attribute("link"), child = c->Attribute("link");
+    const std::string joint = std::string("joint '") + (name ? name : "") + "': ";
+    if (parent == child) refuse(path, joint + "its parent and child are the same link '" + child + "'");
+    if (!parent_of.emplace(child, parent).second) refuse(path, joint + "link '" + child + "' is already the child of another joint");
+  }
+  for (const auto& [child, parent] : parent_of) {
+    std::string up = parent;
+    for (std::size_t steps = 0; steps <= parent_of.size(); ++steps) {
+      if (up == child) refuse(path, "link '" + child + "' is its own ancestor: the joints form a loop");
+      const auto it = parent_of.find(up);
+      if (it == parent_of.end()) break;
+      up = it->second;
+    }
+  }
+}
+
 urdf::ModelInterfaceSharedPtr parse(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) refuse(path, "cannot read the file");
   std::stringstream buffer;
   buffer << in.rdbuf();
   const std::string text = buffer.str();
+  check_text(path, text);
+  // Both texts urdfdom parses: an invalid character reference makes TinyXML refuse the real
+  // text but not the harmless copy (found by fuzzing: the copy's loop leaked).
+  check_joint_graph(path, text);
+  check_joint_graph(path, without_format_characters(text));
   LoggingGuard guard;
   // First pass on the harmless copy, only to hear urdfdom's complaints: it logs some errors
   // (a mass "heavy", a vector "1 2") and goes on with zeros.
@@ -77,7 +164,7 @@ urdf::ModelInterfaceSharedPtr parse(const std::string& path) {
   const std::string harmless = without_format_characters(text);
   bool copy_parsed = false;
   try {
-    copy_parsed = urdf::parseURDF(harmless) != nullptr;
+    copy_parsed = owned(urdf::parseURDF(harmless)) != nullptr;
   } catch (const std::exception& e) {  // urdfdom mostly logs, but may throw (version attribute)
     capture.errors.emplace_back(e.what());
   }
@@ -89,7 +176,7 @@ urdf::ModelInterfaceSharedPtr parse(const std::string& path) {
   }
   urdf::ModelInterfaceSharedPtr model;
   try {
-    model = urdf::parseURDF(text);
+    model = owned(urdf::parseURDF(text));
   } catch (const std::exception& e) {
     refuse(path, std::string("not a valid URDF: ") + e.what());
   }
@@ -143,8 +230,20 @@ void check_joint(const std::string& path, const urdf::Joint& j) {
 
 }  // namespace
 
+/// Refuses links that are their own ancestor (a joint from a link to itself, a loop of
+/// joints): urdfdom accepts them when another link is the root.
+void check_tree(const std::string& path, const urdf::ModelInterface& m) {
+  for (const auto& [name, link] : m.links_) {
+    std::size_t steps = 0;
+    for (urdf::LinkSharedPtr up = link->getParent(); up; up = up->getParent()) {
+      if (up == link || ++steps > m.links_.size()) refuse(path, "link '" + name + "' is its own ancestor: the joints form a loop");
+    }
+  }
+}
+
 urdf::ModelInterfaceSharedPtr read_urdf(const std::string& path) {
   urdf::ModelInterfaceSharedPtr model = parse(path);
+  check_tree(path, *model);
   for (const auto& [name, link] : model->links_) check_inertial(path, *link);
   for (const auto& [name, joint] : model->joints_) check_joint(path, *joint);
   return model;

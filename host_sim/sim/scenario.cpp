@@ -155,6 +155,14 @@ Scenario load_scenario(const std::string& path, unsigned long long seed_override
   const std::filesystem::path model_path =
       model_override.empty() ? std::filesystem::path(path).parent_path() / std::filesystem::path(root.text("model"))
                              : std::filesystem::path(model_override);
+  // A model that is not there or of no known type is the scenario's error (its `model`
+  // line); errors inside the model file name that file.
+  if (model_override.empty()) {
+    std::error_code ec;
+    const std::string ext = model_path.extension().string();
+    if (!std::filesystem::is_regular_file(model_path, ec)) root.fail("model", "'" + model_path.string() + "' is not a file");
+    if (ext != ".yaml" && ext != ".yml" && ext != ".urdf") root.fail("model", "unknown robot file type (expected .yaml, .yml or .urdf)");
+  }
   try {
     s.model = load_plant_model(model_path.string());
   } catch (const io::FormatError&) {

@@ -94,7 +94,11 @@ TEST(Dbc, DescribesEveryFrameTheProtocolSends) {
 
 TEST(Dbc, BadCaptureLinesAreRefusedWithFileAndLine) {
   const std::string log = ::testing::TempDir() + "/jg_bad_capture.log";
-  for (const char* bad : {"vcan0 123#00", "(1.0) vcan0 12G#00", "(1.0) vcan0 123#0", "(1.0) vcan0 123", "(1.0) vcan0 123#R"}) {
+  // The last five (issue 14): a time stamp that is not a number, an 11-bit identifier
+  // beyond 0x7FF, a 29-bit one beyond 0x1FFFFFFF, CAN FD without its flags nibble.
+  for (const char* bad : {"vcan0 123#00", "(1.0) vcan0 12G#00", "(1.0) vcan0 123#0", "(1.0) vcan0 123", "(1.0) vcan0 123#R",
+                          "(abc) vcan0 123#00", "(nan) vcan0 123#00", "(1.0) vcan0 FFF#00", "(1.0) vcan0 FFFFFFFF#00",
+                          "(1.0) vcan0 123##"}) {
     {
       std::ofstream out(log);
       out << "(1.0) vcan0 010##1" << std::string(16, '0') << '\n' << bad << '\n';
@@ -106,6 +110,34 @@ TEST(Dbc, BadCaptureLinesAreRefusedWithFileAndLine) {
       EXPECT_NE(std::string(e.what()).find(log + ":2:"), std::string::npos) << e.what();
     }
   }
+}
+
+// Signal definitions the reader used to accept (issue 14, fuzzing): a start bit near 2^32
+// wrapped the end-of-signal sum past the check, Motorola signals were not checked at all,
+// factors and offsets that are not numbers were read as 0.
+TEST(Dbc, BadSignalDefinitionsAreRefusedWithFileAndLine) {
+  const std::string path = ::testing::TempDir() + "/jg_bad_signal.dbc";
+  for (const char* bad : {" SG_ x : 4294967295|2@1+ (1,0) [0|1] \"\" M", " SG_ x : 7|16@0+ (1,0) [0|1] \"\" M",
+                          " SG_ x : 60|8@0+ (1,0) [0|1] \"\" M", " SG_ x : 0|8@1+ (abc,0) [0|1] \"\" M",
+                          " SG_ x : 0|8@1+ (1,nan) [0|1] \"\" M", " SG_ x : 0|8@1+ (1e999,0) [0|1] \"\" M"}) {
+    {
+      std::ofstream out(path);
+      out << "BO_ 16 CYCLE_SYNC: 1 MASTER\n" << bad << '\n';
+    }
+    try {
+      (void)can::read_dbc(path);
+      ADD_FAILURE() << "accepted: " << bad;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(path + ":2:"), std::string::npos) << e.what();
+    }
+  }
+  {
+    std::ofstream out(path);
+    out << "BO_ 16 CYCLE_SYNC: 2 MASTER\n SG_ x : 7|16@0+ (0.5,-3) [0|1] \"\" M\n";
+  }
+  const can::Dbc dbc = can::read_dbc(path);
+  const std::uint8_t data[2] = {0x01, 0x02};  // Motorola: 0x0102 = 258
+  EXPECT_DOUBLE_EQ(can::decode_signal(dbc.messages.at(16).signals.at(0), data, 2), 258 * 0.5 - 3);
 }
 
 }  // namespace

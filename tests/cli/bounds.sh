@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Bad input that used to hang or crash (issue 14): a 40 kB DBC line (std::regex recursion),
 # plant_rate_hz 1e9 and duration_s 1e12 in a scenario, --duration 1e12, a diverging stiff gear. Each must exit 1
-# (file, line and field named) or 2 (bad command line), quickly, writing nothing.
+# (file, line and field named) or 2 (bad command line), quickly, writing nothing. Also duplicate
+# YAML keys and the friction/threshold JSON messages.
 # Usage: bounds.sh <jointguard> <source dir>
 set -euo pipefail
 J="$1"
@@ -51,4 +52,31 @@ expect 2 "margin" -- "$J" calibrate tests/data/recordings/held_arm.csv --model m
 expect 2 "margin" -- "$J" calibrate tests/data/recordings/held_arm.csv --model models/ref3.yaml \
   --friction tests/data/recordings/ref3_friction.json --margin -100 --json "$W/never.json"
 [ ! -e "$W/never.json" ] || { echo "a refused calibration wrote its thresholds"; exit 1; }
+# Duplicate YAML keys (yaml-cpp keeps both and reads the first): refused naming file, line
+# and key, in robot files and in scenarios.
+sed 's/^    alpha_prev_rad: 0.0$/    alpha_prev_rad: 0.0\n    a_prev_m: 0.5/' models/ref3.yaml > "$W/dup_robot.yaml"
+expect 1 "dup_robot.yaml:13:5: field 'joints\[0\].a_prev_m': duplicate key (first given on line 11)" -- \
+  "$J" replay tests/data/recordings/held_arm.csv --model "$W/dup_robot.yaml" \
+  --friction tests/data/recordings/ref3_friction.json --threshold tests/data/recordings/ref3_threshold.json
+sed 's/^seed: 1$/seed: 1\nseed: 2/' scenarios/paper_excitation.yaml > "$W/dup_scenario.yaml"
+sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/dup_scenario.yaml"
+expect 1 "dup_scenario.yaml:7:1: field 'seed': duplicate key (first given on line 6)" -- "$J" simulate "$W/dup_scenario.yaml" --out "$W/never.csv"
+# Friction/threshold JSON: file, line or field named, never nlohmann's "type_error.302" or
+# "out_of_range"; a joint number beyond int is not wrapped onto joint 1; width 0 refused.
+REPLAY=("$J" replay tests/data/recordings/held_arm.csv --model models/ref3.yaml)
+FR=tests/data/recordings/ref3_friction.json
+TH=tests/data/recordings/ref3_threshold.json
+printf '{"joints": [\n  {"joint": 1, "threshold": 5},\n  {"joint": 2, "threshold": "5"},\n  {"joint": 3, "threshold": 5}]}\n' > "$W/th_text.json"
+expect 1 "th_text.json: field 'joints\[1\].threshold': not a number" -- "${REPLAY[@]}" --friction "$FR" --threshold "$W/th_text.json"
+printf '{"joints": [\n  {"joint": 4294967297, "threshold": 5},\n  {"joint": 2, "threshold": 5},\n  {"joint": 3, "threshold": 5}]}\n' > "$W/th_big.json"
+expect 1 "th_big.json: field 'joints\[0\].joint': not a joint number" -- "${REPLAY[@]}" --friction "$FR" --threshold "$W/th_big.json"
+printf '{"joints": [{"joint": 1, "threshold": 5, "low_speed_width": 0}, {"joint": 2, "threshold": 5}, {"joint": 3, "threshold": 5}]}\n' > "$W/th_width.json"
+expect 1 "th_width.json: field 'joints\[0\].low_speed_width': must be > 0" -- "${REPLAY[@]}" --friction "$FR" --threshold "$W/th_width.json"
+printf '{"joints": 3}\n' > "$W/th_obj.json"
+expect 1 "th_obj.json: field 'joints': missing or not a list" -- "${REPLAY[@]}" --friction "$FR" --threshold "$W/th_obj.json"
+printf '{"joints": [\n  {"joint": 1,, "sigma0": 1}]}\n' > "$W/fr_syntax.json"
+expect 1 "fr_syntax.json:2:[0-9]*: invalid JSON" -- "${REPLAY[@]}" --friction "$W/fr_syntax.json" --threshold "$TH"
+printf '{"joints": [{"joint": 1, "threshold": 1e999}]}\n' > "$W/th_huge.json"
+expect 1 "th_huge.json: invalid JSON: a number beyond the range of a double" -- "${REPLAY[@]}" --friction "$FR" --threshold "$W/th_huge.json"
+! grep -q "json.exception" "$W/err.txt" || { echo "raw nlohmann message"; cat "$W/err.txt"; exit 1; }
 echo "bounds: ok"

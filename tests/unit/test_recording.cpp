@@ -87,6 +87,24 @@ TEST_F(RecordingTest, RealDataLayoutWithTimeColumnAndTorquePattern) {
   EXPECT_TRUE(r.extra.count("ddq2") == 1U);
 }
 
+// Found by fuzzing (tests/fuzz/regressions/recording/tau_ext_one_joint*.csv): tau_ext for
+// one joint of two left an empty column beside a full one and regularize read past it.
+// Binary bytes in a field are not echoed; the side file's JSON errors give line and column.
+TEST_F(RecordingTest, PartialGroundTruthBinaryFieldsAndBadSideFileAreRefused) {
+  auto p = write("ext.csv", "t,q1,q2,dq1,dq2,i1,i2,tau_ext1\n0,0,0,0,0,0,0,0\n0.001,0,0,0,0,0,0,0\n");
+  EXPECT_NE(error_of(p).find("ext.csv:1: field 'tau_ext2': external torque given for some joints but not this one"),
+            std::string::npos) << error_of(p);
+  p = write("bin.csv", std::string("t,q1,dq1,i1\n0,0,0,0\n0.001,0,\x01\xff,0\n"));
+  EXPECT_NE(error_of(p).find("bin.csv:3: field 'dq1': '?" "?' is not a finite number"), std::string::npos) << error_of(p);
+  p = write("side.csv", "t,q1,dq1,i1\n0,0,0,0\n0.001,0,0,0\n");
+  write("side.json", "{\n  \"model\": ref3\n}\n");
+  EXPECT_NE(error_of(p).find("side.json:2:"), std::string::npos) << error_of(p);
+  write("side.json", "{\"sample_time\": 1e999}\n");  // nlohmann's out_of_range.406 escaped before
+  EXPECT_NE(error_of(p).find("side.json: invalid JSON: a number beyond the range of a double"), std::string::npos) << error_of(p);
+  write("side.json", "{\"sample_time\": -1}\n");
+  EXPECT_NE(error_of(p).find("side.json: field 'sample_time': must be >= 0"), std::string::npos) << error_of(p);
+}
+
 TEST_F(RecordingTest, ErrorsNameFileLineAndField) {
   auto p = write("nan.csv", "t,q1,dq1,i1\n0,0,0,0\n0.001,0,nan,0\n");
   EXPECT_NE(error_of(p).find("nan.csv:3: field 'dq1': 'nan' is not a finite number (column 3)"),

@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# The long fuzz run of every reader (tests/fuzz): builds the preset `fuzz` (clang, libFuzzer,
+# ASan + UBSan with float-cast-overflow and integer checks) and runs each reader's target
+# one after the other, niced, from a copy of its seed corpus plus the regression inputs.
+#   scripts/fuzz.sh [SECONDS] [RUNS] [READER...]
+# SECONDS per reader (default 600), RUNS: stop a reader after this many executions
+# (default 10000000, whichever comes first). READERS default to all of them.
+# Prints per reader: executions, seconds, result; a finding's input lands in
+# build/fuzz/long/<reader>/ (crash-*, leak-*, timeout-*, oom-*) and the script exits 1.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+SECONDS_PER_READER="${1:-600}"
+RUNS="${2:-10000000}"
+shift $(( $# > 2 ? 2 : $# ))
+READERS=("$@")
+[ ${#READERS[@]} -gt 0 ] || READERS=(recording robot_yaml urdf scenario param_json dbc candump drive)
+cmake --preset fuzz > /dev/null
+cmake --build --preset fuzz
+ROOT="$PWD"
+# The targets write each input to a file: in memory when /dev/shm is there.
+if [ -z "${JG_FUZZ_TMP:-}" ] && [ -w /dev/shm ]; then export JG_FUZZ_TMP=/dev/shm; fi
+OUT="$ROOT/build/fuzz/long"
+mkdir -p "$OUT"
+status=0
+printf '%-12s %12s %8s %s\n' reader executions seconds result | tee "$OUT/summary.txt"
+for r in "${READERS[@]}"; do
+  W="$OUT/$r"
+  rm -rf "$W" && mkdir -p "$W/corpus"
+  cp tests/fuzz/corpus/"$r"/* "$W/corpus/"
+  start=$(date +%s)
+  set +e
+  # -jobs=1: one worker process (its output in $W/fuzz-0.log), restarted never; -timeout:
+  # an input taking 10 s is a finding (a reader must refuse, not hang); -max_len: inputs up
+  # to 8 kB (the seeds are smaller; the 23 kB DBC and 40 kB regression only start them).
+  (cd "$W" && nice -n 10 "$ROOT/build/fuzz/tests/fuzz/fuzz_$r" corpus "$ROOT/tests/fuzz/regressions/$r" \
+     -jobs=1 -workers=1 -max_total_time="$SECONDS_PER_READER" -runs="$RUNS" -timeout=10 -max_len=8192 -seed=1 \
+     -print_final_stats=1 -artifact_prefix="$W/" > driver.log 2>&1)
+  rc=$?
+  set -e
+  secs=$(( $(date +%s) - start ))
+  runs=$(grep -ho "stat::number_of_executed_units: *[0-9]*" "$W"/fuzz-0.log | grep -o "[0-9]*$" | tail -1 || true)
+  if compgen -G "$W/crash-*" > /dev/null || compgen -G "$W/leak-*" > /dev/null || compgen -G "$W/timeout-*" > /dev/null ||
+     compgen -G "$W/oom-*" > /dev/null; then rc=${rc/#0/1}; fi
+  if [ "$rc" = 0 ]; then result=ok; else result="FINDING (exit $rc, see $W/fuzz-0.log)"; status=1; fi
+  printf '%-12s %12s %8s %s\n' "$r" "${runs:-?}" "$secs" "$result" | tee -a "$OUT/summary.txt"
+done
+exit $status
