@@ -17,6 +17,10 @@ nlohmann::json run_json(const eval::RunResult& r) {
                    {"max_true_torque_over_moving_threshold", r.max_true_ratio_moving},
                    {"isolable", r.isolable}, {"link_first_cycle", r.link_first_cycle}, {"detected_by_hold", r.detected_by_hold},
                    {"peak_true_torque_held", r.peak_true_torque_held}, {"held_push", r.held_push_nm}};
+  // Contract fields: the true contact force (peak over the run, N) and the detector's estimate
+  // of it, null: the contact's force is not estimated yet (docs/results.md, issue 15).
+  j["force_true"] = r.peak_force_n;
+  j["force_estimate"] = nullptr;
   j["t_detected"] = optional_json(r.t_detected);
   j["delay"] = r.t_detected ? nlohmann::json(*r.t_detected - r.t_collision) : nlohmann::json(nullptr);
   j["t_threshold_crossed"] = optional_json(r.t_threshold);
