@@ -50,11 +50,28 @@ void CollisionSchedule::reset() {
   for (const auto& e : events_) direction_.push_back(e.direction_base);
 }
 
-void CollisionSchedule::onset_direction(std::size_t k, const ArmDynamics& arm, const JointVector& q, const JointVector& qd) {
+namespace {
+/// Tissue or obstacle spring: compressive only, capped at the event's peak.
+double spring_force(const CollisionEvent& e, double compression, double rate) {
+  return compression > 0.0 ? std::clamp(e.stiffness_n_per_m * compression + e.damping_n_s_per_m * rate, 0.0, e.peak_force_n)
+                           : 0.0;
+}
+}  // namespace
+
+CollisionSchedule::ContactMotion CollisionSchedule::contact_motion(std::size_t k, double t, const ArmDynamics& arm,
+                                                                   const JointVector& q, const JointVector& qd) {
   const CollisionEvent& e = events_[k];
-  if (!e.against_motion) return;
-  const Eigen::Vector3d v = arm.point_jacobian(q, e.link - 1, e.point_in_link) * qd;
-  if (v.norm() > 1e-9) direction_[k] = -v.normalized();
+  const int i = e.link - 1;
+  const LinkPoses P = arm.poses(q);
+  const Eigen::Vector3d x = P.origin[i] + P.rotation[i] * e.point_in_link;
+  const Eigen::Vector3d v = arm.point_jacobian(q, i, e.point_in_link) * qd;
+  if (!anchored_[k]) {  // the onset: where the contact is, and (against_motion) its direction
+    anchor_[k] = x;
+    anchored_[k] = true;
+    if (e.against_motion && v.norm() > 1e-9) direction_[k] = -v.normalized();
+  }
+  last_t_[k] = t;
+  return {-(x - anchor_[k]).dot(direction_[k]), -v.dot(direction_[k])};
 }
 
 ContactForce CollisionSchedule::operator()(double t, const ArmDynamics& arm, const JointVector& q,
@@ -80,48 +97,21 @@ ContactForce CollisionSchedule::operator()(double t, const ArmDynamics& arm, con
         break;
       }
       case CollisionProfile::free: {
-        // The body part stands where the contact point is at the onset and is pushed
-        // along -direction; its displacement x_b follows m_b x_b'' = F (free, no support).
-        const LinkPoses P = arm.poses(q);
-        const int i = e.link - 1;
-        const Eigen::Vector3d x = P.origin[i] + P.rotation[i] * e.point_in_link;
-        if (!anchored_[k]) {
-          anchor_[k] = x;
-          anchored_[k] = true;
-          last_t_[k] = t;
-          onset_direction(k, arm, q, qd);
-        }
-        const double h = std::max(0.0, t - last_t_[k]);
-        last_t_[k] = t;
-        const double arm_travel = -(x - anchor_[k]).dot(direction_[k]);
-        const Eigen::Vector3d v = arm.point_jacobian(q, i, e.point_in_link) * qd;
-        const double arm_speed = -v.dot(direction_[k]);
-        const double compression = arm_travel - body_position_[k];
-        const double rate = arm_speed - body_velocity_[k];
-        magnitude = compression > 0.0
-                        ? std::clamp(e.stiffness_n_per_m * compression + e.damping_n_s_per_m * rate, 0.0, e.peak_force_n)
-                        : 0.0;
+        // The body part stands where the contact point was at the onset and is pushed along
+        // -direction; its displacement x_b follows m_b x_b'' = F (free, no support).
+        const double h = anchored_[k] ? std::max(0.0, t - last_t_[k]) : 0.0;  // no step before the onset
+        const ContactMotion m = contact_motion(k, t, arm, q, qd);
+        magnitude = spring_force(e, m.travel - body_position_[k], m.speed - body_velocity_[k]);
         // Semi-implicit Euler over the interval since the last call (the plant's step).
         body_velocity_[k] += h * magnitude / e.body_mass_kg;
         body_position_[k] += h * body_velocity_[k];
         break;
       }
       case CollisionProfile::clamp: {
-        const LinkPoses P = arm.poses(q);
-        const int i = e.link - 1;
-        const Eigen::Vector3d x = P.origin[i] + P.rotation[i] * e.point_in_link;
-        if (!anchored_[k]) {
-          anchor_[k] = x;
-          anchored_[k] = true;
-          onset_direction(k, arm, q, qd);
-        }
-        // The obstacle pushes along `direction`; the arm penetrates by moving against it.
-        const double penetration = -(x - anchor_[k]).dot(direction_[k]);
-        const Eigen::Vector3d v = arm.point_jacobian(q, i, e.point_in_link) * qd;
-        const double rate = -v.dot(direction_[k]);
-        magnitude = penetration > 0.0
-                        ? std::clamp(e.stiffness_n_per_m * penetration + e.damping_n_s_per_m * rate, 0.0, e.peak_force_n)
-                        : 0.0;
+        // The obstacle stays where the contact point was at the onset: the arm's travel
+        // against `direction` is the penetration.
+        const ContactMotion m = contact_motion(k, t, arm, q, qd);
+        magnitude = spring_force(e, m.travel, m.speed);
         break;
       }
     }

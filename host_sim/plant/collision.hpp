@@ -50,7 +50,12 @@ class CollisionSchedule {
   [[nodiscard]] const std::vector<CollisionEvent>& events() const { return events_; }
 
  private:
-  void onset_direction(std::size_t k, const ArmDynamics& arm, const JointVector& q, const JointVector& qd);
+  /// The contact point's travel since the onset and its speed, both against the event's
+  /// direction [m, m/s]; anchors the point (and an against_motion direction) at the onset.
+  struct ContactMotion {
+    double travel = 0.0, speed = 0.0;
+  };
+  ContactMotion contact_motion(std::size_t k, double t, const ArmDynamics& arm, const JointVector& q, const JointVector& qd);
   std::vector<CollisionEvent> events_;
   std::vector<bool> anchored_;
   std::vector<Eigen::Vector3d> anchor_;

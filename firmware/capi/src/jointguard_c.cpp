@@ -1,8 +1,10 @@
 // The C API (capi/include/jointguard.h) over the core's templates, instantiated for the
 // package's scalar (jg::Scalar). Everything the C caller holds is placement-constructed in
 // its own storage; sizes are checked here at compile time against the header's bounds.
-// No allocation (placement new allocates nothing), no exceptions, no RTTI: the same flags
-// as the core.
+// No allocation: placement new only constructs an object in the caller's storage (the
+// standard way to start an object's lifetime there; the non-throwing, non-allocating form
+// from <new>, inlined: `ctest -R mcu.capi_no_heap` checks the archive references no
+// operator new, __cxa_* or unwinding). No exceptions, no RTTI: the same flags as the core.
 #include "jointguard.h"
 
 #include <cstring>
