@@ -22,6 +22,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 
 #include "jointguard/dynamics/momentum_recursion.hpp"
 #include "jointguard/numeric/qmath.hpp"
@@ -193,6 +194,85 @@ inline std::int32_t get_i32(const std::uint8_t* p) noexcept {
 #endif
   return static_cast<std::int32_t>(u);
 }
+/// Whether the float -> wire conversion runs as one assembler sequence (single-precision
+/// VFP in Thumb-2: Cortex-M4F, M7, M33): the rounding mode is switched to round toward
+/// minus infinity for the sequence, so floor(v 2^16 + 0.5) is one VADD and one VCVTR per
+/// value (the addition rounds down, which leaves the floor unchanged: floor(fl(x)) =
+/// floor(x) whenever floor(x) is a float, and above 2^24 every float is an integer), VCVTR
+/// saturates and maps NaN to 0, and two compares give from_float's saturation at
+/// +/-2147483520 (the largest float below 2^31) to the symmetric range. The same value as
+/// float_to_wire for every float (checked on the MCU by jg_golden over a dense sweep of
+/// bit patterns, tests/mcu/mcu_main.cpp); elsewhere float_to_wire.
+#if defined(__ARM_FP) && ((__ARM_FP & 4) != 0) && defined(__thumb2__) && !defined(__SOFTFP__)
+#define JG_WIRE_FLOAT_ASM 1
+#else
+#define JG_WIRE_FLOAT_ASM 0
+#endif
+
+/// N consecutive floats at `src` (an object made of N floats, e.g. Vec3<float> or a message
+/// of them) -> N little-endian Q16.16 words at `dst` (any alignment).
+template <unsigned N, class Floats>
+inline void floats_to_wire(const Floats& src, std::uint8_t* dst) noexcept {
+  static_assert(sizeof(Floats) == N * sizeof(float) && std::is_standard_layout_v<Floats>, "N packed floats");
+#if JG_WIRE_FLOAT_ASM
+  static_assert(N == 1U || N == 9U || N == 10U, "instantiated for the status, outward and inward frames");
+  std::uint32_t fpscr = 0;
+  std::uint32_t mode = 0;
+  std::uint32_t word = 0;
+  float value = 0.0F;
+  float scale = 0.0F;
+  float half = 0.0F;
+  const void* from = &src;
+  std::uint8_t* to = dst;
+// The steps are spelled out (no .rept): GCC sizes an asm statement by its lines, and an
+// underestimate pushes the function's literal pool out of VLDR's range.
+#define JG_WIRE_STEP                                                                                         \
+  "vldmia %[from]!, {%[value]}\n\t"                                                                        \
+  "vmul.f32 %[value], %[value], %[scale]\n\t"                                                              \
+  "vadd.f32 %[value], %[value], %[half]\n\t"                                                               \
+  "vcvtr.s32.f32 %[value], %[value]\n\t"                                                                   \
+  "vmov %[word], %[value]\n\t"                                                                             \
+  "cmp %[word], %[limit]\n\t"                                                                              \
+  "it ge\n\t"                                                                                              \
+  "mvnge %[word], #0x80000000\n\t" /* >= 2147483520: kRawMax */                                            \
+  "cmn %[word], %[limit]\n\t"                                                                              \
+  "it le\n\t"                                                                                              \
+  "movle %[word], %[raw_min]\n\t" /* <= -2147483520: kRawMin */                                            \
+  "str %[word], [%[to]], #4\n\t"
+#define JG_WIRE_ASM(steps)                                                                                   \
+  __asm volatile("vmrs %[fpscr], fpscr\n\t"                                                                \
+                 "orr %[mode], %[fpscr], #0x00800000\n\t" /* RMode (bits 23:22) = 10: toward -inf */       \
+                 "bic %[mode], %[mode], #0x00400000\n\t"                                                   \
+                 "vmsr fpscr, %[mode]\n\t"                                                                 \
+                 "vmov %[scale], %[scale_bits]\n\t"                                                        \
+                 "vmov.f32 %[half], #0.5\n\t" steps "vmsr fpscr, %[fpscr]\n\t"                          \
+                 : [fpscr] "=&r"(fpscr), [mode] "=&r"(mode), [word] "=&r"(word), [value] "=&t"(value),       \
+                   [scale] "=&t"(scale), [half] "=&t"(half), [from] "+&r"(from), [to] "+&r"(to),             \
+                   "=m"(*reinterpret_cast<std::uint8_t(*)[4 * N]>(dst)) /* NOLINT: the bytes written */     \
+                 : [scale_bits] "r"(0x47800000U) /* 65536.0F */, [limit] "r"(0x7FFFFF80U),                   \
+                   [raw_min] "r"(jg::detail::kRawMin), "m"(src)                                              \
+                 : "cc")
+  if constexpr (N == 1U) {
+    JG_WIRE_ASM(JG_WIRE_STEP);
+  } else if constexpr (N == 9U) {
+    JG_WIRE_ASM(JG_WIRE_STEP JG_WIRE_STEP JG_WIRE_STEP JG_WIRE_STEP JG_WIRE_STEP JG_WIRE_STEP JG_WIRE_STEP
+                    JG_WIRE_STEP JG_WIRE_STEP);
+  } else {
+    JG_WIRE_ASM(JG_WIRE_STEP JG_WIRE_STEP JG_WIRE_STEP JG_WIRE_STEP JG_WIRE_STEP JG_WIRE_STEP JG_WIRE_STEP
+                    JG_WIRE_STEP JG_WIRE_STEP JG_WIRE_STEP);
+  }
+#undef JG_WIRE_ASM
+#undef JG_WIRE_STEP
+#else
+  const auto* bytes = reinterpret_cast<const unsigned char*>(&src);  // NOLINT: the object's floats in order
+  for (unsigned i = 0; i < N; ++i) {
+    float v = 0.0F;
+    std::memcpy(&v, bytes + 4U * i, 4);
+    put_i32(dst + 4U * i, float_to_wire(v));
+  }
+#endif
+}
+
 /// CRC after the `used` payload bytes, zeros up to the frame length; returns the length.
 inline std::uint8_t finish(std::uint8_t* buf, std::uint8_t used, std::uint8_t frame_length) noexcept {
   buf[used] = crc8_autosar(buf, used);
@@ -208,12 +288,17 @@ inline FrameError check(const std::uint8_t* buf, std::uint8_t length, std::uint8
   if (crc8_autosar(buf, used) != buf[used]) {
     return FrameError::bad_crc;
   }
-  for (auto i = static_cast<std::uint8_t>(used + 1U); i < frame_length; ++i) {
-    if (buf[i] != 0U) {
-      return FrameError::bad_padding;
-    }
+  // Padding: OR of (unaligned) words, then the bytes left; lengths are constants where this
+  // is inlined, so a 10-byte padding is three loads, not a byte loop.
+  std::uint32_t padding = 0U;
+  unsigned i = used + 1U;
+  for (; i + 4U <= frame_length; i += 4U) {
+    padding |= static_cast<std::uint32_t>(get_i32(buf + i));
   }
-  return FrameError::ok;
+  for (; i < frame_length; ++i) {
+    padding |= buf[i];
+  }
+  return padding == 0U ? FrameError::ok : FrameError::bad_padding;
 }
 constexpr std::uint8_t field_bytes(std::uint8_t fields) noexcept { return static_cast<std::uint8_t>(1U + 4U * fields); }
 }  // namespace detail
@@ -241,9 +326,13 @@ constexpr void get_vec(const std::uint8_t* p, Vec3<S>& v) noexcept {
 template <class S>
 constexpr std::uint8_t encode_outward(const OutwardMessage<S>& m, std::uint8_t sequence, std::uint8_t* buf) noexcept {
   buf[0] = sequence;
-  detail::put_vec(buf + 1, m.angular_velocity);
-  detail::put_vec(buf + 13, m.origin_velocity);
-  detail::put_vec(buf + 25, m.gravity);
+  if constexpr (std::is_same_v<S, float>) {
+    detail::floats_to_wire<kOutwardFields>(m, buf + 1);  // the nine fields in declaration order
+  } else {
+    detail::put_vec(buf + 1, m.angular_velocity);
+    detail::put_vec(buf + 13, m.origin_velocity);
+    detail::put_vec(buf + 25, m.gravity);
+  }
   return detail::finish(buf, detail::field_bytes(kOutwardFields), kMomentumFrameLength);
 }
 
@@ -273,10 +362,14 @@ constexpr FrameError decode_outward(const std::uint8_t* buf, std::uint8_t length
 template <class S>
 constexpr std::uint8_t encode_inward(const InwardMessage<S>& m, std::uint8_t sequence, std::uint8_t* buf) noexcept {
   buf[0] = sequence;
-  detail::put_vec(buf + 1, m.angular_momentum);
-  detail::put_vec(buf + 13, m.linear_momentum);
-  detail::put_vec(buf + 25, m.first_moment);
-  detail::put_i32(buf + 37, detail::to_wire(m.mass));
+  if constexpr (std::is_same_v<S, float>) {
+    detail::floats_to_wire<kInwardFields>(m, buf + 1);  // the ten fields in declaration order
+  } else {
+    detail::put_vec(buf + 1, m.angular_momentum);
+    detail::put_vec(buf + 13, m.linear_momentum);
+    detail::put_vec(buf + 25, m.first_moment);
+    detail::put_i32(buf + 37, detail::to_wire(m.mass));
+  }
   return detail::finish(buf, detail::field_bytes(kInwardFields), kMomentumFrameLength);
 }
 
@@ -377,7 +470,11 @@ struct StatusMessage {
 template <class S>
 constexpr std::uint8_t encode_status(const StatusMessage<S>& m, std::uint8_t sequence, std::uint8_t* buf) noexcept {
   buf[0] = sequence;
-  detail::put_i32(buf + 1, detail::to_wire(m.external_torque));
+  if constexpr (std::is_same_v<S, float>) {
+    detail::floats_to_wire<1>(m.external_torque, buf + 1);
+  } else {
+    detail::put_i32(buf + 1, detail::to_wire(m.external_torque));
+  }
   buf[5] = m.flags;
   buf[6] = m.rejected;
   return detail::finish(buf, 7U, kStatusFrameLength);

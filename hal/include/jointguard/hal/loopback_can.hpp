@@ -52,7 +52,8 @@ class LoopbackCan {
     const std::size_t count = n < kMaxFilters ? n : kMaxFilters;
     // cppcheck-suppress knownConditionTrueFalse ; false positive: count follows the caller's n
     for (std::size_t i = 0; i < count; ++i) {
-      filters_[i] = filters[i];
+      // Stored with the match already masked: one AND and one compare per filter on send.
+      filters_[i] = {filters[i].match & filters[i].mask, filters[i].mask};
     }
     n_filters_ = count;
     std::size_t kept = 0;
@@ -75,7 +76,7 @@ class LoopbackCan {
       return true;
     }
     for (std::size_t i = 0; i < n_filters_; ++i) {
-      if ((id & filters_[i].mask) == (filters_[i].match & filters_[i].mask)) {
+      if ((id & filters_[i].mask) == filters_[i].match) {  // match stored masked (set_filters)
         return true;
       }
     }
