@@ -128,8 +128,7 @@ template <class S>
 [[nodiscard]] constexpr S observer_step(const ObserverCoeffs<S>& c, ObserverState<S>& st, S momentum, S motor_torque,
                                         S beta, S friction, ObserverInputStatus* status = nullptr) noexcept {
   if constexpr (!is_q_v<S>) {
-    if (!detail::is_finite(momentum) || !detail::is_finite(motor_torque) || !detail::is_finite(beta) ||
-        !detail::is_finite(friction)) {
+    if (!detail::all_finite(momentum, motor_torque, beta, friction)) {
       if (status != nullptr) {
         status->error = Error::not_finite;
       }

@@ -127,11 +127,42 @@ inline std::uint8_t crc8_autosar(const std::uint8_t* data, std::uint8_t length) 
     crc = kCrc8AutosarTable[crc ^ p[3]];
 #endif
   }
+#pragma GCC unroll 3
   for (; p != end; ++p) {
     crc = kCrc8AutosarTable[crc ^ *p];
   }
   return static_cast<std::uint8_t>(crc ^ 0xFFU);
 }
+
+/// Whether the float -> wire conversion runs as one assembler sequence (single-precision
+/// VFP in Thumb-2: Cortex-M4F, M7, M33): the rounding mode is switched to round toward
+/// minus infinity for the sequence, so floor(v 2^16 + 0.5) is one VADD and one VCVTR per
+/// value (the addition rounds down, which leaves the floor unchanged: floor(fl(x)) =
+/// floor(x) whenever floor(x) is a float, and above 2^24 every float is an integer), VCVTR
+/// saturates and maps NaN to 0, and two compares give from_float's saturation at
+/// +/-2147483520 (the largest float below 2^31) to the symmetric range. The same value as
+/// float_to_wire for every float (checked on the MCU by jg_golden over a dense sweep of
+/// bit patterns, tests/mcu/mcu_main.cpp); elsewhere float_to_wire.
+#if defined(__ARM_FP) && ((__ARM_FP & 4) != 0) && defined(__thumb2__) && !defined(__SOFTFP__)
+#define JG_WIRE_FLOAT_ASM 1
+#else
+#define JG_WIRE_FLOAT_ASM 0
+#endif
+
+namespace detail {
+/// Q16.16 wire word -> float, the same value as q16::from_raw(raw).to_float() (the int ->
+/// float rounding followed by an exact scaling by 2^-16): on single-precision VFP one
+/// fixed-point VCVT, which rounds raw 2^-16 once.
+inline float wire_to_float(std::int32_t raw) noexcept {
+#if JG_WIRE_FLOAT_ASM
+  float f = 0.0F;
+  __asm("vmov %0, %1\n\tvcvt.f32.s32 %0, %0, #16" : "=&t"(f) : "r"(raw));
+  return f;
+#else
+  return q16::from_raw(raw).to_float();
+#endif
+}
+}  // namespace detail
 
 namespace detail {
 /// float -> Q16.16 wire word, the same value as q16::from_float (round to nearest, ties
@@ -167,7 +198,11 @@ constexpr void from_wire(std::int32_t raw, S& out) noexcept {
   if constexpr (is_q_v<S>) {
     out = q_cast<S>(q16::from_raw(raw));
   } else {
-    out = static_cast<S>(q16::from_raw(raw).to_float());
+    if constexpr (std::is_same_v<S, float>) {
+      out = wire_to_float(raw);
+    } else {
+      out = static_cast<S>(q16::from_raw(raw).to_float());
+    }
   }
 }
 /// Little-endian int32 at any alignment. On little-endian targets one (unaligned) store or
@@ -194,20 +229,6 @@ inline std::int32_t get_i32(const std::uint8_t* p) noexcept {
 #endif
   return static_cast<std::int32_t>(u);
 }
-/// Whether the float -> wire conversion runs as one assembler sequence (single-precision
-/// VFP in Thumb-2: Cortex-M4F, M7, M33): the rounding mode is switched to round toward
-/// minus infinity for the sequence, so floor(v 2^16 + 0.5) is one VADD and one VCVTR per
-/// value (the addition rounds down, which leaves the floor unchanged: floor(fl(x)) =
-/// floor(x) whenever floor(x) is a float, and above 2^24 every float is an integer), VCVTR
-/// saturates and maps NaN to 0, and two compares give from_float's saturation at
-/// +/-2147483520 (the largest float below 2^31) to the symmetric range. The same value as
-/// float_to_wire for every float (checked on the MCU by jg_golden over a dense sweep of
-/// bit patterns, tests/mcu/mcu_main.cpp); elsewhere float_to_wire.
-#if defined(__ARM_FP) && ((__ARM_FP & 4) != 0) && defined(__thumb2__) && !defined(__SOFTFP__)
-#define JG_WIRE_FLOAT_ASM 1
-#else
-#define JG_WIRE_FLOAT_ASM 0
-#endif
 
 /// N consecutive floats at `src` (an object made of N floats, e.g. Vec3<float> or a message
 /// of them) -> N little-endian Q16.16 words at `dst` (any alignment).

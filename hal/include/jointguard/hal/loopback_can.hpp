@@ -56,6 +56,12 @@ class LoopbackCan {
       filters_[i] = {filters[i].match & filters[i].mask, filters[i].mask};
     }
     n_filters_ = count;
+    // Standard identifiers: the filters' verdict for all 2048 of them, as a controller
+    // decides in hardware (one bit test on send instead of a loop over the filters).
+    for (std::uint32_t id = 0; id < kStandardIds; ++id) {
+      const std::uint32_t bit = 1U << (id % 32U);
+      standard_accepted_[id / 32U] = filter_loop(id) ? (standard_accepted_[id / 32U] | bit) : (standard_accepted_[id / 32U] & ~bit);
+    }
     std::size_t kept = 0;
     for (std::size_t i = 0; i < count_; ++i) {
       const std::size_t from = (head_ + i) % Capacity;
@@ -71,7 +77,14 @@ class LoopbackCan {
   }
 
  private:
+  static constexpr std::uint32_t kStandardIds = 2048U;
   [[nodiscard]] bool accepts(std::uint32_t id) const noexcept {
+    if (id < kStandardIds) {
+      return ((standard_accepted_[id / 32U] >> (id % 32U)) & 1U) != 0U;
+    }
+    return filter_loop(id);
+  }
+  [[nodiscard]] bool filter_loop(std::uint32_t id) const noexcept {
     if (n_filters_ == 0U) {
       return true;
     }
@@ -86,6 +99,15 @@ class LoopbackCan {
   std::size_t head_ = 0, count_ = 0;
   CanFilter filters_[kMaxFilters]{};
   std::size_t n_filters_ = 0;
+  std::uint32_t standard_accepted_[kStandardIds / 32U] = {
+      0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU,
+      0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU,
+      0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU,
+      0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU,
+      0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU,
+      0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU,
+      0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU,
+      0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU, 0xFFFFFFFFU};  ///< no filters: all pass
 };
 
 static_assert(is_can_port_v<LoopbackCan<4>>, "LoopbackCan satisfies the CAN port contract");
