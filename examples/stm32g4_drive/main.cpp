@@ -1,17 +1,21 @@
-// The joint drive in C++: the package's JointDrive bound to its STM32G4 FDCAN backend and
-// TIM2 clock (docs/porting.md sections 3 and 7), the firmware scalar chosen when the package
+// The joint drive in C++: the package's JointDrive bound to its STM32G4 FDCAN backend, CRC
+// unit and TIM2 clock (docs/porting.md sections 3 and 7), the firmware scalar chosen when the package
 // was built (jg::Scalar). Constants are converted once at start-up with range checks; the
 // loop samples, polls the bus (the master's sync paces the cycle) and reacts to a collision.
 #include "board.h"
 #include "joint_constants.h"
 #include "jointguard/hal/mcu/stm32g4_clock.hpp"
+#include "jointguard/hal/mcu/stm32g4_crc.hpp"
 #include "jointguard/hal/mcu/stm32g4_fdcan.hpp"
 #include "jointguard/node/joint_drive.hpp"
 #include "jointguard/scalar.hpp"
 
 namespace {
 namespace g4 = jg::hal::stm32g4;
-using Port = g4::FdcanPort<g4::Mmio, g4::Tim2Clock<g4::Mmio>>;
+// The FDCAN port with the CRC unit as the frames' CRC-8/AUTOSAR (polynomial 0x2F, init and
+// final XOR 0xFF): the drive encodes and checks every frame on the unit instead of the
+// software table; the frames are the same bytes (tests/can/test_crc_policy.cpp).
+using Port = g4::PortWithCrcUnit<g4::FdcanPort<g4::Mmio, g4::Tim2Clock<g4::Mmio>>>;
 using S = jg::Scalar;
 
 g4::Mmio mmio;
@@ -46,6 +50,7 @@ S to_scalar(double x) {
 
 int main() {
   board_init();
+  g4::enable_crc_unit(mmio);  // clock gate on before the first frame is encoded
   jg::JointEstimatorParams<S> params{};
   if (!make_params(params) || !clock_us.start(160'000'000U)) {
     board_hold_position();  // constants that do not fit the scalar: never run the estimator

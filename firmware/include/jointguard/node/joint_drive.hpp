@@ -31,6 +31,8 @@ namespace jg {
 template <class Port, std::size_t Capacity = 8>
 class RelayPort {
  public:
+  /// The node's frames use the drive's port's CRC policy.
+  using crc8_policy = hal::crc8_policy_t<Port>;
   explicit RelayPort(Port& out) noexcept : out_(out) {}
   hal::CanStatus send(const hal::CanFrame& f) noexcept { return out_.send(f); }
   bool receive(hal::CanFrame& f) noexcept {
@@ -86,6 +88,8 @@ struct DriveCounters {
 template <class S, class Port>
 class JointDrive {
   static_assert(hal::is_can_port_v<Port>, "the drive needs a CAN port satisfying the HAL contract");
+  using Crc = hal::crc8_policy_t<Port>;  ///< the frames' CRC (the node's is the same, via RelayPort)
+  static_assert(hal::is_crc8_policy_v<Crc>, "the port's crc8_policy must satisfy the CRC-8 policy contract");
 
  public:
   JointDrive(const DriveConfig& config, const JointEstimatorParams<S>& params, Port& port, const Vec3<S>& gravity) noexcept
@@ -160,7 +164,7 @@ class JointDrive {
     std::uint8_t seq = 0;
     if (f.id == protocol::kSyncId && !f.extended) {
       std::uint32_t cycle = 0;
-      if (protocol::decode_sync(static_cast<const std::uint8_t*>(f.data), f.length, cycle) != protocol::FrameError::ok) {
+      if (protocol::decode_sync<Crc>(static_cast<const std::uint8_t*>(f.data), f.length, cycle) != protocol::FrameError::ok) {
         ++counters_.sync_rejected;
       } else if (synced_ && static_cast<std::int32_t>(cycle - last_cycle_) <= 0 && stale_run_ < config_.node.fault_cycles) {
         ++counters_.stale_syncs;  // a repeated or reordered sync; a run of them means the master restarted
@@ -172,7 +176,7 @@ class JointDrive {
       }
     } else if (config_.sensors_over_can && f.id == protocol::frame_id(protocol::MessageKind::sensor, j) && !f.extended) {
       protocol::SensorMessage<S> m{};
-      if (protocol::decode_sensor(static_cast<const std::uint8_t*>(f.data), f.length, m, seq) != protocol::FrameError::ok) {
+      if (protocol::decode_sensor<S, Crc>(static_cast<const std::uint8_t*>(f.data), f.length, m, seq) != protocol::FrameError::ok) {
         ++counters_.sensor_rejected;
       } else {
         sample_ = m;
@@ -237,7 +241,7 @@ class JointDrive {
     // tx_ is reused: every frame it carries is 8 bytes, all written here (no zeroing).
     tx_.fd = true;  // 8 bytes in the data phase: a third of the classic frame's wire time
     tx_.id = protocol::frame_id(kind, config_.node.joint);
-    tx_.length = protocol::encode_status(status, seq, static_cast<std::uint8_t*>(tx_.data));
+    tx_.length = protocol::encode_status<S, Crc>(status, seq, static_cast<std::uint8_t*>(tx_.data));
     if (port_.send(tx_) != hal::CanStatus::ok) {
       ++counters_.send_failures;
     }

@@ -38,6 +38,9 @@ struct NodeCounters {
 template <class S, class Port>
 class JointNode {
   static_assert(hal::is_can_port_v<Port>, "the node needs a CAN port satisfying the HAL contract");
+  /// The frames' CRC: the port's policy (a backend with a CRC unit), else the software table.
+  using Crc = hal::crc8_policy_t<Port>;
+  static_assert(hal::is_crc8_policy_v<Crc>, "the port's crc8_policy must satisfy the CRC-8 policy contract");
 
  public:
   JointNode(const NodeConfig& config, const JointEstimatorParams<S>& params, Port& port, const Vec3<S>& gravity) noexcept
@@ -91,10 +94,10 @@ class JointNode {
       state_.external_torque = S{};
     }
     if (has_child) {
-      send(protocol::MessageKind::outward, [&](std::uint8_t* b) { return protocol::encode_outward(to_child_, sequence_, b); });
+      send(protocol::MessageKind::outward, [&](std::uint8_t* b) { return protocol::encode_outward<S, Crc>(to_child_, sequence_, b); });
     }
     if (has_parent) {
-      send(protocol::MessageKind::inward, [&](std::uint8_t* b) { return protocol::encode_inward(to_parent_, sequence_, b); });
+      send(protocol::MessageKind::inward, [&](std::uint8_t* b) { return protocol::encode_inward<S, Crc>(to_parent_, sequence_, b); });
     }
     ++sequence_;
     return !warming && flag;
@@ -156,12 +159,12 @@ class JointNode {
     const std::uint32_t child_id = protocol::frame_id(protocol::MessageKind::inward, static_cast<std::uint8_t>(config_.joint + 1U));
     const auto* data = static_cast<const std::uint8_t*>(f.data);
     if (config_.joint > 1U && f.id == parent_id) {
-      if (accept(protocol::check_outward(data, f.length), data[0], parent_seq_)) {
+      if (accept(protocol::check_outward<Crc>(data, f.length), data[0], parent_seq_)) {
         protocol::read_outward(data, from_parent_);
         since_parent_ = 0;
       }
     } else if (config_.joint < config_.joints && f.id == child_id) {
-      if (accept(protocol::check_inward(data, f.length), data[0], child_seq_)) {
+      if (accept(protocol::check_inward<Crc>(data, f.length), data[0], child_seq_)) {
         protocol::read_inward(data, from_child_);
         since_child_ = 0;
       }

@@ -25,6 +25,7 @@
 #include <type_traits>
 
 #include "jointguard/dynamics/momentum_recursion.hpp"
+#include "jointguard/hal/crc8.hpp"
 #include "jointguard/numeric/qmath.hpp"
 
 namespace jg::protocol {
@@ -67,72 +68,15 @@ inline constexpr std::uint16_t kSyncId = 0x010;
 [[nodiscard]] constexpr MessageKind kind_of(std::uint32_t id) noexcept { return static_cast<MessageKind>((id >> 4U) & 0x7FU); }
 [[nodiscard]] constexpr std::uint8_t joint_of(std::uint32_t id) noexcept { return static_cast<std::uint8_t>(id & 0x0FU); }
 
-/// CRC-8/AUTOSAR: polynomial 0x2F, initial 0xFF, final XOR 0xFF (check("123456789") = 0xDF),
-/// bit by bit: the reference the table is built from and checked against (tests/can).
-[[nodiscard]] constexpr std::uint8_t crc8_autosar_bitwise(const std::uint8_t* data, std::uint8_t length) noexcept {
-  std::uint8_t crc = 0xFFU;
-  for (std::uint8_t i = 0; i < length; ++i) {
-    crc = static_cast<std::uint8_t>(crc ^ data[i]);
-    for (int bit = 0; bit < 8; ++bit) {
-      crc = (crc & 0x80U) != 0U ? static_cast<std::uint8_t>((static_cast<unsigned>(crc) << 1U) ^ 0x2FU)
-                              : static_cast<std::uint8_t>(static_cast<unsigned>(crc) << 1U);
-    }
-  }
-  return static_cast<std::uint8_t>(crc ^ 0xFFU);
-}
-
-namespace detail {
-/// The register after shifting the byte v through it (no initial value, no final XOR).
-constexpr std::array<std::uint8_t, 256> crc8_autosar_table() noexcept {
-  std::array<std::uint8_t, 256> t{};
-  for (unsigned v = 0; v < 256U; ++v) {
-    auto crc = static_cast<std::uint8_t>(v);
-    for (int bit = 0; bit < 8; ++bit) {
-      crc = (crc & 0x80U) != 0U ? static_cast<std::uint8_t>((static_cast<unsigned>(crc) << 1U) ^ 0x2FU)
-                              : static_cast<std::uint8_t>(static_cast<unsigned>(crc) << 1U);
-    }
-    t[v] = crc;
-  }
-  return t;
-}
-}  // namespace detail
-
-/// 256 bytes of constant data (flash on the MCU): one lookup per byte instead of eight
-/// shift-and-XOR steps (about 3 instructions a byte on the Cortex-M4 instead of about 44).
-inline constexpr std::array<std::uint8_t, 256> kCrc8AutosarTable = detail::crc8_autosar_table();
-
-/// CRC-8/AUTOSAR, table-driven; the same value as crc8_autosar_bitwise for every input.
-/// Four bytes per iteration: on little-endian targets one (unaligned) word load, then the
-/// four bytes taken from the register low byte first (about 3.5 instructions a byte on the
-/// Cortex-M4 with the loop); elsewhere byte by byte.
-inline std::uint8_t crc8_autosar(const std::uint8_t* data, std::uint8_t length) noexcept {
-  unsigned crc = 0xFFU;
-  const std::uint8_t* p = data;
-  const std::uint8_t* const end = data + length;
-  const unsigned words = length / 4U;
-  // Frame lengths are constants where this is inlined: fully unrolled, no loop overhead.
-#pragma GCC unroll 16
-  for (unsigned i = 0; i < words; ++i, p += 4) {
-#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
-    std::uint32_t w = 0;
-    std::memcpy(&w, p, 4);
-    crc = kCrc8AutosarTable[(crc ^ w) & 0xFFU];
-    crc = kCrc8AutosarTable[(crc ^ (w >> 8U)) & 0xFFU];
-    crc = kCrc8AutosarTable[(crc ^ (w >> 16U)) & 0xFFU];
-    crc = kCrc8AutosarTable[crc ^ (w >> 24U)];
-#else
-    crc = kCrc8AutosarTable[crc ^ p[0]];
-    crc = kCrc8AutosarTable[crc ^ p[1]];
-    crc = kCrc8AutosarTable[crc ^ p[2]];
-    crc = kCrc8AutosarTable[crc ^ p[3]];
-#endif
-  }
-#pragma GCC unroll 3
-  for (; p != end; ++p) {
-    crc = kCrc8AutosarTable[crc ^ *p];
-  }
-  return static_cast<std::uint8_t>(crc ^ 0xFFU);
-}
+// CRC-8/AUTOSAR (polynomial 0x2F, initial 0xFF, final XOR 0xFF) comes from the HAL
+// (jointguard/hal/crc8.hpp): the codecs take a CRC policy (template parameter Crc, checked
+// with hal::is_crc8_policy_v, default the table-driven software CRC); a node and a drive
+// use their port's (hal::crc8_policy_t<Port>), so an MCU backend can put a CRC unit behind
+// the same frames. These names stay the protocol's:
+using hal::crc8_autosar;
+using hal::crc8_autosar_bitwise;
+using hal::kCrc8AutosarTable;
+using DefaultCrc8 = hal::Crc8AutosarTable;
 
 /// Whether the float -> wire conversion runs as one assembler sequence (single-precision
 /// VFP in Thumb-2: Cortex-M4F, M7, M33): the rounding mode is switched to round toward
@@ -295,18 +239,22 @@ inline void floats_to_wire(const Floats& src, std::uint8_t* dst) noexcept {
 }
 
 /// CRC after the `used` payload bytes, zeros up to the frame length; returns the length.
+template <class Crc = DefaultCrc8>
 inline std::uint8_t finish(std::uint8_t* buf, std::uint8_t used, std::uint8_t frame_length) noexcept {
-  buf[used] = crc8_autosar(buf, used);
+  static_assert(hal::is_crc8_policy_v<Crc>, "Crc must satisfy the CRC-8 policy contract (hal/crc8.hpp)");
+  buf[used] = Crc::crc8(buf, used);
   for (auto i = static_cast<std::uint8_t>(used + 1U); i < frame_length; ++i) {
     buf[i] = 0U;
   }
   return frame_length;
 }
+template <class Crc = DefaultCrc8>
 inline FrameError check(const std::uint8_t* buf, std::uint8_t length, std::uint8_t used, std::uint8_t frame_length) noexcept {
   if (length != frame_length) {
     return FrameError::wrong_length;
   }
-  if (crc8_autosar(buf, used) != buf[used]) {
+  static_assert(hal::is_crc8_policy_v<Crc>, "Crc must satisfy the CRC-8 policy contract (hal/crc8.hpp)");
+  if (Crc::crc8(buf, used) != buf[used]) {
     return FrameError::bad_crc;
   }
   // Padding: OR of (unaligned) words, then the bytes left; lengths are constants where this
@@ -344,7 +292,7 @@ constexpr void get_vec(const std::uint8_t* p, Vec3<S>& v) noexcept {
 // frame straight into the message) and decode_<kind> (check, then read). The node checks,
 // looks at the sequence (buf[0]) and reads only frames it accepts: no intermediate copies.
 
-template <class S>
+template <class S, class Crc = DefaultCrc8>
 constexpr std::uint8_t encode_outward(const OutwardMessage<S>& m, std::uint8_t sequence, std::uint8_t* buf) noexcept {
   buf[0] = sequence;
   if constexpr (std::is_same_v<S, float>) {
@@ -354,11 +302,12 @@ constexpr std::uint8_t encode_outward(const OutwardMessage<S>& m, std::uint8_t s
     detail::put_vec(buf + 13, m.origin_velocity);
     detail::put_vec(buf + 25, m.gravity);
   }
-  return detail::finish(buf, detail::field_bytes(kOutwardFields), kMomentumFrameLength);
+  return detail::finish<Crc>(buf, detail::field_bytes(kOutwardFields), kMomentumFrameLength);
 }
 
+template <class Crc = DefaultCrc8>
 [[nodiscard]] inline FrameError check_outward(const std::uint8_t* buf, std::uint8_t length) noexcept {
-  return detail::check(buf, length, detail::field_bytes(kOutwardFields), kMomentumFrameLength);
+  return detail::check<Crc>(buf, length, detail::field_bytes(kOutwardFields), kMomentumFrameLength);
 }
 
 /// Fields of a frame check_outward accepted.
@@ -369,10 +318,10 @@ constexpr void read_outward(const std::uint8_t* buf, OutwardMessage<S>& m) noexc
   detail::get_vec(buf + 25, m.gravity);
 }
 
-template <class S>
+template <class S, class Crc = DefaultCrc8>
 constexpr FrameError decode_outward(const std::uint8_t* buf, std::uint8_t length, OutwardMessage<S>& m,
                                     std::uint8_t& sequence) noexcept {
-  const FrameError e = check_outward(buf, length);
+  const FrameError e = check_outward<Crc>(buf, length);
   if (e == FrameError::ok) {
     read_outward(buf, m);
     sequence = buf[0];
@@ -380,7 +329,7 @@ constexpr FrameError decode_outward(const std::uint8_t* buf, std::uint8_t length
   return e;
 }
 
-template <class S>
+template <class S, class Crc = DefaultCrc8>
 constexpr std::uint8_t encode_inward(const InwardMessage<S>& m, std::uint8_t sequence, std::uint8_t* buf) noexcept {
   buf[0] = sequence;
   if constexpr (std::is_same_v<S, float>) {
@@ -391,11 +340,12 @@ constexpr std::uint8_t encode_inward(const InwardMessage<S>& m, std::uint8_t seq
     detail::put_vec(buf + 25, m.first_moment);
     detail::put_i32(buf + 37, detail::to_wire(m.mass));
   }
-  return detail::finish(buf, detail::field_bytes(kInwardFields), kMomentumFrameLength);
+  return detail::finish<Crc>(buf, detail::field_bytes(kInwardFields), kMomentumFrameLength);
 }
 
+template <class Crc = DefaultCrc8>
 [[nodiscard]] inline FrameError check_inward(const std::uint8_t* buf, std::uint8_t length) noexcept {
-  return detail::check(buf, length, detail::field_bytes(kInwardFields), kMomentumFrameLength);
+  return detail::check<Crc>(buf, length, detail::field_bytes(kInwardFields), kMomentumFrameLength);
 }
 
 /// Fields of a frame check_inward accepted.
@@ -407,10 +357,10 @@ constexpr void read_inward(const std::uint8_t* buf, InwardMessage<S>& m) noexcep
   detail::from_wire(detail::get_i32(buf + 37), m.mass);
 }
 
-template <class S>
+template <class S, class Crc = DefaultCrc8>
 constexpr FrameError decode_inward(const std::uint8_t* buf, std::uint8_t length, InwardMessage<S>& m,
                                    std::uint8_t& sequence) noexcept {
-  const FrameError e = check_inward(buf, length);
+  const FrameError e = check_inward<Crc>(buf, length);
   if (e == FrameError::ok) {
     read_inward(buf, m);
     sequence = buf[0];
@@ -433,7 +383,7 @@ struct SensorMessage {
   bool holding = false; ///< the setpoint is constant (kSensorHolding)
 };
 
-template <class S>
+template <class S, class Crc = DefaultCrc8>
 constexpr std::uint8_t encode_sensor(const SensorMessage<S>& m, std::uint8_t sequence, std::uint8_t* buf) noexcept {
   buf[0] = sequence;
   detail::put_i32(buf + 1, detail::to_wire(m.position));
@@ -442,14 +392,14 @@ constexpr std::uint8_t encode_sensor(const SensorMessage<S>& m, std::uint8_t seq
   // The fields and their CRC fill the frame less its last two bytes, which carry the flags
   // twice (a mismatched copy or an unknown bit is refused: the CRC does not cover them).
   constexpr auto kFieldsLength = static_cast<std::uint8_t>(kSensorFrameLength - 2U);
-  (void)detail::finish(buf, detail::field_bytes(kSensorFields), kFieldsLength);
+  (void)detail::finish<Crc>(buf, detail::field_bytes(kSensorFields), kFieldsLength);
   const std::uint8_t flags = m.holding ? kSensorHolding : std::uint8_t{0};
   buf[kSensorFrameLength - 2U] = flags;
   buf[kSensorFrameLength - 1U] = flags;
   return kSensorFrameLength;
 }
 
-template <class S>
+template <class S, class Crc = DefaultCrc8>
 constexpr FrameError decode_sensor(const std::uint8_t* buf, std::uint8_t length, SensorMessage<S>& m,
                                    std::uint8_t& sequence) noexcept {
   if (length != kSensorFrameLength) {
@@ -461,7 +411,7 @@ constexpr FrameError decode_sensor(const std::uint8_t* buf, std::uint8_t length,
   }
   // The fields and their CRC: the frame less its two flag bytes (nothing left to pad).
   constexpr auto kFieldsLength = static_cast<std::uint8_t>(kSensorFrameLength - 2U);
-  const FrameError e = detail::check(buf, kFieldsLength, detail::field_bytes(kSensorFields), kFieldsLength);
+  const FrameError e = detail::check<Crc>(buf, kFieldsLength, detail::field_bytes(kSensorFields), kFieldsLength);
   if (e == FrameError::ok) {
     detail::from_wire(detail::get_i32(buf + 1), m.position);
     detail::from_wire(detail::get_i32(buf + 5), m.velocity);
@@ -488,7 +438,7 @@ struct StatusMessage {
   std::uint8_t rejected = 0;   ///< frames rejected so far (length, CRC, sequence), saturating
 };
 
-template <class S>
+template <class S, class Crc = DefaultCrc8>
 constexpr std::uint8_t encode_status(const StatusMessage<S>& m, std::uint8_t sequence, std::uint8_t* buf) noexcept {
   buf[0] = sequence;
   if constexpr (std::is_same_v<S, float>) {
@@ -498,13 +448,13 @@ constexpr std::uint8_t encode_status(const StatusMessage<S>& m, std::uint8_t seq
   }
   buf[5] = m.flags;
   buf[6] = m.rejected;
-  return detail::finish(buf, 7U, kStatusFrameLength);
+  return detail::finish<Crc>(buf, 7U, kStatusFrameLength);
 }
 
-template <class S>
+template <class S, class Crc = DefaultCrc8>
 constexpr FrameError decode_status(const std::uint8_t* buf, std::uint8_t length, StatusMessage<S>& m,
                                    std::uint8_t& sequence) noexcept {
-  if (const FrameError e = detail::check(buf, length, 7U, kStatusFrameLength); e != FrameError::ok) {
+  if (const FrameError e = detail::check<Crc>(buf, length, 7U, kStatusFrameLength); e != FrameError::ok) {
     return e;
   }
   detail::from_wire(detail::get_i32(buf + 1), m.external_torque);
@@ -515,16 +465,18 @@ constexpr FrameError decode_status(const std::uint8_t* buf, std::uint8_t length,
 }
 
 /// Cycle sync from the master (0x010): starts cycle `cycle` on every node.
+template <class Crc = DefaultCrc8>
 inline std::uint8_t encode_sync(std::uint32_t cycle, std::uint8_t* buf) noexcept {
   buf[0] = static_cast<std::uint8_t>(cycle & 0xFFU);
   detail::put_i32(buf + 1, static_cast<std::int32_t>(cycle));
   buf[5] = 0U;
   buf[6] = 0U;
-  return detail::finish(buf, 7U, kSyncFrameLength);
+  return detail::finish<Crc>(buf, 7U, kSyncFrameLength);
 }
 
+template <class Crc = DefaultCrc8>
 inline FrameError decode_sync(const std::uint8_t* buf, std::uint8_t length, std::uint32_t& cycle) noexcept {
-  if (const FrameError e = detail::check(buf, length, 7U, kSyncFrameLength); e != FrameError::ok) {
+  if (const FrameError e = detail::check<Crc>(buf, length, 7U, kSyncFrameLength); e != FrameError::ok) {
     return e;
   }
   cycle = static_cast<std::uint32_t>(detail::get_i32(buf + 1));

@@ -50,6 +50,12 @@ struct Mmio {
     // NOLINTNEXTLINE(performance-no-int-to-ptr): a peripheral register at its fixed address
     *reinterpret_cast<volatile std::uint32_t*>(std::uintptr_t{address}) = value;
   }
+  /// One 8-bit store (the CRC unit's data register takes 8, 16 or 32-bit writes).
+  // NOLINTNEXTLINE(readability-convert-member-functions-to-static): as read()
+  void write8(std::uint32_t address, std::uint8_t value) noexcept {
+    // NOLINTNEXTLINE(performance-no-int-to-ptr): a peripheral register at its fixed address
+    *reinterpret_cast<volatile std::uint8_t*>(std::uintptr_t{address}) = value;
+  }
 };
 
 /// Plain memory behind the addresses the STM32G4 backends use: TIM2, FDCAN1..3 (with CKDIV),
