@@ -83,7 +83,7 @@ using DefaultCrc8 = hal::Crc8AutosarTable;
 /// minus infinity for the sequence, so floor(v 2^16 + 0.5) is one VADD and one VCVTR per
 /// value (the addition rounds down, which leaves the floor unchanged: floor(fl(x)) =
 /// floor(x) whenever floor(x) is a float, and above 2^24 every float is an integer), VCVTR
-/// saturates and maps NaN to 0, and two compares give from_float's saturation at
+/// saturates and maps NaN to 0, and one range test gives from_float's saturation at
 /// +/-2147483520 (the largest float below 2^31) to the symmetric range. The same value as
 /// float_to_wire for every float (checked on the MCU by jg_golden over a dense sweep of
 /// bit patterns, tests/mcu/mcu_main.cpp); elsewhere float_to_wire.
@@ -191,42 +191,57 @@ inline void floats_to_wire(const Floats& src, std::uint8_t* dst) noexcept {
   std::uint8_t* to = dst;
 // The steps are spelled out (no .rept): GCC sizes an asm statement by its lines, and an
 // underestimate pushes the function's literal pool out of VLDR's range.
-#define JG_WIRE_STEP                                                                                         \
-  "vldmia %[from]!, {%[value]}\n\t"                                                                        \
-  "vmul.f32 %[value], %[value], %[scale]\n\t"                                                              \
-  "vadd.f32 %[value], %[value], %[half]\n\t"                                                               \
-  "vcvtr.s32.f32 %[value], %[value]\n\t"                                                                   \
-  "vmov %[word], %[value]\n\t"                                                                             \
-  "cmp %[word], %[limit]\n\t"                                                                              \
-  "it ge\n\t"                                                                                              \
-  "mvnge %[word], #0x80000000\n\t" /* >= 2147483520: kRawMax */                                            \
-  "cmn %[word], %[limit]\n\t"                                                                              \
-  "it le\n\t"                                                                                              \
-  "movle %[word], %[raw_min]\n\t" /* <= -2147483520: kRawMin */                                            \
+// One range test per value on the common path: word + (2147483520 - 1) is below
+// 2 (2147483520 - 1) + 1 (unsigned) exactly when |word| < 2147483520; the others (and the
+// saturated VCVTR results) take the out-of-line fix-up k of step k, which puts kRawMax or
+// kRawMin by the sign and returns to the store.
+#define JG_WIRE_STEP(k)                                                                                      \
+  "vldmia %[from]!, {%[value]}\n\t"                                                                          \
+  "vmul.f32 %[value], %[value], %[scale]\n\t"                                                                \
+  "vadd.f32 %[value], %[value], %[half]\n\t"                                                                 \
+  "vcvtr.s32.f32 %[value], %[value]\n\t"                                                                     \
+  "vmov %[word], %[value]\n\t"                                                                               \
+  "add %[mode], %[word], %[bias]\n\t"                                                                        \
+  "cmp %[mode], %[span]\n\t"                                                                                 \
+  "bhs 9" #k "f\n\t"                                                                                         \
+  "8" #k ":\n\t"                                                                                             \
   "str %[word], [%[to]], #4\n\t"
-#define JG_WIRE_ASM(steps)                                                                                   \
-  __asm volatile("vmrs %[fpscr], fpscr\n\t"                                                                \
-                 "orr %[mode], %[fpscr], #0x00800000\n\t" /* RMode (bits 23:22) = 10: toward -inf */       \
-                 "bic %[mode], %[mode], #0x00400000\n\t"                                                   \
-                 "vmsr fpscr, %[mode]\n\t"                                                                 \
-                 "vmov %[scale], %[scale_bits]\n\t"                                                        \
-                 "vmov.f32 %[half], #0.5\n\t" steps "vmsr fpscr, %[fpscr]\n\t"                          \
+#define JG_WIRE_FIX(k)                                                                                       \
+  "9" #k ":\n\t"                                                                                             \
+  "cmp %[word], #0\n\t"                                                                                      \
+  "ite ge\n\t"                                                                                               \
+  "mvnge %[word], #0x80000000\n\t" /* kRawMax */                                                             \
+  "movlt %[word], %[raw_min]\n\t"  /* kRawMin */                                                             \
+  "b 8" #k "b\n\t"
+#define JG_WIRE_ASM(steps, fixes)                                                                            \
+  __asm volatile("vmrs %[fpscr], fpscr\n\t"                                                                  \
+                 "orr %[mode], %[fpscr], #0x00800000\n\t" /* RMode (bits 23:22) = 10: toward -inf */         \
+                 "bic %[mode], %[mode], #0x00400000\n\t"                                                     \
+                 "vmsr fpscr, %[mode]\n\t"                                                                   \
+                 "vmov %[scale], %[scale_bits]\n\t"                                                          \
+                 "vmov.f32 %[half], #0.5\n\t" steps "vmsr fpscr, %[fpscr]\n\t"                              \
+                 "b 7f\n\t" fixes "7:\n\t"                                                                   \
                  : [fpscr] "=&r"(fpscr), [mode] "=&r"(mode), [word] "=&r"(word), [value] "=&t"(value),       \
                    [scale] "=&t"(scale), [half] "=&t"(half), [from] "+&r"(from), [to] "+&r"(to),             \
                    "=m"(*reinterpret_cast<std::uint8_t(*)[4 * N]>(dst)) /* NOLINT: the bytes written */     \
-                 : [scale_bits] "r"(0x47800000U) /* 65536.0F */, [limit] "r"(0x7FFFFF80U),                   \
-                   [raw_min] "r"(jg::detail::kRawMin), "m"(src)                                              \
+                 : [scale_bits] "r"(0x47800000U) /* 65536.0F */, [bias] "r"(0x7FFFFF7FU),                    \
+                   [span] "r"(0xFFFFFEFFU), [raw_min] "r"(jg::detail::kRawMin), "m"(src)                     \
                  : "cc")
   if constexpr (N == 1U) {
-    JG_WIRE_ASM(JG_WIRE_STEP);
+    JG_WIRE_ASM(JG_WIRE_STEP(0), JG_WIRE_FIX(0));
   } else if constexpr (N == 9U) {
-    JG_WIRE_ASM(JG_WIRE_STEP JG_WIRE_STEP JG_WIRE_STEP JG_WIRE_STEP JG_WIRE_STEP JG_WIRE_STEP JG_WIRE_STEP
-                    JG_WIRE_STEP JG_WIRE_STEP);
+    JG_WIRE_ASM(JG_WIRE_STEP(0) JG_WIRE_STEP(1) JG_WIRE_STEP(2) JG_WIRE_STEP(3) JG_WIRE_STEP(4) JG_WIRE_STEP(5)
+                    JG_WIRE_STEP(6) JG_WIRE_STEP(7) JG_WIRE_STEP(8),
+                JG_WIRE_FIX(0) JG_WIRE_FIX(1) JG_WIRE_FIX(2) JG_WIRE_FIX(3) JG_WIRE_FIX(4) JG_WIRE_FIX(5)
+                    JG_WIRE_FIX(6) JG_WIRE_FIX(7) JG_WIRE_FIX(8));
   } else {
-    JG_WIRE_ASM(JG_WIRE_STEP JG_WIRE_STEP JG_WIRE_STEP JG_WIRE_STEP JG_WIRE_STEP JG_WIRE_STEP JG_WIRE_STEP
-                    JG_WIRE_STEP JG_WIRE_STEP JG_WIRE_STEP);
+    JG_WIRE_ASM(JG_WIRE_STEP(0) JG_WIRE_STEP(1) JG_WIRE_STEP(2) JG_WIRE_STEP(3) JG_WIRE_STEP(4) JG_WIRE_STEP(5)
+                    JG_WIRE_STEP(6) JG_WIRE_STEP(7) JG_WIRE_STEP(8) JG_WIRE_STEP(9),
+                JG_WIRE_FIX(0) JG_WIRE_FIX(1) JG_WIRE_FIX(2) JG_WIRE_FIX(3) JG_WIRE_FIX(4) JG_WIRE_FIX(5)
+                    JG_WIRE_FIX(6) JG_WIRE_FIX(7) JG_WIRE_FIX(8) JG_WIRE_FIX(9));
   }
 #undef JG_WIRE_ASM
+#undef JG_WIRE_FIX
 #undef JG_WIRE_STEP
 #else
   const auto* bytes = reinterpret_cast<const unsigned char*>(&src);  // NOLINT: the object's floats in order
