@@ -88,9 +88,9 @@ using DefaultCrc8 = hal::Crc8AutosarTable;
 /// float_to_wire for every float (checked on the MCU by jg_golden over a dense sweep of
 /// bit patterns, tests/mcu/mcu_main.cpp); elsewhere float_to_wire.
 #if defined(__ARM_FP) && ((__ARM_FP & 4) != 0) && defined(__thumb2__) && !defined(__SOFTFP__)
-#define JG_WIRE_FLOAT_ASM 1
+#define JG_WIRE_FLOAT_ASM 1  // NOLINT(cppcoreguidelines-macro-usage): selects code with #if
 #else
-#define JG_WIRE_FLOAT_ASM 0
+#define JG_WIRE_FLOAT_ASM 0  // NOLINT(cppcoreguidelines-macro-usage): selects code with #if
 #endif
 
 namespace detail {
@@ -245,10 +245,10 @@ inline void floats_to_wire(const Floats& src, std::uint8_t* dst) noexcept {
 #undef JG_WIRE_STEP
 #else
   const auto* bytes = reinterpret_cast<const unsigned char*>(&src);  // NOLINT: the object's floats in order
-  for (unsigned i = 0; i < N; ++i) {
+  for (std::size_t i = 0; i < N; ++i) {
     float v = 0.0F;
-    std::memcpy(&v, bytes + 4U * i, 4);
-    put_i32(dst + 4U * i, float_to_wire(v));
+    std::memcpy(&v, bytes + std::size_t{4} * i, 4);
+    put_i32(dst + std::size_t{4} * i, float_to_wire(v));
   }
 #endif
 }
