@@ -37,6 +37,35 @@ inline Sym3 rotate_x(const Sym3& S, double c, double s) {
   o.xz = s * S.xy + c * S.xz;
   return o;
 }
+/// Cholesky M = L L^T in place (lower triangle; M is symmetric positive definite for a
+/// physical arm, robot::check_simulatable), then L y = rhs, L^T x = y. A matrix that is not
+/// positive definite gives NaN, which the simulation's divergence check reports. N > 0: the
+/// joint count known at compile time (n == N); N == 0: n at run time.
+template <int N>
+inline void cholesky_solve(int n_runtime, double (*L)[kPlantMaxJoints], const double* rhs, double* x) {
+  const int n = N > 0 ? N : n_runtime;
+  for (int j = 0; j < n; ++j) {
+    double d = L[j][j];
+    for (int k = 0; k < j; ++k) d -= L[j][k] * L[j][k];
+    L[j][j] = std::sqrt(d);
+    for (int i = j + 1; i < n; ++i) {
+      double v = L[i][j];
+      for (int k = 0; k < j; ++k) v -= L[i][k] * L[j][k];
+      L[i][j] = v / L[j][j];
+    }
+  }
+  double y[kPlantMaxJoints];
+  for (int i = 0; i < n; ++i) {
+    double v = rhs[i];
+    for (int k = 0; k < i; ++k) v -= L[i][k] * y[k];
+    y[i] = v / L[i][i];
+  }
+  for (int i = n - 1; i >= 0; --i) {
+    double v = y[i];
+    for (int k = i + 1; k < n; ++k) v -= L[k][i] * x[k];
+    x[i] = v / L[i][i];
+  }
+}
 }  // namespace
 
 ArmDynamics::ArmDynamics(std::vector<PlantLink> links, Eigen::Vector3d gravity)
@@ -168,30 +197,15 @@ JointVector ArmDynamics::forward_dynamics(const JointVector& q, const JointVecto
   bias_torque(t, qd, b);
   double L[kPlantMaxJoints][kPlantMaxJoints];
   crba_into(t, L);
-  // Cholesky M = L L^T in place (lower triangle; M is symmetric positive definite for a
-  // physical arm, robot::check_simulatable), then L y = tau - b, L^T qdd = y. A matrix that
-  // is not positive definite gives NaN, which the simulation's divergence check reports.
-  for (int j = 0; j < n; ++j) {
-    double d = L[j][j];
-    for (int k = 0; k < j; ++k) d -= L[j][k] * L[j][k];
-    L[j][j] = std::sqrt(d);
-    for (int i = j + 1; i < n; ++i) {
-      double v = L[i][j];
-      for (int k = 0; k < j; ++k) v -= L[i][k] * L[j][k];
-      L[i][j] = v / L[j][j];
-    }
-  }
-  double y[kPlantMaxJoints];
-  for (int i = 0; i < n; ++i) {
-    double v = tau(i) - b[i];
-    for (int k = 0; k < i; ++k) v -= L[i][k] * y[k];
-    y[i] = v / L[i][i];
-  }
+  double rhs[kPlantMaxJoints];
+  for (int i = 0; i < n; ++i) rhs[i] = tau(i) - b[i];
   JointVector qdd(n);
-  for (int i = n - 1; i >= 0; --i) {
-    double v = y[i];
-    for (int k = i + 1; k < n; ++k) v -= L[k][i] * qdd(k);
-    qdd(i) = v / L[i][i];
+  // The joint count as a compile-time constant for the common arms (loops unrolled); the
+  // same operations in the same order for any count.
+  switch (n) {
+    case 3: cholesky_solve<3>(3, L, rhs, qdd.data()); break;
+    case 6: cholesky_solve<6>(6, L, rhs, qdd.data()); break;
+    default: cholesky_solve<0>(n, L, rhs, qdd.data()); break;
   }
   return qdd;
 }
