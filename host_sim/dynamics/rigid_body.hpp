@@ -67,7 +67,13 @@ class ArmDynamics {
   };
   void transforms(const JointVector& q, Transforms& t) const;
   JointVector rnea(const Transforms& t, const JointVector& qd, const JointVector& qdd, bool with_gravity) const;
-  JointMatrix crba(const Transforms& t) const;
+  /// The forward dynamics' hot path (the plant calls it four times per RK4 step) on plain
+  /// fixed-capacity arrays, no Eigen dynamic-size temporaries: the bias torque (RNEA at
+  /// qdd = 0) and the mass matrix (composite-rigid-body algorithm on symmetric 3x3
+  /// inertias rotated by the joint's RotZ then the twist's RotX, 6 unique entries; also
+  /// mass_matrix()). Same algorithm as rnea() for the bias, results equal up to rounding.
+  void bias_torque(const Transforms& t, const JointVector& qd, double* bias) const;
+  void crba_into(const Transforms& t, double (*M)[kPlantMaxJoints]) const;
   void link_transform(int i, double q, Eigen::Matrix3d& parent_R_i, Eigen::Vector3d& parent_p_i) const;
   std::vector<PlantLink> links_;
   Eigen::Vector3d gravity_;

@@ -119,28 +119,52 @@ Summary summarize(const std::vector<RunResult>& runs) {
 }
 
 namespace {
-void calibrate_holding(const ExperimentConfig& c, Thresholds& t) {
+/// Calibration runs are independent segments of kCalibrationSegmentS (the last one
+/// shorter): how many for `seconds` of motion. Depends on the length alone, never on the
+/// number of threads, so the thresholds are the same on any --jobs.
+std::size_t calibration_segments(double seconds) {
+  return static_cast<std::size_t>(std::max(1.0, std::ceil(seconds / kCalibrationSegmentS - 1e-9)));
+}
+
+double calibration_segment_length(double seconds, std::size_t k) {
+  return std::min(kCalibrationSegmentS, seconds - kCalibrationSegmentS * static_cast<double>(k));
+}
+
+/// Seed offset of segment k: segment 0 keeps the seeds of the single run the segments
+/// replaced; the others are apart from it by a large odd stride (as the free run's).
+unsigned long long segment_stride(std::size_t k) { return 1000003ULL * k; }
+
+/// The holding detector's statistics over one segment: largest deviation while armed and
+/// the time armed, per joint.
+struct HoldSegmentStatistics {
+  std::vector<double> band, seconds;
+};
+
+HoldSegmentStatistics calibrate_holding_segment(const ExperimentConfig& c, std::size_t k) {
   // Collision-free moves in which joints hold (alone and while others move) and the arm
   // dwells for up to 4 s: the holding detector's reference and deviations, as it runs in
   // detection (armed while the whole arm holds, sim::holding_mask).
+  const double length = calibration_segment_length(c.hold_calibration_s, k);
   const auto home = home_of(c.model);
   sim::JointVector lower = home, upper = home;
   for (Eigen::Index j = 0; j < lower.size(); ++j) {
     lower(j) -= 0.7;
     upper(j) += 0.7;
   }
-  auto moves = sim::make_random_moves_with_holds(home, lower, upper, 0.8, c.hold_calibration_s + 5.0, c.seed * 19 + 4);
-  sim::SimulationSetup free = base_setup(c, std::shared_ptr<const sim::Trajectory>(std::move(moves)), c.seed * 23 + 5);
+  auto moves = sim::make_random_moves_with_holds(home, lower, upper, 0.8, length + 5.0, c.seed * 19 + 4 + segment_stride(k));
+  sim::SimulationSetup free =
+      base_setup(c, std::shared_ptr<const sim::Trajectory>(std::move(moves)), c.seed * 23 + 5 + segment_stride(k));
   free.meta.scenario = "calibration_holds";
-  free.duration_s = c.hold_calibration_s;
+  free.duration_s = length;
   free.record = false;
   auto est = estimator_for(c);
   const std::size_t n = c.model.joints.size();
   // A threshold never reached: the detector arms and takes its reference as in detection.
   const HoldChangeParams<double> p = hold_params(1e9, c.hold_settle_s, c.hold_reference_s, 1.0 / c.rate_hz);
   std::vector<HoldChangeState<double>> states(n);
-  t.hold_band.assign(n, 0.0);
-  t.hold_seconds.assign(n, 0.0);
+  HoldSegmentStatistics out;
+  out.band.assign(n, 0.0);
+  out.seconds.assign(n, 0.0);
   bool started = false;
   sim::JointVector mu;
   constexpr double kSettleS = 0.5;
@@ -158,33 +182,32 @@ void calibrate_holding(const ExperimentConfig& c, Thresholds& t) {
       const bool held = ctx.t >= kSettleS && ((holding >> j) & 1U) != 0U;
       (void)hold_change_step(p, states[j], held, mu(i));
       if (states[j].armed) {
-        t.hold_band[j] = std::max(t.hold_band[j], hold_deviation(states[j], mu(i)));
-        t.hold_seconds[j] += 1.0 / c.rate_hz;
+        out.band[j] = std::max(out.band[j], hold_deviation(states[j], mu(i)));
+        out.seconds[j] += 1.0 / c.rate_hz;
       }
     }
     return std::nullopt;
   };
   (void)sim::run_simulation(free, hook);
-  t.hold_settle_s = c.hold_settle_s;
-  t.hold_reference_s = c.hold_reference_s;
-  t.hold_change.assign(n, 0.0);
-  for (std::size_t j = 0; j < n; ++j) t.hold_change[j] = kHoldFactor * t.hold_band[j] + kHoldMargin;
+  return out;
 }
-}  // namespace
 
-Thresholds calibrate(const ExperimentConfig& c, double margin_nm) {
+/// The band statistics over one segment of collision-free random moves.
+BandStatistics calibrate_band_segment(const ExperimentConfig& c, std::size_t k) {
   // Collision-free motion unlike the identification run: random moves. Not recorded: the
   // compensated and uncompensated observers run in the loop and feed the band statistics.
+  const double length = calibration_segment_length(c.calibration_s, k);
   const auto home = home_of(c.model);
   sim::JointVector lower = home, upper = home;
   for (Eigen::Index j = 0; j < lower.size(); ++j) {
     lower(j) -= 0.7;
     upper(j) += 0.7;
   }
-  auto moves = sim::make_random_moves(home, lower, upper, 0.8, c.calibration_s + 5.0, c.seed * 13 + 2);
-  sim::SimulationSetup free = base_setup(c, std::shared_ptr<const sim::Trajectory>(std::move(moves)), c.seed * 17 + 3);
+  auto moves = sim::make_random_moves(home, lower, upper, 0.8, length + 5.0, c.seed * 13 + 2 + segment_stride(k));
+  sim::SimulationSetup free =
+      base_setup(c, std::shared_ptr<const sim::Trajectory>(std::move(moves)), c.seed * 17 + 3 + segment_stride(k));
   free.meta.scenario = "calibration_free_run";
-  free.duration_s = c.calibration_s;
+  free.duration_s = length;
   free.record = false;
   auto with = estimator_for(c);
   ExperimentConfig bare = c;
@@ -214,8 +237,44 @@ Thresholds calibrate(const ExperimentConfig& c, double margin_nm) {
     return std::nullopt;
   };
   (void)sim::run_simulation(free, hook);
+  return stats;
+}
+}  // namespace
+
+Thresholds calibrate(const ExperimentConfig& c, double margin_nm) {
+  // Both calibrations as independent segments, all of them over c.jobs threads at once
+  // (the holding calibration does not depend on the band). Their statistics merge
+  // exactly: the band's and the hold's are maxima, the hold's time a sum taken in segment
+  // order, so the thresholds do not depend on the number of threads.
+  const std::size_t n = c.model.joints.size();
+  const std::size_t band_segments = calibration_segments(c.calibration_s);
+  const std::size_t hold_segments = c.hold_calibration_s > 0.0 ? calibration_segments(c.hold_calibration_s) : 0;
+  std::vector<BandStatistics> band(band_segments, BandStatistics(n));
+  std::vector<HoldSegmentStatistics> hold(hold_segments);
+  parallel_for(band_segments + hold_segments, std::max(1, c.jobs), [&](std::size_t i) {
+    if (i < band_segments) {
+      band[i] = calibrate_band_segment(c, i);
+    } else {
+      hold[i - band_segments] = calibrate_holding_segment(c, i - band_segments);
+    }
+  });
+  BandStatistics stats(n);
+  for (const auto& b : band) stats.merge(b);
   Thresholds t = stats.fit(margin_nm);
-  if (c.hold_calibration_s > 0.0) calibrate_holding(c, t);
+  if (hold_segments > 0) {
+    t.hold_band.assign(n, 0.0);
+    t.hold_seconds.assign(n, 0.0);
+    for (const auto& h : hold) {
+      for (std::size_t j = 0; j < n; ++j) {
+        t.hold_band[j] = std::max(t.hold_band[j], h.band[j]);
+        t.hold_seconds[j] += h.seconds[j];
+      }
+    }
+    t.hold_settle_s = c.hold_settle_s;
+    t.hold_reference_s = c.hold_reference_s;
+    t.hold_change.assign(n, 0.0);
+    for (std::size_t j = 0; j < n; ++j) t.hold_change[j] = kHoldFactor * t.hold_band[j] + kHoldMargin;
+  }
   return t;
 }
 

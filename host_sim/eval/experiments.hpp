@@ -60,7 +60,11 @@ struct Preparation {
 /// Thresholds from `c.calibration_s` of collision-free random motion with the configured
 /// estimator (rate, scalar, friction): BandStatistics::fit; then, when
 /// `c.hold_calibration_s` > 0, the holding detector's threshold from that long a
-/// collision-free motion with holds (its own seed).
+/// collision-free motion with holds (its own seed). Both runs are made of independent
+/// segments of kCalibrationSegmentS (from rest at home, seeded from their index; segment 0
+/// has the seeds of the single run they replaced), run over `c.jobs` threads; their
+/// statistics merge exactly (maxima; the hold time summed in segment order).
+inline constexpr double kCalibrationSegmentS = 600.0;
 Thresholds calibrate(const ExperimentConfig& c, double margin_nm);
 
 Preparation prepare(ExperimentConfig& c, double margin_nm, const std::function<void(double)>& progress = {});

@@ -173,6 +173,14 @@ void BandStatistics::add(std::size_t joint, double velocity, double mu, double m
   uncompensated_[joint] = std::max(uncompensated_[joint], std::fabs(mu_uncompensated));
 }
 
+void BandStatistics::merge(const BandStatistics& other) {
+  if (other.max_.size() != max_.size()) throw std::invalid_argument("BandStatistics::merge: different joint counts");
+  for (std::size_t j = 0; j < max_.size(); ++j) {
+    for (std::size_t b = 0; b < kBins; ++b) max_[j][b] = std::max(max_[j][b], other.max_[j][b]);
+    uncompensated_[j] = std::max(uncompensated_[j], other.uncompensated_[j]);
+  }
+}
+
 double BandStatistics::max_in(std::size_t joint, double w_lo, double w_hi) const {
   double m = 0.0;
   for (std::size_t b = 0; b < kBins; ++b) {

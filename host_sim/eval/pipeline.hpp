@@ -95,6 +95,8 @@ class BandStatistics {
   static constexpr std::size_t kBins = 400;      ///< the last bin holds everything faster
   explicit BandStatistics(std::size_t joints);
   void add(std::size_t joint, double velocity, double mu, double mu_uncompensated);
+  /// Adds another run's statistics (same joints): bin by bin maxima, exact in any order.
+  void merge(const BandStatistics& other);
   [[nodiscard]] Thresholds fit(double margin) const;
   [[nodiscard]] double max_in(std::size_t joint, double w_lo, double w_hi) const;
 

@@ -1,30 +1,55 @@
 // The concealed-effect benchmark: N random cases (seeded), the share named correctly,
 // false claims on matched pairs, and held-out residual against the noise floor.
-// Usage: jg_diagnosis_testset [count] [seed] [effect,effect,...]  (the optional list keeps
-// only the drawn cases of those effects, e.g. to study one effect; "none" = matched pairs)
+// Usage: jg_diagnosis_testset [--jobs N] [count] [seed] [effect,effect,...]  (the optional
+// list keeps only the drawn cases of those effects, e.g. to study one effect; "none" =
+// matched pairs). --jobs N (default 0: every core): the cases are independent (each seeded
+// from its own draw), run over N threads into their own slots and printed in case order, so
+// the output does not depend on N.
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <map>
 #include <string>
 #include <vector>
 
 #include "diagnosis/testset.hpp"
+#include "eval/parallel.hpp"
 
 int main(int argc, char** argv) {
-  const int count = argc > 1 ? std::atoi(argv[1]) : 60;
-  const unsigned long long seed = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 1;
+  int jobs = 0;
+  std::vector<const char*> args;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--jobs") == 0 && i + 1 < argc) {
+      jobs = std::atoi(argv[++i]);
+    } else {
+      args.push_back(argv[i]);
+    }
+  }
+  if (jobs < 0) {
+    std::fprintf(stderr, "jg_diagnosis_testset: --jobs must be >= 0\n");
+    return 2;
+  }
+  if (jobs == 0) jobs = jg::eval::default_jobs();
+  const int count = !args.empty() ? std::atoi(args[0]) : 60;
+  const unsigned long long seed = args.size() > 1 ? std::strtoull(args[1], nullptr, 10) : 1;
   const auto arm = jg::diag::default_test_arm();
   const auto drawn = jg::diag::draw_cases(count, seed, 0.17, 3);
-  const std::string only = argc > 3 ? std::string(",") + argv[3] + "," : std::string();
+  const std::string only = args.size() > 2 ? std::string(",") + args[2] + "," : std::string();
   std::vector<jg::diag::ConcealedCase> cases;
   for (const auto& c : drawn) {
     if (only.empty() || only.find("," + c.effect + ",") != std::string::npos) cases.push_back(c);
   }
+  std::vector<jg::diag::CaseOutcome> outcomes(cases.size());
+  jg::eval::parallel_for(cases.size(), jobs, [&](std::size_t i) {
+    const auto& c = cases[i];
+    if (std::getenv("JG_DIAG_TRACE")) std::fprintf(stderr, "running %s joint %d %s A=%.3f seed %llu\n", c.effect.c_str(), c.joint, c.concealment.c_str(), c.amplitude_nm, c.seed);
+    outcomes[i] = jg::diag::run_case(c, arm);
+  });
   int effect_cases = 0, named = 0, matched = 0, false_claims = 0, floor_ok = 0, floor_n = 0, resim_ok = 0;
   std::map<std::string, std::pair<int, int>> per_effect;
-  for (const auto& c : cases) {
-    if (std::getenv("JG_DIAG_TRACE")) std::fprintf(stderr, "running %s joint %d %s A=%.3f seed %llu\n", c.effect.c_str(), c.joint, c.concealment.c_str(), c.amplitude_nm, c.seed);
-    const auto o = jg::diag::run_case(c, arm);
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const auto& c = cases[i];
+    const auto& o = outcomes[i];
     std::string found;
     for (const auto& f : o.arm.findings) found += "arm:" + f.effect + " ";
     if (std::getenv("JG_DIAG_TRACE")) {

@@ -9,8 +9,9 @@ J="$1"
 SRC="$2"
 T="$(mktemp -d)"
 trap 'rm -rf "${T}"' EXIT
-# Small but complete: 5 collisions, a free run of two segments (700 s), a short calibration.
-args=(--scenario campaign --count 5 --free-run 700 --calibration 20 --no-hold)
+# Small but complete: 5 collisions, a free run of two segments (700 s), both calibrations
+# in two segments each (600 s + 10 s: the segments run over the threads and merge).
+args=(--scenario campaign --count 5 --free-run 700 --calibration 610 --hold-calibration 610)
 "${J}" evaluate "${args[@]}" --jobs 1 --json "${T}/jobs1.json" > "${T}/jobs1.log"
 "${J}" evaluate "${args[@]}" --jobs 2 --json "${T}/jobs2.json" > /dev/null
 cmp "${T}/jobs1.json" "${T}/jobs2.json"
