@@ -67,8 +67,14 @@ int run_node(const NodeOptions& o) {
   const JointEstimatorParams<S> p =
       eval::joint_params<S>(fc, j, bands.empty() ? nullptr : &bands[j], o.debounce, hold ? &*hold : nullptr);
   std::vector<hil::FaultSpec> faults;
-  for (const auto& f : o.faults) faults.push_back(hil::parse_fault(f));
-  hil::check_drive_faults(faults, o.joint);
+  try {
+    // Bad fault specs are usage errors (exit 2), refused before the drive opens its port.
+    for (const auto& f : o.faults) faults.push_back(hil::parse_fault(f));
+    hil::check_drive_faults(faults, o.joint);
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "jointguard node: error: %s\n", e.what());
+    return 2;
+  }
   hil::DriveFaultPort port(o.iface, faults, 1.0 / o.rate);
   const DriveConfig dc{NodeConfig{static_cast<std::uint8_t>(o.joint), static_cast<std::uint8_t>(n), static_cast<std::uint8_t>(o.fault_cycles)},
                        true};

@@ -74,15 +74,21 @@ class Babbler {
 /// The master's port with its own faults applied (plant time set each cycle): frames it
 /// sends dropped, corrupted or duplicated; link down: nothing sent, nothing read. With a
 /// babbler in the run it emulates arbitration, which a virtual CAN bus does not have: a
-/// frame goes out only when the port has not heard kBusyFrames frames with a lower
-/// identifier within the last kBusyWindowUs; otherwise it lost arbitration to them and the
-/// master drops it at the end of its cycle (refused: queue_full).
+/// frame loses arbitration (refused: queue_full, the master drops it at the end of its
+/// cycle) when, over this cycle and the previous one, the port has heard more frames with
+/// a lower identifier than the protocol ever sends in that time (kBusyFrames: a cycle
+/// carries at most n statuses and n collision events, n <= 7): the bus was never idle.
 class FaultyPort {
  public:
   FaultyPort(const std::string& iface, const std::vector<FaultSpec>& faults) : port_(iface), faults_(faults) {
     for (const FaultSpec& f : faults) arbitrate_ = arbitrate_ || f.kind == FaultKind::babble;
   }
-  void set_time(double t) { t_ = t; }
+  /// A new cycle (plant time t): the arbitration window moves on by one cycle.
+  void set_time(double t) {
+    t_ = t;
+    previous_ = std::move(current_);
+    current_.clear();
+  }
   [[nodiscard]] bool link_down() const { return active(FaultKind::link_down, 0); }
   hal::CanStatus send(const hal::CanFrame& f) {
     if (link_down()) return hal::CanStatus::bus_off;
@@ -110,7 +116,7 @@ class FaultyPort {
       return true;
     }
     if (!port_.receive(f)) return false;
-    if (arbitrate_) note(f);
+    if (arbitrate_) note(f.id);
     return true;
   }
   [[nodiscard]] hal::CanErrorState error_state() const { return port_.error_state(); }
@@ -119,26 +125,25 @@ class FaultyPort {
   [[nodiscard]] std::uint64_t lost_arbitration() const { return lost_arbitration_; }
 
  private:
-  static constexpr std::uint64_t kBusyWindowUs = 20000;  ///< host scheduling allowance (a real bus: 11 recessive bits)
-  static constexpr std::size_t kBusyFrames = 4;          ///< a one-off collision event is not a busy bus
-  static constexpr std::size_t kRxQueue = 4096;          ///< frames read ahead while checking the bus (then: overrun)
+  static constexpr std::size_t kBusyFrames = 32;  ///< > 2 x (7 statuses + 7 events) + announcements
+  static constexpr std::size_t kRxQueue = 4096;   ///< frames read ahead while checking the bus (then: overrun)
+  static constexpr std::size_t kNoted = 1024;     ///< identifiers kept per cycle (the count saturates beyond)
   /// Reads what is queued on the socket (kept for receive()) and tells whether frames with
-  /// an identifier below `id` kept the bus busy lately.
+  /// an identifier below `id` kept the bus busy.
   bool bus_busy(std::uint32_t id) {
     hal::CanFrame f{};
     while (port_.receive(f)) {
-      note(f);
+      note(f.id);
       if (rx_.size() < kRxQueue) rx_.push_back(f);
     }
-    const std::uint64_t now = clock_.now_us();
-    while (!lower_.empty() && now - lower_.front().first > kBusyWindowUs) lower_.pop_front();
     std::size_t n = 0;
-    for (const auto& e : lower_) n += e.second < id ? 1U : 0U;
-    return n >= kBusyFrames;
+    for (const auto* ids : {&previous_, &current_}) {
+      for (const std::uint32_t other : *ids) n += other < id ? 1U : 0U;
+    }
+    return n > kBusyFrames;
   }
-  void note(const hal::CanFrame& f) {
-    lower_.emplace_back(clock_.now_us(), f.id);
-    if (lower_.size() > 64) lower_.pop_front();
+  void note(std::uint32_t id) {
+    if (current_.size() < kNoted) current_.push_back(id);
   }
   [[nodiscard]] bool active(FaultKind kind, std::uint32_t id) const {
     for (const FaultSpec& f : faults_) {
@@ -153,9 +158,8 @@ class FaultyPort {
   std::vector<FaultSpec> faults_;
   double t_ = 0.0;
   bool arbitrate_ = false;
-  hal::MonotonicClock clock_;
   std::deque<hal::CanFrame> rx_;
-  std::deque<std::pair<std::uint64_t, std::uint32_t>> lower_;  ///< (read at [us], identifier) of recent frames
+  std::vector<std::uint32_t> previous_, current_;  ///< identifiers heard in the previous and this cycle
   std::uint64_t lost_arbitration_ = 0;
 };
 
