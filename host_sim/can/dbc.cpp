@@ -157,6 +157,14 @@ bool scan_ba(const std::string& text, std::string& id, std::string& value) {
          c.digits(id) && c.spaces() > 0 && c.digits(value) && (c.spaces(), c.literal(";")) && (c.spaces(), c.at_end());
 }
 
+/// A signal definition: "SG_" and a space after any indentation (a tab or two spaces were
+/// once skipped silently; SG_MUL_VAL_ and other keywords are not signals).
+bool is_signal_line(const std::string& text) {
+  const std::size_t at = text.find_first_not_of(" \t\v\f");
+  return at != std::string::npos && text.compare(at, 3, "SG_") == 0 && (at + 3 == text.size() ||
+         std::strchr(" \t\v\f\r", text[at + 3]) != nullptr);
+}
+
 }  // namespace
 
 Dbc read_dbc(const std::string& path) {
@@ -186,7 +194,7 @@ Dbc read_dbc(const std::string& path) {
       if (msg.length > 64) fail(path, line, "message " + msg.name + ": length " + std::to_string(msg.length) + " > 64");
       if (dbc.messages.count(msg.id) != 0) fail(path, line, "identifier " + std::to_string(msg.id) + " defined twice");
       current = &(dbc.messages[msg.id] = msg);
-    } else if (text.rfind(" SG_", 0) == 0 || text.rfind("SG_", 0) == 0) {
+    } else if (is_signal_line(text)) {
       if (current == nullptr) fail(path, line, "signal outside a message");
       if (!scan_sg(text, sg)) fail(path, line, "cannot read the signal definition");
       DbcSignal s;

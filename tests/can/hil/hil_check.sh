@@ -121,7 +121,10 @@ for fault in ("restart", "linkdown", "late", "busoff", "babble"):
         m = re.search(r"babbler sent (\d+) frames; the master lost arbitration (\d+) times", text)
         assert m and int(m.group(1)) > 1000 and int(m.group(2)) >= 190, f"babble: {m and m.group(0)}"
         assert bus["rejected"] > 1000, f"babble: the master rejected {bus['rejected']} frames (the babbled garbage)"
-        assert not any(e["joint"] == 1 for e in p["events"]), "babble: a babbled frame was taken as joint 1's collision event"
+        # The babbled identifier is joint 1's collision event: none taken while it babbled
+        # (after it, the drives' own events of the warm-up at a standstill are real frames).
+        babbled = [e for e in p["events"] if e["joint"] == 1 and 500 <= e["cycle"] < 700]
+        assert not babbled, f"babble: babbled frames taken as joint 1's collision event: {babbled}"
         extra = f", {m.group(0)}, {bus['rejected']} babbled frames rejected"
     if fault == "restart":
         assert bus["restarts"] == 1, bus
