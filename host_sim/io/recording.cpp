@@ -249,6 +249,7 @@ Recording read_recording(const std::string& path, const ReadOptions& options) {
   }
   std::vector<Column> cols;
   std::set<std::string> seen;
+  std::map<std::pair<int, int>, std::string> per_joint;  ///< (column kind, joint) -> its column's name
   bool has_time = false, has_current = false, has_tau_m = false, has_tau_j = false, has_tau_ext = false;
   for (const auto& raw : header) {
     Column c;
@@ -262,6 +263,9 @@ Recording read_recording(const std::string& path, const ReadOptions& options) {
     auto match = [&](const char* prefix, Kind kind) {
       const int j = joint_suffix(c.name, prefix);
       if (j >= 0 && joint_index.count(j) != 0U) {
+        // q1 and q01 both name joint 1: refused, not read interleaved.
+        const auto first = per_joint.emplace(std::make_pair(static_cast<int>(kind), j), c.name);
+        if (!first.second) fail(path, 1, c.name, "joint " + std::to_string(j) + " given twice (also '" + first.first->second + "')");
         c.kind = kind;
         c.joint = joint_index[j];
         return true;
