@@ -82,6 +82,14 @@ expect 1 "th_huge.json: invalid JSON: a number beyond the range of a double" -- 
 # A header naming joint 1 twice (q1 and q01) is refused, not read interleaved.
 { head -1 tests/data/recordings/held_arm.csv | sed 's/$/,q01/'; tail -n +2 tests/data/recordings/held_arm.csv | sed 's/$/,0/'; } > "$W/q01.csv"
 expect 1 "q01.csv:1: field 'q01': joint 1 given twice (also 'q1')" -- "$J" replay "$W/q01.csv" --model models/ref3.yaml --friction "$FR" --threshold "$TH"
+# An inertia that no body has (not positive semi-definite; a principal moment beyond the sum
+# of the other two) is refused naming file, line and field.
+sed '17s/{xx: 0.03, yy: 0.03, zz: 0.02}/{xx: 0.03, yy: 0.03, zz: 0.02, xy: 0.5}/' models/ref3.yaml > "$W/npd.yaml"
+sed '17s/{xx: 0.03, yy: 0.03, zz: 0.02}/{xx: 0.01, yy: 0.01, zz: 0.05}/' models/ref3.yaml > "$W/moments.yaml"
+for m in npd moments; do
+  expect 1 "$m.yaml:17:20: field 'joints\[0\].inertia_kg_m2': not the inertia of a body" -- "$J" replay tests/data/recordings/held_arm.csv \
+    --model "$W/$m.yaml" --friction "$FR" --threshold "$TH"
+done
 # decode: a capture with an undecodable frame exits 1 and writes no JSON; a JSON that cannot
 # be written (missing folder) is an error, not "exit 0".
 printf '(0.000000) vcan0 010##0AA\n' > "$W/short_sync.log"
