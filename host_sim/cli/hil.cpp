@@ -17,6 +17,7 @@
 #include "eval/joint_params.hpp"
 #include "eval/pipeline.hpp"
 #include "hil/drive_fault_port.hpp"
+#include "io/atomic_write.hpp"
 #include "io/yaml_fields.hpp"
 #include "jointguard/hal/socketcan.hpp"
 #include "jointguard/node/joint_drive.hpp"
@@ -111,11 +112,11 @@ int run_node(const NodeOptions& o) {
   }
   const DriveCounters& c = drive.counters();
   const NodeCounters& nc = drive.node().counters();
-  const hil::DriveFaultCounters& fc_ = port.fault_counters();
+  const hil::DriveFaultCounters& fault_counts = port.fault_counters();
   if (!faults.empty()) {
     std::printf("joint %d faults: %llu frames delayed, bus-off %llu time(s), recovered %llu time(s), %llu sends refused while bus-off\n",
-                o.joint, static_cast<unsigned long long>(fc_.frames_delayed), static_cast<unsigned long long>(fc_.bus_off_entries),
-                static_cast<unsigned long long>(fc_.bus_off_recoveries), static_cast<unsigned long long>(fc_.refused_bus_off));
+                o.joint, static_cast<unsigned long long>(fault_counts.frames_delayed), static_cast<unsigned long long>(fault_counts.bus_off_entries),
+                static_cast<unsigned long long>(fault_counts.bus_off_recoveries), static_cast<unsigned long long>(fault_counts.refused_bus_off));
   }
   std::printf("joint %d: %u cycles, last cycle %u; rejected: sensor %u, sync %u, stale sync %u, length %u, crc %u, sequence %u; "
               "late %u; foreign %u; cycles without a fresh neighbour frame %u; communication fault %s\n",
@@ -128,10 +129,10 @@ int run_node(const NodeOptions& o) {
                                     {"wrong_length", nc.wrong_length}, {"bad_crc", nc.bad_crc}, {"stale", nc.stale}, {"late", nc.late}}},
                       {"foreign", c.foreign}, {"missed_cycles", nc.missed_cycles}, {"communication_fault", drive.node().communication_fault()},
                       {"send_failures", c.send_failures},
-                      {"faults", {{"frames_delayed", fc_.frames_delayed}, {"bus_off_entries", fc_.bus_off_entries},
-                                  {"bus_off_recoveries", fc_.bus_off_recoveries}, {"refused_bus_off", fc_.refused_bus_off},
+                      {"faults", {{"frames_delayed", fault_counts.frames_delayed}, {"bus_off_entries", fault_counts.bus_off_entries},
+                                  {"bus_off_recoveries", fault_counts.bus_off_recoveries}, {"refused_bus_off", fault_counts.refused_bus_off},
                                   {"bus_off_at_end", port.error_state() == hal::CanErrorState::bus_off}}}};
-    std::ofstream(o.json) << js.dump(2) << '\n';
+    io::write_json_atomic(o.json, js);  // every write checked: no exit 0 without the file
   }
   return 0;
 }
@@ -162,7 +163,7 @@ Command add_node(CLI::App& app) {
   cmd->add_option("--fault", o->faults,
                   "Fault on this drive's side (repeatable; times in s of plant time = sync counter / rate): late[:J]@START[:DURATION] "
                   "(its frames go out 10 ms of bus time late), bus-off[:J]@START[:DURATION] (its controller off the bus, then "
-                  "restarted). Example: --fault bus-off@0.5:0.2");
+                  "restarted). Example: --joint 2 --fault bus-off:2@0.5:0.2");
   o->observer.add_to(cmd);
   return {cmd, [o]() { return o->scalar == "q" ? run_node<q16>(*o) : run_node<float>(*o); }};
 }
