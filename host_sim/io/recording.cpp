@@ -478,9 +478,12 @@ void write_recording(const std::string& path, const Recording& rec) {
   const std::filesystem::path json_tmp = json_target.string() + ".tmp";
   {
     std::ofstream jout(json_tmp);
-    jout << meta.dump(2) << '\n';
+    // Text that is not UTF-8 replaced (U+FFFD), never an exception after the CSV is written.
+    jout << meta.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
     if (!jout) {
-      std::filesystem::remove(tmp);
+      std::error_code ignored;
+      std::filesystem::remove(tmp, ignored);
+      std::filesystem::remove(json_tmp, ignored);
       throw std::runtime_error(json_target.string() + ": write failed");
     }
   }

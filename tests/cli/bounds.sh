@@ -90,6 +90,11 @@ for m in npd moments; do
   expect 1 "$m.yaml:17:20: field 'joints\[0\].inertia_kg_m2': not the inertia of a body" -- "$J" replay tests/data/recordings/held_arm.csv \
     --model "$W/$m.yaml" --friction "$FR" --threshold "$TH"
 done
+# A Latin-1 scenario name is refused before the run (it once failed after it, in the JSON
+# writer, leaving .csv.tmp and .json.tmp behind).
+{ printf 'name: caf\xe9\n'; grep -v '^name:' scenarios/paper_excitation.yaml | sed "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#"; } > "$W/latin1.yaml"
+expect 1 "latin1.yaml:1:7: field 'name': bytes that are not UTF-8 text" -- "$J" simulate "$W/latin1.yaml" --out "$W/never.csv"
+! ls "$W"/never* > /dev/null 2>&1 || { echo "a refused scenario left files: $(ls "$W"/never*)"; exit 1; }
 # decode: a capture with an undecodable frame exits 1 and writes no JSON; a JSON that cannot
 # be written (missing folder) is an error, not "exit 0".
 printf '(0.000000) vcan0 010##0AA\n' > "$W/short_sync.log"
