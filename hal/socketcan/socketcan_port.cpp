@@ -145,20 +145,7 @@ bool SocketCanPort::receive(CanFrame& out) noexcept {
     if (!fd_frame && n != static_cast<ssize_t>(CAN_MTU)) { continue;  // not a CAN frame: skip
 }
     if ((in.can_id & CAN_ERR_FLAG) != 0U) {
-      ++counters_.error_frames;
-      if ((in.can_id & CAN_ERR_BUSOFF) != 0U) {
-        state_ = CanErrorState::bus_off;
-      } else if ((in.can_id & CAN_ERR_RESTARTED) != 0U) {
-        state_ = CanErrorState::error_active;
-      } else if ((in.can_id & CAN_ERR_CRTL) != 0U) {
-        const auto ctrl = in.data[1];
-        if ((ctrl & (CAN_ERR_CRTL_RX_PASSIVE | CAN_ERR_CRTL_TX_PASSIVE)) != 0U) { state_ = CanErrorState::error_passive;
-}
-#ifdef CAN_ERR_CRTL_ACTIVE
-        if ((ctrl & CAN_ERR_CRTL_ACTIVE) != 0U) { state_ = CanErrorState::error_active;
-}
-#endif
-      }
+      on_error_frame(in.can_id, static_cast<const std::uint8_t*>(in.data));
       continue;
     }
     if ((in.can_id & CAN_RTR_FLAG) != 0U) { continue;  // the protocol has no remote frames
@@ -184,6 +171,36 @@ bool SocketCanPort::receive(CanFrame& out) noexcept {
       }
     }
     return true;
+  }
+}
+
+void SocketCanPort::on_error_frame(std::uint32_t can_id, const std::uint8_t* data) noexcept {
+  ++counters_.error_frames;
+  if ((can_id & CAN_ERR_BUSOFF) != 0U) {
+    state_ = CanErrorState::bus_off;
+    link_down_ = false;  // the controller's bus-off latches until its restart
+  } else if ((can_id & CAN_ERR_RESTARTED) != 0U) {
+    state_ = CanErrorState::error_active;
+  } else if ((can_id & CAN_ERR_CRTL) != 0U) {
+    const auto ctrl = data[1];
+    if ((ctrl & (CAN_ERR_CRTL_RX_PASSIVE | CAN_ERR_CRTL_TX_PASSIVE)) != 0U) { state_ = CanErrorState::error_passive;
+}
+#ifdef CAN_ERR_CRTL_ACTIVE
+    if ((ctrl & CAN_ERR_CRTL_ACTIVE) != 0U) { state_ = CanErrorState::error_active;
+}
+#endif
+  }
+}
+
+void SocketCanPort::inject_controller_state(CanErrorState state) noexcept {
+  std::array<std::uint8_t, CAN_ERR_DLC> data{};
+  switch (state) {
+    case CanErrorState::bus_off: on_error_frame(CAN_ERR_FLAG | CAN_ERR_BUSOFF, data.data()); break;
+    case CanErrorState::error_active: on_error_frame(CAN_ERR_FLAG | CAN_ERR_RESTARTED, data.data()); break;
+    case CanErrorState::error_passive:
+      data[1] = CAN_ERR_CRTL_TX_PASSIVE;
+      on_error_frame(CAN_ERR_FLAG | CAN_ERR_CRTL, data.data());
+      break;
   }
 }
 

@@ -9,6 +9,7 @@
 #include "can/dbc.hpp"
 #include "can/sim_bus.hpp"
 #include "cli/commands.hpp"
+#include "io/atomic_write.hpp"
 #include "jointguard/protocol/frames.hpp"
 
 namespace jg::cli {
@@ -100,7 +101,13 @@ Command add_decode(CLI::App& app) {
                                {"product_wire_us_per_cycle", per_cycle_us},
                                {"all_wire_us_per_cycle", cycles ? 1e6 * all_s / static_cast<double>(cycles) : 0.0},
                                {"nominal_bps", o->nominal_bps}, {"data_bps", o->data_bps}};
-              std::ofstream(o->json) << j.dump(2) << '\n';
+              // Bad input writes nothing (README): the problems are printed above, exit 1.
+              if (undecodable == 0) {
+                io::write_json_atomic(o->json, j);
+              } else {
+                std::fprintf(stderr, "jointguard decode: %s: %zu frames not decodable: %s not written\n", o->capture.c_str(), undecodable,
+                             o->json.c_str());
+              }
             }
             return undecodable == 0 ? 0 : 1;
           }};

@@ -16,6 +16,8 @@
 #include "eval/evaluate.hpp"
 #include "eval/joint_params.hpp"
 #include "eval/pipeline.hpp"
+#include "hil/drive_fault_port.hpp"
+#include "io/atomic_write.hpp"
 #include "io/yaml_fields.hpp"
 #include "jointguard/hal/socketcan.hpp"
 #include "jointguard/node/joint_drive.hpp"
@@ -31,6 +33,7 @@ struct NodeOptions {
   std::string iface = "vcan0", model = JG_DEFAULT_MODEL, friction, threshold, scalar = "float", json;
   double rate = 1000.0, idle_exit_s = 0.0, startup_s = 30.0;
   int debounce = 1, fault_cycles = 5;
+  std::vector<std::string> faults;  ///< --fault late|bus-off[:J]@START[:DURATION] (this drive's side)
   ObserverOptions observer;
   robot::LoadOptions model_options;
 };
@@ -64,10 +67,19 @@ int run_node(const NodeOptions& o) {
   }
   const JointEstimatorParams<S> p =
       eval::joint_params<S>(fc, j, bands.empty() ? nullptr : &bands[j], o.debounce, hold ? &*hold : nullptr);
-  hal::SocketCanPort port(o.iface);
+  std::vector<hil::FaultSpec> faults;
+  try {
+    // Bad fault specs are usage errors (exit 2), refused before the drive opens its port.
+    for (const auto& f : o.faults) faults.push_back(hil::parse_fault(f));
+    hil::check_drive_faults(faults, o.joint);
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "jointguard node: error: %s\n", e.what());
+    return 2;
+  }
+  hil::DriveFaultPort port(o.iface, faults, 1.0 / o.rate);
   const DriveConfig dc{NodeConfig{static_cast<std::uint8_t>(o.joint), static_cast<std::uint8_t>(n), static_cast<std::uint8_t>(o.fault_cycles)},
                        true};
-  JointDrive<S, hal::SocketCanPort> drive(dc, p, port, eval::gravity_of<S>(model));
+  JointDrive<S, hil::DriveFaultPort> drive(dc, p, port, eval::gravity_of<S>(model));
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   std::fprintf(stderr, "jointguard node: joint %d of %zu (%s) on %s, waiting for the master's sync\n", o.joint, n,
@@ -100,6 +112,12 @@ int run_node(const NodeOptions& o) {
   }
   const DriveCounters& c = drive.counters();
   const NodeCounters& nc = drive.node().counters();
+  const hil::DriveFaultCounters& fault_counts = port.fault_counters();
+  if (!faults.empty()) {
+    std::printf("joint %d faults: %llu frames delayed, bus-off %llu time(s), recovered %llu time(s), %llu sends refused while bus-off\n",
+                o.joint, static_cast<unsigned long long>(fault_counts.frames_delayed), static_cast<unsigned long long>(fault_counts.bus_off_entries),
+                static_cast<unsigned long long>(fault_counts.bus_off_recoveries), static_cast<unsigned long long>(fault_counts.refused_bus_off));
+  }
   std::printf("joint %d: %u cycles, last cycle %u; rejected: sensor %u, sync %u, stale sync %u, length %u, crc %u, sequence %u; "
               "late %u; foreign %u; cycles without a fresh neighbour frame %u; communication fault %s\n",
               o.joint, c.cycles, drive.last_cycle(), c.sensor_rejected, c.sync_rejected, c.stale_syncs, nc.wrong_length, nc.bad_crc,
@@ -109,8 +127,12 @@ int run_node(const NodeOptions& o) {
                       {"flagged", (drive.last_status().flags & protocol::kStatusCollision) != 0U},
                       {"rejected", {{"sensor", c.sensor_rejected}, {"sync", c.sync_rejected}, {"stale_sync", c.stale_syncs},
                                     {"wrong_length", nc.wrong_length}, {"bad_crc", nc.bad_crc}, {"stale", nc.stale}, {"late", nc.late}}},
-                      {"foreign", c.foreign}, {"missed_cycles", nc.missed_cycles}, {"communication_fault", drive.node().communication_fault()}};
-    std::ofstream(o.json) << js.dump(2) << '\n';
+                      {"foreign", c.foreign}, {"missed_cycles", nc.missed_cycles}, {"communication_fault", drive.node().communication_fault()},
+                      {"send_failures", c.send_failures},
+                      {"faults", {{"frames_delayed", fault_counts.frames_delayed}, {"bus_off_entries", fault_counts.bus_off_entries},
+                                  {"bus_off_recoveries", fault_counts.bus_off_recoveries}, {"refused_bus_off", fault_counts.refused_bus_off},
+                                  {"bus_off_at_end", port.error_state() == hal::CanErrorState::bus_off}}}};
+    io::write_json_atomic(o.json, js);  // every write checked: no exit 0 without the file
   }
   return 0;
 }
@@ -138,6 +160,10 @@ Command add_node(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--startup-timeout", o->startup_s, "Fail when no sync arrives within this time [s]")->capture_default_str();
   cmd->add_option("--json", o->json, "Write the node's counters here on exit");
+  cmd->add_option("--fault", o->faults,
+                  "Fault on this drive's side (repeatable; times in s of plant time = sync counter / rate): late[:J]@START[:DURATION] "
+                  "(its frames go out 10 ms of bus time late), bus-off[:J]@START[:DURATION] (its controller off the bus, then "
+                  "restarted). Example: --joint 2 --fault bus-off:2@0.5:0.2");
   o->observer.add_to(cmd);
   return {cmd, [o]() { return o->scalar == "q" ? run_node<q16>(*o) : run_node<float>(*o); }};
 }

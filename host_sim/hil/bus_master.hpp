@@ -40,7 +40,7 @@ class BusMaster {
  public:
   BusMaster(Port& port, std::size_t joints)
       : port_(port), torque_(joints, 0.0), flags_(joints, 0), have_(joints, false), announced_(joints, false),
-        rejoining_(joints, false), first_comm_fault_(joints, -1) {
+        rejoining_(joints, false), answered_once_(joints, false), first_comm_fault_(joints, -1) {
     const hal::CanFilter filters[] = {
         {protocol::frame_id(protocol::MessageKind::status, 0), 0x7F0U},
         {protocol::frame_id(protocol::MessageKind::collision_event, 0), 0x7F0U},
@@ -104,7 +104,10 @@ class BusMaster {
       }
       if ((m.flags & protocol::kStatusBooting) != 0U) {
         announced_[joint - 1] = true;  // listening, before the first sync
-        if (started_ && !rejoining_[joint - 1]) {
+        // A drive that has answered a cycle and announces itself again has restarted. One
+        // that has not answered yet sent this before it heard the first sync (a loaded host
+        // delivers it late): the start-up, not a restart.
+        if (started_ && answered_once_[joint - 1] && !rejoining_[joint - 1]) {
           // A drive booting mid-run has restarted: its estimate is void until it is ready
           // again; it runs from the next sync (it missed this cycle's).
           rejoining_[joint - 1] = true;
@@ -123,6 +126,7 @@ class BusMaster {
       torque_[joint - 1] = m.external_torque.to_double();
       flags_[joint - 1] = m.flags;
       have_[joint - 1] = true;
+      answered_once_[joint - 1] = true;
       if ((m.flags & protocol::kStatusReady) != 0U) rejoining_[joint - 1] = false;
       if ((m.flags & protocol::kStatusCommFault) != 0U && first_comm_fault_[joint - 1] < 0) first_comm_fault_[joint - 1] = cycle_;
     }
@@ -209,7 +213,7 @@ class BusMaster {
   std::uint32_t cycle_ = 0;
   std::vector<double> torque_;
   std::vector<std::uint8_t> flags_;
-  std::vector<bool> have_, announced_, rejoining_;
+  std::vector<bool> have_, announced_, rejoining_, answered_once_;
   std::vector<std::int64_t> first_comm_fault_;
   bool started_ = false, sync_sent_ = false;
   std::vector<NodeEvent> events_;

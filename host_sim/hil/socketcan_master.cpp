@@ -5,7 +5,11 @@
 #include <stdexcept>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cstdio>
+#include <deque>
+#include <thread>
 
 #include "jointguard/hal/socketcan.hpp"
 
@@ -18,15 +22,80 @@ std::string joint_list(const std::vector<int>& joints) {
   return s;
 }
 
+/// A babbling node (`babble[:0xID]@START[:DURATION]`): its own socket on the interface,
+/// sending the identifier with a garbage payload (fails every check) as fast as the host
+/// lets it while `on` is set. On a real bus it would win every arbitration; a virtual CAN
+/// interface has no arbitration, so its frames merely flood every receiver that accepts
+/// them (the master: 0x000-0x00F are collision events), and the master's port emulates
+/// the arbitration its controller loses (FaultyPort::bus_busy).
+class Babbler {
+ public:
+  Babbler(const std::string& iface, std::uint32_t id) : port_(iface) {
+    frame_.fd = true;
+    frame_.id = id;
+    frame_.length = 8;
+    frame_.data[0] = 0xA5U;
+    const hal::CanFilter none{0x1FFFFFFFU, 0x1FFFFFFFU};  // an extended identifier nobody sends: it hears nothing
+    port_.set_filters(&none, 1);
+    thread_ = std::thread([this] { run(); });
+  }
+  ~Babbler() {
+    quit_ = true;
+    thread_.join();
+  }
+  Babbler(const Babbler&) = delete;
+  Babbler& operator=(const Babbler&) = delete;
+  Babbler(Babbler&&) = delete;
+  Babbler& operator=(Babbler&&) = delete;
+  void set_on(bool on) { on_ = on; }
+  [[nodiscard]] std::uint64_t sent() const { return sent_; }
+
+ private:
+  void run() {
+    while (!quit_) {
+      if (!on_) {
+        std::this_thread::sleep_for(std::chrono::microseconds(200));
+        continue;
+      }
+      if (port_.send(frame_) == hal::CanStatus::ok) {
+        sent_.fetch_add(1, std::memory_order_relaxed);
+      } else {
+        std::this_thread::yield();  // the interface's queue is full: the bus is saturated
+      }
+    }
+  }
+  hal::SocketCanPort port_;
+  hal::CanFrame frame_{};
+  std::atomic<bool> on_{false}, quit_{false};
+  std::atomic<std::uint64_t> sent_{0};
+  std::thread thread_;
+};
+
 /// The master's port with its own faults applied (plant time set each cycle): frames it
-/// sends dropped, corrupted or duplicated; link down: nothing sent, nothing read.
+/// sends dropped, corrupted or duplicated; link down: nothing sent, nothing read. With a
+/// babbler in the run it emulates arbitration, which a virtual CAN bus does not have: a
+/// frame loses arbitration (refused: queue_full, the master drops it at the end of its
+/// cycle) when, over this cycle and the previous one, the port has heard more frames with
+/// a lower identifier than the protocol ever sends in that time (kBusyFrames: a cycle
+/// carries at most n statuses and n collision events, n <= 7): the bus was never idle.
 class FaultyPort {
  public:
-  FaultyPort(const std::string& iface, const std::vector<FaultSpec>& faults) : port_(iface), faults_(faults) {}
-  void set_time(double t) { t_ = t; }
+  FaultyPort(const std::string& iface, const std::vector<FaultSpec>& faults) : port_(iface), faults_(faults) {
+    for (const FaultSpec& f : faults) arbitrate_ = arbitrate_ || f.kind == FaultKind::babble;
+  }
+  /// A new cycle (plant time t): the arbitration window moves on by one cycle.
+  void set_time(double t) {
+    t_ = t;
+    previous_ = std::move(current_);
+    current_.clear();
+  }
   [[nodiscard]] bool link_down() const { return active(FaultKind::link_down, 0); }
   hal::CanStatus send(const hal::CanFrame& f) {
     if (link_down()) return hal::CanStatus::bus_off;
+    if (arbitrate_ && bus_busy(f.id)) {
+      ++lost_arbitration_;
+      return hal::CanStatus::queue_full;
+    }
     if (active(FaultKind::drop, f.id)) return hal::CanStatus::ok;  // lost on the wire
     hal::CanFrame out = f;
     if (active(FaultKind::corrupt, f.id) && out.length > 0) out.data[out.length / 2U] ^= 0x04U;
@@ -35,16 +104,47 @@ class FaultyPort {
     return st;
   }
   bool receive(hal::CanFrame& f) {
-    if (!link_down()) return port_.receive(f);
-    while (port_.receive(f)) {
-    }  // deaf while the link is down: what arrives is lost
-    return false;
+    if (link_down()) {
+      rx_.clear();
+      while (port_.receive(f)) {
+      }  // deaf while the link is down: what arrives is lost
+      return false;
+    }
+    if (!rx_.empty()) {
+      f = rx_.front();
+      rx_.pop_front();
+      return true;
+    }
+    if (!port_.receive(f)) return false;
+    if (arbitrate_) note(f.id);
+    return true;
   }
   [[nodiscard]] hal::CanErrorState error_state() const { return port_.error_state(); }
   void set_filters(const hal::CanFilter* filters, std::size_t n) { port_.set_filters(filters, n); }
-  [[nodiscard]] bool wait_readable(std::int64_t timeout_us) const { return port_.wait_readable(timeout_us); }
+  [[nodiscard]] bool wait_readable(std::int64_t timeout_us) const { return !rx_.empty() || port_.wait_readable(timeout_us); }
+  [[nodiscard]] std::uint64_t lost_arbitration() const { return lost_arbitration_; }
 
  private:
+  static constexpr std::size_t kBusyFrames = 32;  ///< > 2 x (7 statuses + 7 events) + announcements
+  static constexpr std::size_t kRxQueue = 4096;   ///< frames read ahead while checking the bus (then: overrun)
+  static constexpr std::size_t kNoted = 1024;     ///< identifiers kept per cycle (the count saturates beyond)
+  /// Reads what is queued on the socket (kept for receive()) and tells whether frames with
+  /// an identifier below `id` kept the bus busy.
+  bool bus_busy(std::uint32_t id) {
+    hal::CanFrame f{};
+    while (port_.receive(f)) {
+      note(f.id);
+      if (rx_.size() < kRxQueue) rx_.push_back(f);
+    }
+    std::size_t n = 0;
+    for (const auto* ids : {&previous_, &current_}) {
+      for (const std::uint32_t other : *ids) n += other < id ? 1U : 0U;
+    }
+    return n > kBusyFrames;
+  }
+  void note(std::uint32_t id) {
+    if (current_.size() < kNoted) current_.push_back(id);
+  }
   [[nodiscard]] bool active(FaultKind kind, std::uint32_t id) const {
     for (const FaultSpec& f : faults_) {
       if (f.kind != kind || !f.active(t_)) continue;
@@ -57,17 +157,40 @@ class FaultyPort {
   hal::SocketCanPort port_;
   std::vector<FaultSpec> faults_;
   double t_ = 0.0;
+  bool arbitrate_ = false;
+  std::deque<hal::CanFrame> rx_;
+  std::vector<std::uint32_t> previous_, current_;  ///< identifiers heard in the previous and this cycle
+  std::uint64_t lost_arbitration_ = 0;
 };
 
 class SocketCanMasterImpl final : public SocketCanMaster {
  public:
   explicit SocketCanMasterImpl(const SocketCanMasterConfig& c)
-      : config_(c), port_(c.interface, c.faults), master_(port_, c.joints), answered_(c.joints, true) {}
+      : config_(c), port_(c.interface, c.faults), master_(port_, c.joints), answered_(c.joints, true) {
+    for (const FaultSpec& f : c.faults) {
+      if (f.kind == FaultKind::babble && !babbler_) babbler_ = std::make_unique<Babbler>(c.interface, f.id);
+    }
+  }
+  ~SocketCanMasterImpl() override {
+    if (babbler_) {
+      std::fprintf(stderr, "socketcan %s: babbler sent %llu frames; the master lost arbitration %llu times\n", config_.interface.c_str(),
+                   static_cast<unsigned long long>(babbler_->sent()), static_cast<unsigned long long>(port_.lost_arbitration()));
+    }
+  }
+  SocketCanMasterImpl(const SocketCanMasterImpl&) = delete;
+  SocketCanMasterImpl& operator=(const SocketCanMasterImpl&) = delete;
+  SocketCanMasterImpl(SocketCanMasterImpl&&) = delete;
+  SocketCanMasterImpl& operator=(SocketCanMasterImpl&&) = delete;
   void reset(const eval::EstimatorInput&) override {}
   void step(const eval::EstimatorInput& in, sim::JointVector& mu) override {
     const hal::MonotonicClock clock;
     const double t = static_cast<double>(cycle_) * config_.period_s;
     port_.set_time(t);
+    if (babbler_) {
+      bool on = false;
+      for (const FaultSpec& f : config_.faults) on = on || (f.kind == FaultKind::babble && f.active(t));
+      babbler_->set_on(on);
+    }
     if (cycle_ == 0) wait_for_announcements(clock);
     eval::EstimatorInput sample = in;
     for (const FaultSpec& f : config_.faults) {
@@ -145,6 +268,7 @@ class SocketCanMasterImpl final : public SocketCanMaster {
  private:
   SocketCanMasterConfig config_;
   FaultyPort port_;
+  std::unique_ptr<Babbler> babbler_;
   BusMaster<FaultyPort> master_;
   std::vector<bool> answered_;
   std::uint32_t cycle_ = 0;
@@ -156,11 +280,8 @@ void check_socketcan_faults(const std::vector<FaultSpec>& faults) {
   for (const FaultSpec& f : faults) {
     const char* why = nullptr;
     switch (f.kind) {
-      case FaultKind::late: why = "delaying frames needs the bus (use --bus sim)"; break;
-      case FaultKind::babble:
-        why = "a virtual CAN bus has no arbitration, so the master cannot starve it; run `cangen IFACE -I 001 -L 8 -g 0` beside it";
-        break;
-      case FaultKind::bus_off: why = "a drive's controller is in its own process (use --bus sim)"; break;
+      case FaultKind::late: why = "a drive's frames are held back by the drive: `jointguard node --joint J --fault late@START:DURATION`"; break;
+      case FaultKind::bus_off: why = "a drive's controller is in its own process: `jointguard node --joint J --fault bus-off:J@START:DURATION`"; break;
       case FaultKind::restart:
         why = "restart the `jointguard node --joint J` process itself: the master keeps syncing and the drive rejoins from the next sync";
         break;

@@ -24,8 +24,10 @@ struct SocketCanMasterConfig {
   double period_s = 0.001;         ///< plant period: the wait for a drive already silent, and the fault clock
   /// Master-side faults (plant time): drop, corrupt and duplicate act on the master's own
   /// frames (sensor frames of a joint target, or every frame), link-down silences the
-  /// master (sends and reads nothing), nan-sensor marks samples invalid. Other kinds need
-  /// the drives' side: refused by check_socketcan_faults.
+  /// master (sends and reads nothing), nan-sensor marks samples invalid, babble starts a
+  /// flooding socket and arbitration emulation on the master's port. late and bus-off are
+  /// the drives' (`jointguard node --fault`, DriveFaultPort), restart is the node process
+  /// itself: refused by check_socketcan_faults.
   std::vector<FaultSpec> faults;
 };
 

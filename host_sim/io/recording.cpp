@@ -249,6 +249,7 @@ Recording read_recording(const std::string& path, const ReadOptions& options) {
   }
   std::vector<Column> cols;
   std::set<std::string> seen;
+  std::map<std::pair<int, int>, std::string> per_joint;  ///< (column kind, joint) -> its column's name
   bool has_time = false, has_current = false, has_tau_m = false, has_tau_j = false, has_tau_ext = false;
   for (const auto& raw : header) {
     Column c;
@@ -262,6 +263,9 @@ Recording read_recording(const std::string& path, const ReadOptions& options) {
     auto match = [&](const char* prefix, Kind kind) {
       const int j = joint_suffix(c.name, prefix);
       if (j >= 0 && joint_index.count(j) != 0U) {
+        // q1 and q01 both name joint 1: refused, not read interleaved.
+        const auto first = per_joint.emplace(std::make_pair(static_cast<int>(kind), j), c.name);
+        if (!first.second) fail(path, 1, c.name, "joint " + std::to_string(j) + " given twice (also '" + first.first->second + "')");
         c.kind = kind;
         c.joint = joint_index[j];
         return true;
@@ -474,9 +478,12 @@ void write_recording(const std::string& path, const Recording& rec) {
   const std::filesystem::path json_tmp = json_target.string() + ".tmp";
   {
     std::ofstream jout(json_tmp);
-    jout << meta.dump(2) << '\n';
+    // Text that is not UTF-8 replaced (U+FFFD), never an exception after the CSV is written.
+    jout << meta.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
     if (!jout) {
-      std::filesystem::remove(tmp);
+      std::error_code ignored;
+      std::filesystem::remove(tmp, ignored);
+      std::filesystem::remove(json_tmp, ignored);
       throw std::runtime_error(json_target.string() + ": write failed");
     }
   }

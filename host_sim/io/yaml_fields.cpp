@@ -49,6 +49,28 @@ void check_keys(const std::string& file, const YAML::Node& node, const std::stri
     }
   }
 }
+/// Whether `text` is UTF-8 (what YAML text is, and what the JSON written from it must be:
+/// a Latin-1 name once failed only after a whole simulation, in nlohmann's dump).
+bool is_utf8(const std::string& text) {
+  for (std::size_t k = 0; k < text.size();) {
+    const auto c = static_cast<unsigned char>(text[k]);
+    std::size_t len = 1;
+    if (c >= 0xF0 && c <= 0xF4) {
+      len = 4;
+    } else if (c >= 0xE0) {
+      len = c <= 0xEF ? 3 : 0;
+    } else if (c >= 0xC2) {
+      len = 2;
+    } else if (c >= 0x80) {
+      len = 0;
+    }
+    bool ok = len != 0 && k + len <= text.size();
+    for (std::size_t n = 1; ok && n < len; ++n) ok = (static_cast<unsigned char>(text[k + n]) & 0xC0U) == 0x80U;
+    if (!ok) return false;
+    k += len;
+  }
+  return true;
+}
 }  // namespace
 
 YamlFields YamlFields::load_file(const std::string& path) {
@@ -171,6 +193,7 @@ std::string YamlFields::text(const std::string& key) const {
   if (!n.IsScalar()) {
     fail(key, "expected text");
   }
+  if (!is_utf8(n.Scalar())) fail(key, "bytes that are not UTF-8 text");
   return n.Scalar();
 }
 std::string YamlFields::text(const std::string& key, const std::string& fallback) const {

@@ -11,6 +11,27 @@
 namespace jg::robot {
 namespace {
 
+/// Whether {xx, yy, zz, xy, xz, yz} [kg m^2] about the centre of mass is a body's inertia:
+/// the second moment of its mass, S = tr(I)/2 * 1 - I, positive semi-definite (every
+/// principal minor >= 0, to a rounding tolerance). That holds I positive semi-definite and
+/// each principal moment at most the sum of the other two.
+bool physical_inertia(const double (&i)[6]) {
+  const double tol = 1e-12 * (std::abs(i[0]) + std::abs(i[1]) + std::abs(i[2]) + 1e-300);
+  const double h = 0.5 * (i[0] + i[1] + i[2]);
+  const double s[3][3] = {{h - i[0], -i[3], -i[4]}, {-i[3], h - i[1], -i[5]}, {-i[4], -i[5], h - i[2]}};
+  for (int k = 0; k < 3; ++k) {
+    if (s[k][k] < -tol) return false;
+  }
+  for (int a = 0; a < 3; ++a) {
+    for (int b = a + 1; b < 3; ++b) {
+      if (s[a][a] * s[b][b] - s[a][b] * s[a][b] < -tol * tol) return false;
+    }
+  }
+  const double det = s[0][0] * (s[1][1] * s[2][2] - s[1][2] * s[1][2]) - s[0][1] * (s[0][1] * s[2][2] - s[1][2] * s[0][2]) +
+                     s[0][2] * (s[0][1] * s[1][2] - s[1][1] * s[0][2]);
+  return det >= -tol * tol * tol;
+}
+
 RobotModel load_yaml(const std::string& path) {
   const io::YamlFields root = io::YamlFields::load_file(path);
   root.allow_only({"name", "description", "gravity_m_s2", "joints", "sources", "plant_effects"});
@@ -45,6 +66,9 @@ RobotModel load_yaml(const std::string& path) {
     for (int k = 0; k < 6; ++k) d.link.inertia_com[k] = in.number(keys[k], 0.0);
     for (int k = 0; k < 3; ++k) {
       if (d.link.inertia_com[k] < 0.0) in.fail(keys[k], "diagonal inertia must be >= 0");
+    }
+    if (!physical_inertia(d.link.inertia_com)) {
+      j.fail("inertia_kg_m2", "not the inertia of a body (not positive semi-definite, or a principal moment larger than the other two together)");
     }
     d.link.rotor_inertia = j.number("rotor_inertia_kg_m2", 0.0);
     if (d.link.rotor_inertia < 0.0) j.fail("rotor_inertia_kg_m2", "must be >= 0");

@@ -79,4 +79,27 @@ expect 1 "fr_syntax.json:2:[0-9]*: invalid JSON" -- "${REPLAY[@]}" --friction "$
 printf '{"joints": [{"joint": 1, "threshold": 1e999}]}\n' > "$W/th_huge.json"
 expect 1 "th_huge.json: invalid JSON: a number beyond the range of a double" -- "${REPLAY[@]}" --friction "$FR" --threshold "$W/th_huge.json"
 ! grep -q "json.exception" "$W/err.txt" || { echo "raw nlohmann message"; cat "$W/err.txt"; exit 1; }
+# A header naming joint 1 twice (q1 and q01) is refused, not read interleaved.
+{ head -1 tests/data/recordings/held_arm.csv | sed 's/$/,q01/'; tail -n +2 tests/data/recordings/held_arm.csv | sed 's/$/,0/'; } > "$W/q01.csv"
+expect 1 "q01.csv:1: field 'q01': joint 1 given twice (also 'q1')" -- "$J" replay "$W/q01.csv" --model models/ref3.yaml --friction "$FR" --threshold "$TH"
+# An inertia that no body has (not positive semi-definite; a principal moment beyond the sum
+# of the other two) is refused naming file, line and field.
+sed '17s/{xx: 0.03, yy: 0.03, zz: 0.02}/{xx: 0.03, yy: 0.03, zz: 0.02, xy: 0.5}/' models/ref3.yaml > "$W/npd.yaml"
+sed '17s/{xx: 0.03, yy: 0.03, zz: 0.02}/{xx: 0.01, yy: 0.01, zz: 0.05}/' models/ref3.yaml > "$W/moments.yaml"
+for m in npd moments; do
+  expect 1 "$m.yaml:17:20: field 'joints\[0\].inertia_kg_m2': not the inertia of a body" -- "$J" replay tests/data/recordings/held_arm.csv \
+    --model "$W/$m.yaml" --friction "$FR" --threshold "$TH"
+done
+# A Latin-1 scenario name is refused before the run (it once failed after it, in the JSON
+# writer, leaving .csv.tmp and .json.tmp behind).
+{ printf 'name: caf\xe9\n'; grep -v '^name:' scenarios/paper_excitation.yaml | sed "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#"; } > "$W/latin1.yaml"
+expect 1 "latin1.yaml:1:7: field 'name': bytes that are not UTF-8 text" -- "$J" simulate "$W/latin1.yaml" --out "$W/never.csv"
+! ls "$W"/never* > /dev/null 2>&1 || { echo "a refused scenario left files: $(ls "$W"/never*)"; exit 1; }
+# decode: a capture with an undecodable frame exits 1 and writes no JSON; a JSON that cannot
+# be written (missing folder) is an error, not "exit 0".
+printf '(0.000000) vcan0 010##0AA\n' > "$W/short_sync.log"
+expect 1 "not written" -- "$J" decode "$W/short_sync.log" --json "$W/never.json"
+[ ! -e "$W/never.json" ] || { echo "decode wrote its JSON for an undecodable capture"; exit 1; }
+printf '(0.000000) vcan0 010##00000000000000000\n' > "$W/sync.log"
+expect 1 "nodir/t.json" -- "$J" decode "$W/sync.log" --json "$W/nodir/t.json"
 echo "bounds: ok"

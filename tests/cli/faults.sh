@@ -32,6 +32,12 @@ expect2 "joint 4 does not exist" -- "${sim[@]}" --fault drop:4@0.5
 expect2 "after the run's end" -- "${sim[@]}" --fault drop@3
 expect2 "add --bus sim" -- "$J" simulate "$S" --out "$W/never.csv" --fault drop@0.5
 expect2 "not injectable by the SocketCAN master" -- "$J" plant "$S" --iface vcan0 --threshold "$H/threshold.json" --fault restart:2@0.5
+# late and bus-off on SocketCAN are the drive's own (`node --fault`); the drive refuses the others.
+expect2 "jointguard node --joint J --fault late" -- "$J" plant "$S" --iface vcan0 --threshold "$H/threshold.json" --fault late:2@0.5
+expect2 "jointguard node --joint J --fault bus-off" -- "$J" plant "$S" --iface vcan0 --threshold "$H/threshold.json" --fault bus-off:2@0.5
+expect2 "a drive injects only late and bus-off" -- "$J" node --joint 2 --iface vcan0 --fault drop@0.5
+expect2 "target none or 2" -- "$J" node --joint 2 --iface vcan0 --fault bus-off:3@0.5
+expect2 "'late@x'" -- "$J" node --joint 2 --iface vcan0 --fault late@x
 [ ! -e "$W/never.csv" ] && [ ! -e "$W/never.json" ] || { echo "a refused run wrote output"; exit 1; }
 "$J" simulate "$S" --duration 2.2 --out "$W/r.csv" --bus sim --friction "$H/friction.json" --threshold "$H/threshold.json" \
   --fault restart:2@0.5:0.3 --json "$W/r.json" > "$W/out.txt"

@@ -169,6 +169,22 @@ TEST_F(RecordingTest, JointTorqueWritesAndReadsBack) {
   EXPECT_EQ(back.tau_j[0][1], 2.5);
 }
 
+// Text in the side file that is not UTF-8 (a name from elsewhere) is written replaced,
+// never thrown after the CSV was written (issue 14: .csv.tmp and .json.tmp were left behind).
+TEST_F(RecordingTest, SideFileTextThatIsNotUtf8IsReplacedAndNothingTemporaryIsLeft) {
+  jg::io::Recording rec;
+  rec.resize(1, 2, false, false, false, false);
+  rec.t = {0.0, 0.001};
+  rec.tau_j = {{1.5, 2.5}};
+  rec.torque_kind = jg::io::TorqueKind::tau_j;
+  rec.meta.scenario = "caf\xe9";
+  const std::string path = (dir / "latin1.csv").string();
+  jg::io::write_recording(path, rec);
+  EXPECT_FALSE(fs::exists(path + ".tmp"));
+  EXPECT_FALSE(fs::exists((dir / "latin1.json.tmp").string()));
+  EXPECT_EQ(jg::io::read_recording(path).meta.scenario, "caf\xef\xbf\xbd");  // U+FFFD
+}
+
 TEST(TorqueKindModel, JointTorqueSensorSeesNoRotorInertia) {
   jg::robot::RobotModel m;
   m.joints.resize(2);

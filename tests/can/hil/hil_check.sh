@@ -75,13 +75,13 @@ echo "hil_check: 7 joints: SocketCAN run and in-process run identical"
 
 # Faults mid-run (hil_payload.sh): the run goes on to its end (no abort), the master raises the
 # communication fault within 5 cycles of the first cycle it closed without a drive and the
-# arm holds, the faulted drive's neighbours report it themselves (restart), and at the end
-# every drive is back: the restarted drive 2 ran again from a sync, no drive and not the
-# master has a fault left.
+# arm holds, the faulted drive's neighbours report it themselves (restart, late, bus-off),
+# and at the end every drive is back: the restarted drive 2 ran again from a sync, no drive
+# and not the master has a fault left. The faults given by spec start at cycle 500.
 /usr/bin/python3 - "$out" <<'PY' || fail "faults mid-run on SocketCAN"
 import json, re, sys
 out = sys.argv[1]
-for fault in ("restart", "linkdown"):
+for fault in ("restart", "linkdown", "late", "busoff", "babble"):
     p = json.load(open(f"{out}/plant_{fault}.json"))
     text = open(f"{out}/plant_{fault}.txt").read()
     r, bus = p["runs"][0], p["bus"]
@@ -97,11 +97,39 @@ for fault in ("restart", "linkdown"):
     nodes[2] = json.load(open(f"{out}/{'restarted' if fault == 'restart' else fault}_node2.json"))
     for j, n in nodes.items():
         assert not n["communication_fault"], f"{fault}: drive {j} still has a communication fault"
+    fc = bus["first_comm_fault_cycle"]
+    extra = ""
+    if fault in ("late", "busoff", "babble"):
+        assert 500 <= k0 <= 505, f"{fault}: injected from cycle 500, first cycle without a drive {k0}"
+    if fault in ("late", "busoff"):
+        # Drive 2's neighbours hear no fresh frame from it: their own fault by the 6th cycle.
+        assert k0 <= fc[0] <= k0 + 6 and k0 <= fc[2] <= k0 + 6, f"{fault}: neighbours' fault at cycles {fc}, drive 2 silent from {k0}"
+        assert fc[1] == -1, f"{fault}: drive 2 itself heard its neighbours all along: {fc}"
+    if fault == "late":
+        f2 = nodes[2]["faults"]
+        assert 3 * 199 <= f2["frames_delayed"] <= 3 * 201, f"late: drive 2 delayed {f2['frames_delayed']} frames (3 per cycle x 200)"
+        assert nodes[1]["rejected"]["late"] + nodes[3]["rejected"]["late"] > 100, "late: the neighbours counted no late frame"
+        assert bus["out_of_cycle"] > 100, f"late: the master counted {bus['out_of_cycle']} statuses of another cycle"
+        extra = f", {f2['frames_delayed']} frames held 10 cycles, {bus['out_of_cycle']} out-of-cycle statuses at the master"
+    if fault == "busoff":
+        f2 = nodes[2]["faults"]
+        assert f2["bus_off_entries"] == 1 and f2["bus_off_recoveries"] == 1 and not f2["bus_off_at_end"], f2
+        assert f2["refused_bus_off"] >= 2 * 199, f"bus-off: {f2['refused_bus_off']} sends refused"
+        assert nodes[2]["send_failures"] >= 199, nodes[2]
+        extra = f", drive 2 bus-off and restarted once, {f2['refused_bus_off']} sends refused"
+    if fault == "babble":
+        m = re.search(r"babbler sent (\d+) frames; the master lost arbitration (\d+) times", text)
+        assert m and int(m.group(1)) > 1000 and int(m.group(2)) >= 190, f"babble: {m and m.group(0)}"
+        assert bus["rejected"] > 1000, f"babble: the master rejected {bus['rejected']} frames (the babbled garbage)"
+        # The babbled identifier is joint 1's collision event: none taken while it babbled
+        # (after it, the drives' own events of the warm-up at a standstill are real frames).
+        babbled = [e for e in p["events"] if e["joint"] == 1 and 500 <= e["cycle"] < 700]
+        assert not babbled, f"babble: babbled frames taken as joint 1's collision event: {babbled}"
+        extra = f", {m.group(0)}, {bus['rejected']} babbled frames rejected"
     if fault == "restart":
         assert bus["restarts"] == 1, bus
         assert nodes[2]["cycles"] > 100, f"restarted drive 2 ran {nodes[2]['cycles']} cycles"
-        fc = bus["first_comm_fault_cycle"]
         assert fc[0] >= k0 and fc[2] >= k0, f"neighbours did not report drive 2 silent: {fc}"
     print(f"hil_check: {fault}: drive(s) silent from cycle {k0}, communication fault {detect} cycles later, "
-          f"arm held, all drives back at the end (restarts {bus['restarts']}, drives' own fault at cycles {bus['first_comm_fault_cycle']})")
+          f"arm held, all drives back at the end (restarts {bus['restarts']}, drives' own fault at cycles {fc}){extra}")
 PY

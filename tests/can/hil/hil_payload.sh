@@ -41,8 +41,11 @@ cat out/plant7.txt
 
 # Faults mid-run (issue 14, docs/can.md "Faults"): the 3-joint run again, once with drive 2
 # killed (SIGKILL) and restarted 0.3 s later, once with vcan0 down for 0.5 s, each after the
-# master has sent 500 syncs. The master waits 100 ms for a drive that answered the previous
-# cycle, 10 ms for one already silent (--timeout-ms 100). hil_check.sh checks the end states.
+# master has sent 500 syncs; then with faults injected by spec from 0.5 s of plant time
+# (cycle 500) for 0.2 s: drive 2's frames late (`node --fault late`), drive 2's controller
+# bus-off (`node --fault bus-off:2`), a babbling node (`plant --fault babble`). The master
+# waits 100 ms for a drive that answered the previous cycle, 10 ms for one already silent
+# (--timeout-ms 100). hil_check.sh checks the end states.
 wait_syncs() {  # CAPTURE COUNT: until candump has logged COUNT cycle syncs (60 s at most)
   n=0
   while [ "$(grep -c ' 010##' "$1" 2>/dev/null || true)" -lt "$2" ]; do
@@ -51,35 +54,55 @@ wait_syncs() {  # CAPTURE COUNT: until candump has logged COUNT cycle syncs (60 
     [ "$n" -lt 1200 ] || return 1
   done
 }
-node() {  # JOINT TAG
-  exec ./jointguard node --joint "$1" --iface vcan0 --model ref3.yaml --friction friction.json --threshold threshold.json \
-    --idle-exit 1 --startup-timeout 60 --json "out/$2_node$1.json" >"out/$2_node$1.txt" 2>&1
+node() {  # JOINT TAG [--fault SPEC]; $idle: exit after that long without a sync [s]
+  j=$1 tag=$2
+  shift 2
+  exec ./jointguard node --joint "$j" --iface vcan0 --model ref3.yaml --friction friction.json --threshold threshold.json \
+    --idle-exit "$idle" --startup-timeout 60 --json "out/${tag}_node$j.json" "$@" >"out/${tag}_node$j.txt" 2>&1
 }
-for fault in restart linkdown; do
-  candump -r 4194304 -L vcan0 >"out/capture_$fault.log" &
-  dump=$!
-  sleep 0.5
+for fault in restart linkdown late busoff babble; do
+  drive2="" plant_fault="" idle=3  # a loaded host may stall the VM for a second
+  case $fault in
+    late) drive2="--fault late@0.5:0.2" ;;
+    busoff) drive2="--fault bus-off:2@0.5:0.2" ;;
+    # No sync for the babble's 200 cycles, each closed after 10 ms (no drive answers): 2 s
+    # and more of wall time, which the drives must not take for the end of the run.
+    babble) plant_fault="--fault babble@0.5:0.2" idle=6 ;;
+  esac
+  dump=""
+  if [ "$fault" = restart ] || [ "$fault" = linkdown ]; then
+    candump -r 4194304 -L vcan0 >"out/capture_$fault.log" &
+    dump=$!
+    sleep 0.5
+  fi
   node 1 "$fault" & p1=$!
-  node 2 "$fault" & p2=$!
+  # shellcheck disable=SC2086 # the option and its spec: two words, or none
+  node 2 "$fault" $drive2 & p2=$!
   node 3 "$fault" & p3=$!
+  # shellcheck disable=SC2086
   ./jointguard plant hil_shoulder.yaml --iface vcan0 --friction friction.json --threshold threshold.json \
-    --timeout-ms 100 --json "out/plant_$fault.json" >"out/plant_$fault.txt" 2>&1 &
+    --timeout-ms 100 --json "out/plant_$fault.json" $plant_fault >"out/plant_$fault.txt" 2>&1 &
   plant=$!
-  wait_syncs "out/capture_$fault.log" 500 || { echo "hil_payload: $fault: no 500 syncs within 60 s"; rc=1; }
+  if [ -n "$dump" ]; then
+    wait_syncs "out/capture_$fault.log" 500 || { echo "hil_payload: $fault: no 500 syncs within 60 s"; rc=1; }
+  fi
   if [ "$fault" = restart ]; then
     kill -9 "$p2"
     sleep 0.3
     node 2 restarted & p2=$!
-  else
+  elif [ "$fault" = linkdown ]; then
     ip link set vcan0 down
     sleep 0.5
     ip link set vcan0 up
   fi
   wait "$plant" || rc=$?
   for p in $p1 $p2 $p3; do wait "$p" || rc=$?; done
-  kill "$dump" 2>/dev/null || true
-  wait "$dump" || true
+  if [ -n "$dump" ]; then
+    kill "$dump" 2>/dev/null || true
+    wait "$dump" || true
+  fi
   echo "== $fault"
   cat "out/plant_$fault.txt"
+  [ "$fault" = restart ] || cat "out/${fault}_node2.txt"
 done
 exit "$rc"

@@ -47,6 +47,14 @@ class SocketCanPort {
   [[nodiscard]] const SocketCanCounters& counters() const noexcept { return counters_; }
   [[nodiscard]] const std::string& interface() const noexcept { return interface_; }
 
+  /// Fault injection (`jointguard node --fault bus-off:J@START:DURATION`, docs/can.md): a
+  /// virtual CAN interface has no controller that could go bus-off, so this feeds the port
+  /// the error frame a real adapter's driver delivers, through the same mapping as received
+  /// ones: bus_off = CAN_ERR_BUSOFF (sends refused with CanStatus::bus_off, error_state()
+  /// bus_off), error_active = CAN_ERR_RESTARTED (the controller restarted, e.g. by the
+  /// driver's `restart-ms`), error_passive = CAN_ERR_CRTL with the passive bits.
+  void inject_controller_state(CanErrorState state) noexcept;
+
  private:
   int fd_ = -1;
   std::string interface_;
@@ -54,6 +62,7 @@ class SocketCanPort {
   CanErrorState state_ = CanErrorState::error_active;
   bool link_down_ = false;  ///< bus_off came from ENETDOWN (interface down), not from the controller
   SocketCanCounters counters_{};
+  void on_error_frame(std::uint32_t can_id, const std::uint8_t* data) noexcept;
 };
 
 static_assert(is_can_port_v<SocketCanPort>, "SocketCanPort satisfies the CAN port contract");
