@@ -30,7 +30,7 @@ struct EvaluateOptions {
   int count = 50, debounce = 1, jobs = 0;
   double speed = 0.8;
   bool sweep = false;
-  std::string shard;
+  std::string shard, compare_scalar;
   unsigned long long seed = 1;
   ObserverOptions observer;
   robot::LoadOptions model_options;
@@ -140,6 +140,10 @@ Command add_evaluate(CLI::App& app) {
   cmd->add_flag("--no-hold", o->no_hold, "Band detector alone (no change detection while a joint holds)");
   cmd->add_flag("--free-run-without-holds", o->free_run_without_holds,
                 "False-alarm run on random moves with short dwells only (the motion before holds were added)");
+  cmd->add_option("--compare-scalar", o->compare_scalar,
+                  "paper/campaign: also run this firmware scalar's estimator on the same measurements and thresholds "
+                  "and count the collisions both detect on the same cycle")
+      ->check(CLI::IsMember({"float", "q"}));
   cmd->add_option("--margin", o->margin, "Threshold margin above the observed band [N·m]")->capture_default_str()->check(finite_range(0.0, 1000.0));
   cmd->add_option("--debounce", o->debounce, "Cycles over threshold before a detection")->capture_default_str()->check(CLI::Range(1, 50));
   cmd->add_option("--reaction", o->reaction, "Reaction on detection")->check(CLI::IsMember({"none", "stop", "zero_gravity", "retreat", "reflex"}))->capture_default_str();
@@ -178,6 +182,7 @@ Command add_evaluate(CLI::App& app) {
             c.hold_settle_s = o->hold_settle_s;
             c.isolation_window_s = o->isolation_window_s;
             c.free_run_holds = !o->free_run_without_holds;
+            c.compare_scalar = o->compare_scalar == o->scalar ? std::string() : o->compare_scalar;
             c.reaction = reaction_of(o->reaction);
             eval::RunSplit split;
             split.jobs = o->jobs == 0 ? eval::default_jobs() : o->jobs;
@@ -238,7 +243,8 @@ Command add_evaluate(CLI::App& app) {
                           {"observer", to_string(c.gains.kind)}, {"gains", {c.gains.k1, c.gains.k2, c.gains.k3}},
                           {"hold_change_threshold", c.hold_threshold}, {"hold_settle_s", c.hold_settle_s},
                           {"hold_reference_s", c.hold_reference_s}, {"hold_calibration_s", c.hold_calibration_s},
-                          {"isolation_window_s", c.isolation_window_s}, {"false_alarm_run_with_holds", c.free_run_holds}};
+                          {"isolation_window_s", c.isolation_window_s}, {"false_alarm_run_with_holds", c.free_run_holds},
+                          {"compare_scalar", c.compare_scalar}};
             if (!o->shard.empty()) {
               const auto segments = static_cast<std::size_t>(std::max(1.0, std::ceil(free_s / eval::kFreeRunSegmentS - 1e-9)));
               const nlohmann::json identity = {{"scenario", o->scenario}, {"count", o->count}, {"seed", o->seed},

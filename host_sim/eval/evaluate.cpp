@@ -30,7 +30,7 @@ HoldChangeParams<double> hold_params(double threshold, double settle_s, double r
 }
 
 RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator, const DetectionConfig& d,
-                        const std::string& name, bool record_trace) {
+                        const std::string& name, bool record_trace, Estimator* other) {
   const std::size_t n = setup.plant.links.size();
   if (d.threshold.size() != n) throw std::invalid_argument("detection: one threshold per joint required");
   RunResult out;
@@ -75,6 +75,12 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
   JointMask window_signature = 0;  // joints taking part in the signature since the detection
   double last_alarm_t = -1e9;
   const double isolation_fraction = d.isolation_fraction;
+  out.compared = other != nullptr;
+  bool other_started = false;
+  sim::JointVector other_mu;
+  std::vector<JointDetectorState> other_states(n);
+  std::vector<HoldChangeState<double>> other_hold_states(n);
+  const DebounceSettings debounce{static_cast<std::uint8_t>(d.debounce_cycles)};
   const sim::ControlOverride hook = [&](const sim::CycleContext& ctx) -> std::optional<sim::JointVector> {
     const sim::Measurement& m = *ctx.measurement;
     const JointMask holding = sim::holding_mask(*ctx.reference);
@@ -102,13 +108,28 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       out.t_node_flagged = ctx.t;
       out.link_node_isolated = isolate_link(reported);
     }
+    if (other != nullptr) {
+      // The same detector on the second estimator: only its first detection is recorded
+      // (one before the contact is a false alarm, re-armed as below).
+      estimate(*other, m, holding, other_started, other_mu);
+      JointMask other_now = 0;
+      for (std::size_t j = 0; j < n; ++j) {
+        const auto i = static_cast<Eigen::Index>(j);
+        const bool changed = hold_change_step(hold_detector[j], other_hold_states[j], ((holding >> j) & 1U) != 0U, other_mu(i));
+        if (detector_step(thresholds[j], debounce, other_states[j], other_mu(i), m.dq(i), changed)) other_now |= static_cast<JointMask>(1U << j);
+      }
+      if (other_now != 0 && (setup.collisions.empty() || ctx.t < out.t_collision)) {
+        for (auto& st : other_states) reset_detector(st);
+      } else if (other_now != 0 && !out.t_detected_other) {
+        out.t_detected_other = ctx.t;
+      }
+    }
     JointMask now = 0;
     JointMask by_band = 0;
     for (std::size_t j = 0; j < n; ++j) {
       const auto i = static_cast<Eigen::Index>(j);
       const bool changed = hold_change_step(hold_detector[j], hold_states[j], ((holding >> j) & 1U) != 0U, mu(i));
-      if (detector_step(thresholds[j], DebounceSettings{static_cast<std::uint8_t>(d.debounce_cycles)}, states[j], mu(i),
-                        m.dq(i), changed)) {
+      if (detector_step(thresholds[j], debounce, states[j], mu(i), m.dq(i), changed)) {
         now |= static_cast<JointMask>(1U << j);
       }
       const double band = threshold_at(thresholds[j], m.dq(i));
@@ -229,7 +250,12 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       const double in_effect = traced ? in_effect_trace[k * n + j] : threshold_at(thresholds[j], rec.dq[j][k]);
       const double ratio = magnitude / in_effect;
       out.max_true_ratio = std::max(out.max_true_ratio, ratio);
-      out.max_true_ratio_moving = std::max(out.max_true_ratio_moving, magnitude / d.threshold[j]);
+      if (magnitude / d.threshold[j] > out.max_true_ratio_moving) {
+        out.max_true_ratio_moving = magnitude / d.threshold[j];
+        out.peak_joint = static_cast<int>(j) + 1;
+        out.peak_true_torque_nm = magnitude;
+        out.speed_at_peak_rad_s = std::fabs(rec.dq[j][k]);
+      }
       if (!out.t_threshold && ratio > 1.0) out.t_threshold = rec.t[k];
       if (magnitude > d.threshold[j]) highest_clear = static_cast<int>(j) + 1;
       if (traced && ((holding_trace[k] >> j) & 1U) != 0U) {

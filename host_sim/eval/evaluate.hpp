@@ -63,13 +63,24 @@ struct RunResult {
   bool isolable = false;
   double held_push_nm = 0.0;               ///< held_push: the torque the push puts on its own joint [N·m]
   double peak_true_torque_held = 0.0;      ///< max true |tau_ext| on a joint while its controller held [N·m]
+  /// Where the true torque peaks against the moving threshold: the joint (1-based, 0 when no
+  /// contact), its true |tau_ext| [N·m] and measured |velocity| [rad/s] there (miss analysis).
+  int peak_joint = 0;
+  double peak_true_torque_nm = 0.0, speed_at_peak_rad_s = 0.0;
+  /// Runs with a second estimator (the other firmware scalar) beside the one that acts: the
+  /// same detector's first detection on its estimate (it sees the same measurements; only
+  /// the first estimator's detection drives the reaction).
+  bool compared = false;
+  std::optional<double> t_detected_other;
   Trace trace;
   io::Recording recording;  ///< the run's recording (kept only with record_trace)
 };
 
-/// Runs one scenario. `record_trace` keeps mu and tau_ext per cycle for plots.
+/// Runs one scenario. `record_trace` keeps mu and tau_ext per cycle for plots. `other`
+/// (optional): a second estimator fed the same measurements, whose detections are only
+/// recorded (RunResult::t_detected_other), e.g. the other scalar's firmware core.
 RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator, const DetectionConfig& detection,
-                        const std::string& name, bool record_trace);
+                        const std::string& name, bool record_trace, Estimator* other = nullptr);
 
 /// The holding detector's parameters from seconds at sample time dt: settle and reference
 /// windows rounded up to whole cycles (at least one cycle of reference).

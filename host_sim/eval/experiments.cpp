@@ -63,6 +63,16 @@ std::unique_ptr<Estimator> estimator_for(const ExperimentConfig& c) {
   return make_firmware_estimator(f, c.scalar);
 }
 
+namespace {
+/// The compare_scalar's estimator (nullptr when none is configured).
+std::unique_ptr<Estimator> other_estimator_for(const ExperimentConfig& c) {
+  if (c.compare_scalar.empty()) return nullptr;
+  ExperimentConfig other = c;
+  other.scalar = c.compare_scalar;
+  return estimator_for(other);
+}
+}  // namespace
+
 DetectionConfig detection_for(const ExperimentConfig& c) {
   DetectionConfig d;
   d.threshold = c.thresholds;
@@ -99,6 +109,19 @@ Summary summarize(const std::vector<RunResult>& runs) {
     if (r.max_true_ratio_moving > 1.5) {
       ++s.detectable_moving;
       s.detectable_moving_found += r.t_detected ? 1 : 0;
+    }
+    if (r.peak_force_n > 0.0) {
+      ++s.touched;
+      s.touched_detected += r.t_detected ? 1 : 0;
+      s.touched_below_moving += r.max_true_ratio_moving < 1.0 ? 1 : 0;
+    }
+    if (r.compared) {
+      ++s.compared;
+      if (r.t_detected || r.t_detected_other) {
+        ++s.compared_detected;
+        // Same cycle: equal time stamps of one simulation's control clock.
+        s.same_cycle += r.t_detected && r.t_detected_other && std::fabs(*r.t_detected - *r.t_detected_other) < 1e-9 ? 1 : 0;
+      }
     }
   }
   std::sort(delays.begin(), delays.end());
@@ -295,8 +318,9 @@ std::vector<RunResult> paper_experiments(const ExperimentConfig& c, bool traces,
     setup.collisions = {e};
     setup.duration_s = s.t + 1.5;
     auto est = estimator_for(c);
+    auto other = other_estimator_for(c);
     const DetectionConfig d = detection_for(c);
-    slots[slot] = run_detection(setup, *est, d, s.name, traces);
+    slots[slot] = run_detection(setup, *est, d, s.name, traces, other.get());
     slots[slot].index = static_cast<int>(chosen[slot]);
   });
   for (auto& r : slots) out.push_back(std::move(r));
@@ -391,8 +415,10 @@ std::vector<RunResult> campaign(const ExperimentConfig& c, int count, const std:
     setup.collisions = {e};
     setup.duration_s = e.t_start + std::max(1.0, e.duration_s + e.rise_s + 0.5);
     auto est = estimator_for(c);
+    auto other = other_estimator_for(c);
     const DetectionConfig d = detection_for(c);
-    out[slot] = run_detection(setup, *est, d, "campaign " + std::to_string(i + 1) + " (" + sim::to_string(e.profile) + ")", false);
+    out[slot] = run_detection(setup, *est, d, "campaign " + std::to_string(i + 1) + " (" + sim::to_string(e.profile) + ")", false,
+                              other.get());
     out[slot].index = static_cast<int>(i);
   }, progress);
   return out;

@@ -39,6 +39,10 @@ struct ExperimentConfig {
   double isolation_window_s = 0.0;  ///< DetectionConfig::isolation_window_s
   /// The false-alarm run's motion includes holds (make_random_moves_with_holds).
   bool free_run_holds = true;
+  /// Campaign and paper runs: the other firmware scalar ("float" or "q"; empty: none) runs
+  /// beside `scalar` on the same measurements with the same thresholds, and its detection
+  /// cycle is recorded (RunResult::t_detected_other).
+  std::string compare_scalar;
 };
 
 /// The holding detector's threshold from the largest collision-free deviation seen while
@@ -131,6 +135,13 @@ struct Summary {
   /// that crossing [s]: how many within 10 ms, median, 95th percentile, max.
   int after_crossing = 0, after_crossing_within_10ms = 0;
   double after_crossing_median = 0, after_crossing_p95 = 0, after_crossing_max = 0;
+  /// The physical ceiling: runs whose contact exerted any force at all (a clamp obstacle
+  /// the arm moves away from is never touched), how many of those were detected, and how
+  /// many touched with a true torque that never reaches the moving threshold on any joint.
+  int touched = 0, touched_detected = 0, touched_below_moving = 0;
+  /// Runs with a second scalar (compare_scalar): how many, how many either scalar detected,
+  /// and of those how many both detected on the same cycle.
+  int compared = 0, compared_detected = 0, same_cycle = 0;
 };
 Summary summarize(const std::vector<RunResult>& runs);
 
