@@ -29,6 +29,7 @@ nlohmann::json run_json(const eval::RunResult& r) {
   j["peak_joint"] = r.peak_joint;
   j["peak_true_torque"] = r.peak_true_torque_nm;
   j["speed_at_peak"] = r.speed_at_peak_rad_s;
+  j["detected_by_residual"] = r.detected_by_residual;
   if (r.compared) j["t_detected_other_scalar"] = optional_json(r.t_detected_other);
   return j;
 }
@@ -57,6 +58,7 @@ eval::RunResult run_from_json(const nlohmann::json& j) {
   r.peak_true_torque_held = j.at("peak_true_torque_held").get<double>();
   r.held_push_nm = j.at("held_push").get<double>();
   r.peak_joint = j.value("peak_joint", 0);
+  r.detected_by_residual = j.value("detected_by_residual", false);
   r.peak_true_torque_nm = j.value("peak_true_torque", 0.0);
   r.speed_at_peak_rad_s = j.value("speed_at_peak", 0.0);
   r.compared = j.contains("t_detected_other_scalar");
@@ -108,6 +110,7 @@ nlohmann::json evaluate_json(const EvaluateFigures& f) {
             {"isolable", sum.isolable},
             {"isolated_of_isolable", sum.isolated_of_isolable},
             {"detected_by_hold", sum.detected_by_hold},
+            {"detected_by_residual", sum.detected_by_residual},
             {"held_smallest_detected", held_smallest(f.runs)},
             {"detection_rate_over_1p5x_threshold", sum.detectable ? static_cast<double>(sum.detectable_found) / sum.detectable : 1.0},
             {"over_1p5x_threshold", {{"collisions", sum.detectable}, {"detected", sum.detectable_found}}},
@@ -168,6 +171,12 @@ void print_figures(const EvaluateFigures& f) {
     int quiet_alarms = 0;
     for (const auto& r : f.runs) quiet_alarms += r.held_push_nm <= 0.0 ? static_cast<int>(r.false_alarm_times.size()) : 0;
     std::printf("; alarms in the hold without contact: %d\n", quiet_alarms);
+  }
+  if (f.config.contains("residual_change_threshold") && !f.config["residual_change_threshold"].empty()) {
+    std::printf("residual detector (baseline time constant %.3f s): change threshold",
+                f.config.value("residual_time_constant_s", 0.0));
+    for (const auto& h : f.config["residual_change_threshold"]) std::printf(" %.3f", h.get<double>());
+    std::printf(" N·m; detections first seen by it (not the band) %d\n", sum.detected_by_residual);
   }
   if (f.config.contains("hold_change_threshold") && !f.config["hold_change_threshold"].empty()) {
     std::printf("holding detector: change threshold");

@@ -29,6 +29,13 @@ HoldChangeParams<double> hold_params(double threshold, double settle_s, double r
   return p;
 }
 
+ResidualChangeParams<double> residual_params(double threshold, double time_constant_s, double dt) {
+  ResidualChangeParams<double> p;
+  p.change_threshold = threshold;
+  p.smoothing = time_constant_s > dt ? dt / time_constant_s : 1.0;
+  return p;
+}
+
 RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator, const DetectionConfig& d,
                         const std::string& name, bool record_trace, Estimator* other) {
   const std::size_t n = setup.plant.links.size();
@@ -49,6 +56,12 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
   const double dt = 1.0 / setup.control_rate_hz;
   for (std::size_t j = 0; j < n; ++j) {
     hold_detector[j] = hold_params(j < d.hold_threshold.size() ? d.hold_threshold[j] : 0.0, d.hold_settle_s, d.hold_reference_s, dt);
+  }
+  std::vector<ResidualChangeParams<double>> residual_detector(n);
+  std::vector<ResidualChangeState<double>> residual_states(n), other_residual_states(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    residual_detector[j] = residual_params(j < d.residual_threshold.size() ? d.residual_threshold[j] : 0.0,
+                                           d.residual_time_constant_s, dt);
   }
   // Per cycle, for the ground truth below: the holding mask and each joint's threshold in
   // effect (the band at the measured velocity, or the change threshold while the holding
@@ -115,7 +128,8 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       JointMask other_now = 0;
       for (std::size_t j = 0; j < n; ++j) {
         const auto i = static_cast<Eigen::Index>(j);
-        const bool changed = hold_change_step(hold_detector[j], other_hold_states[j], ((holding >> j) & 1U) != 0U, other_mu(i));
+        const bool held_change = hold_change_step(hold_detector[j], other_hold_states[j], ((holding >> j) & 1U) != 0U, other_mu(i));
+        const bool changed = residual_change_step(residual_detector[j], other_residual_states[j], other_mu(i)) || held_change;
         if (detector_step(thresholds[j], debounce, other_states[j], other_mu(i), m.dq(i), changed)) other_now |= static_cast<JointMask>(1U << j);
       }
       if (other_now != 0 && (setup.collisions.empty() || ctx.t < out.t_collision)) {
@@ -125,10 +139,13 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       }
     }
     JointMask now = 0;
-    JointMask by_band = 0;
+    JointMask by_band = 0, by_residual = 0;
     for (std::size_t j = 0; j < n; ++j) {
       const auto i = static_cast<Eigen::Index>(j);
-      const bool changed = hold_change_step(hold_detector[j], hold_states[j], ((holding >> j) & 1U) != 0U, mu(i));
+      const bool held_change = hold_change_step(hold_detector[j], hold_states[j], ((holding >> j) & 1U) != 0U, mu(i));
+      const bool residual_change = residual_change_step(residual_detector[j], residual_states[j], mu(i));
+      if (residual_change) by_residual |= static_cast<JointMask>(1U << j);
+      const bool changed = residual_change || held_change;
       if (detector_step(thresholds[j], debounce, states[j], mu(i), m.dq(i), changed)) {
         now |= static_cast<JointMask>(1U << j);
       }
@@ -156,7 +173,8 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       // joint may lag a joint below it by a few cycles).
       if (!out.t_detected) {
         out.t_detected = ctx.t;
-        out.detected_by_hold = by_band == 0;
+        out.detected_by_hold = by_band == 0 && by_residual == 0;
+        out.detected_by_residual = by_band == 0 && by_residual != 0;
         out.link_first_cycle = 0;
       }
       // Signature with a lower bar than detection: a joint takes part when its estimate is

@@ -9,6 +9,7 @@
 #include "eval/estimator.hpp"
 #include "jointguard/detection/detector.hpp"
 #include "jointguard/detection/hold_detector.hpp"
+#include "jointguard/detection/residual_detector.hpp"
 #include "sim/simulation.hpp"
 
 namespace jg::eval {
@@ -25,6 +26,11 @@ struct DetectionConfig {
   /// joint [N·m] (empty or 0: off), settle and reference windows [s].
   std::vector<double> hold_threshold;
   double hold_settle_s = 0.15, hold_reference_s = 0.016;
+  /// Change detection against the estimate's slow baseline at any speed
+  /// (residual_detector.hpp): threshold per joint [N·m] (empty or 0: off), baseline time
+  /// constant [s].
+  std::vector<double> residual_threshold;
+  double residual_time_constant_s = 0.2;
   Reaction reaction = Reaction::stop;
   std::vector<LuGreParams<double>> friction;  ///< for the zero-gravity mode's friction compensation
   double retreat_rad = 0.1;   ///< retreat: joint-space path length [rad] to go back along
@@ -58,6 +64,7 @@ struct RunResult {
   std::optional<double> t_comm_fault;      ///< first cycle a drive reported a communication fault (the arm holds)
   std::vector<double> contact_force_n;     ///< contact force per control cycle [N] (runs with collisions)
   bool detected_by_hold = false;           ///< the first detection came from the holding detector alone
+  bool detected_by_residual = false;       ///< the first detection came from the residual detector, not the band
   /// The collided link is nameable at all: the highest joint whose true |tau_ext| clears
   /// its band (the threshold in effect) at some cycle of the contact is the collided link.
   bool isolable = false;
@@ -85,6 +92,9 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
 /// The holding detector's parameters from seconds at sample time dt: settle and reference
 /// windows rounded up to whole cycles (at least one cycle of reference).
 HoldChangeParams<double> hold_params(double threshold, double settle_s, double reference_s, double dt);
+
+/// The residual detector's parameters: smoothing dt / T (at most 1).
+ResidualChangeParams<double> residual_params(double threshold, double time_constant_s, double dt);
 
 /// Collision-free run for calibration: max |mu| per joint (the observer band).
 std::vector<double> observer_band(const sim::SimulationSetup& setup, Estimator& estimator, double settle_s = 0.5);

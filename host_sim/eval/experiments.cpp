@@ -83,6 +83,8 @@ DetectionConfig detection_for(const ExperimentConfig& c) {
   d.isolation_window_s = c.isolation_window_s;
   d.hold_settle_s = c.hold_settle_s;
   d.hold_reference_s = c.hold_reference_s;
+  d.residual_threshold = c.residual_threshold;
+  d.residual_time_constant_s = c.residual_time_constant_s;
   d.reaction = c.reaction;
   d.friction = c.friction;
   return d;
@@ -102,6 +104,7 @@ Summary summarize(const std::vector<RunResult>& runs) {
     s.isolable += r.isolable ? 1 : 0;
     s.isolated_of_isolable += r.isolable && r.link_isolated == r.link_true ? 1 : 0;
     s.detected_by_hold += r.t_detected && r.detected_by_hold ? 1 : 0;
+    s.detected_by_residual += r.t_detected && r.detected_by_residual ? 1 : 0;
     if (r.max_true_ratio > 1.5) {
       ++s.detectable;
       s.detectable_found += r.t_detected ? 1 : 0;
@@ -217,6 +220,11 @@ Thresholds calibrate(const ExperimentConfig& c, double margin_nm) {
   BandStatistics stats(n);
   bool started = false;
   sim::JointVector mu, mu0;
+  // The residual detector as it runs in detection (baseline from the first cycle), with a
+  // threshold never reached: its largest collision-free |mu - baseline| per joint.
+  const ResidualChangeParams<double> rp = residual_params(1e9, c.residual_time_constant_s, 1.0 / c.rate_hz);
+  std::vector<ResidualChangeState<double>> residual(n);
+  std::vector<double> residual_band(n, 0.0);
   constexpr double kSettleS = 0.5;
   const sim::ControlOverride hook = [&](const sim::CycleContext& ctx) -> std::optional<sim::JointVector> {
     const sim::Measurement& m = *ctx.measurement;
@@ -228,16 +236,23 @@ Thresholds calibrate(const ExperimentConfig& c, double margin_nm) {
     }
     with->step(in, mu);
     without->step(in, mu0);
-    if (ctx.t >= kSettleS) {
-      for (std::size_t j = 0; j < n; ++j) {
-        const auto i = static_cast<Eigen::Index>(j);
+    for (std::size_t j = 0; j < n; ++j) {
+      const auto i = static_cast<Eigen::Index>(j);
+      if (ctx.t >= kSettleS) {
         stats.add(j, m.dq(i), mu(i), mu0(i));
+        residual_band[j] = std::max(residual_band[j], residual_deviation(residual[j], mu(i)));
       }
+      (void)residual_change_step(rp, residual[j], mu(i));
     }
     return std::nullopt;
   };
   (void)sim::run_simulation(free, hook);
   Thresholds t = stats.fit(margin_nm);
+  if (c.residual_detector) {
+    t.residual_band = residual_band;
+    t.residual_time_constant_s = c.residual_time_constant_s;
+    for (const double b : residual_band) t.residual_change.push_back(kResidualFactor * b + kResidualMargin);
+  }
   if (c.hold_calibration_s > 0.0) calibrate_holding(c, t);
   return t;
 }
@@ -262,6 +277,7 @@ Preparation prepare(ExperimentConfig& c, double margin_nm, const std::function<v
   c.low_speed_extra = p.thresholds.low_speed_extra;
   c.low_speed_width = p.thresholds.low_speed_width;
   c.hold_threshold = p.thresholds.hold_change;
+  c.residual_threshold = p.thresholds.residual_change;
   if (progress) progress(1.0);
   return p;
 }

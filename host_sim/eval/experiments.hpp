@@ -36,6 +36,12 @@ struct ExperimentConfig {
   std::vector<double> hold_threshold;
   double hold_settle_s = 0.15, hold_reference_s = 0.016;
   double hold_calibration_s = 1200.0;
+  /// Change detection against the estimate's slow baseline (residual_detector.hpp):
+  /// threshold per joint [N·m] (empty: off), the baseline's time constant [s], and whether
+  /// calibrate() fits it (on the same collision-free motion as the band).
+  std::vector<double> residual_threshold;
+  double residual_time_constant_s = 0.2;
+  bool residual_detector = true;
   double isolation_window_s = 0.0;  ///< DetectionConfig::isolation_window_s
   /// The false-alarm run's motion includes holds (make_random_moves_with_holds).
   bool free_run_holds = true;
@@ -49,6 +55,10 @@ struct ExperimentConfig {
 /// armed: kHoldFactor x it + kHoldMargin [N·m].
 inline constexpr double kHoldFactor = 1.5;
 inline constexpr double kHoldMargin = 0.2;
+/// The residual detector's threshold from the largest collision-free |mu - baseline| seen
+/// on the calibration motion: kResidualFactor x it + kResidualMargin [N·m].
+inline constexpr double kResidualFactor = 1.5;
+inline constexpr double kResidualMargin = 0.2;
 
 /// A simulation set-up on the model at the configured rate with realistic sensors and the
 /// paper's friction as truth.
@@ -127,6 +137,8 @@ struct Summary {
   int isolable = 0, isolated_of_isolable = 0;
   /// Detections whose first cycle over came from the holding detector alone.
   int detected_by_hold = 0;
+  /// Detections whose first cycle over came from the residual detector, not the band.
+  int detected_by_residual = 0;
   /// Collisions whose true torque exceeds 1.5x the threshold in effect on some joint, and
   /// how many of them were detected; the same against the moving threshold (stricter).
   int detectable = 0, detectable_found = 0, detectable_moving = 0, detectable_moving_found = 0;

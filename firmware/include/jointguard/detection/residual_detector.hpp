@@ -1,0 +1,68 @@
+// Change detection during motion: a contact as a fast change of the estimate against its
+// own slow baseline.
+//
+// Why: near standstill the band detector (detector.hpp) carries the stiction allowance of
+// several N·m, because the friction a slow joint holds is not predicted by any
+// velocity-driven model. But that unpredicted friction builds up with the arm's own
+// motion (over the reversal, a few hundred ms), while a contact's torque rises within tens
+// of ms. So the estimate mu minus a slow baseline of itself (an exponential average, time
+// constant T) stays small without contact at any speed and shows a contact's rise almost
+// whole: for a ramp of rise time r the residual at its end is (T / r)(1 - exp(-r / T)) of
+// the ramp's height (0.89 for r = 50 ms, T = 200 ms).
+//
+// Per joint and cycle:
+//   residual = mu - baseline;  baseline += smoothing x residual   (smoothing = dt / T)
+//   over when |residual| > change_threshold.
+// The first cycle after a reset starts the baseline at mu (never over). A change_threshold
+// <= 0 disables the detector (never over, no state change).
+//
+// Scalar: any (float, double, Q16.16). Q16.16: torques in N·m; the residual saturates;
+// smoothing x residual is one rounded product (an update below one LSB, 1.5e-5 N·m, is
+// lost: the baseline stays within LSB / smoothing of a constant mu, 3 mN·m at 1 kHz with
+// T = 200 ms, far below any threshold); the baseline saturates.
+// Cost per joint and cycle: one subtraction, one product, one addition, one |x| and one
+// comparison.
+#pragma once
+
+#include "jointguard/numeric/qmath.hpp"
+
+namespace jg {
+
+template <class S>
+struct ResidualChangeParams {
+  S change_threshold{};  ///< h [N·m]; <= 0: disabled
+  S smoothing{};         ///< dt / T of the baseline, in (0, 1]
+};
+
+template <class S>
+struct ResidualChangeState {
+  S baseline{};  ///< [N·m]
+  bool started = false;
+};
+
+/// One joint, one cycle: updates the baseline and returns whether mu has moved more than
+/// the change threshold away from it.
+template <class S>
+[[nodiscard]] constexpr bool residual_change_step(const ResidualChangeParams<S>& p, ResidualChangeState<S>& s,
+                                                  S external_torque) noexcept {
+  if (!(S{} < p.change_threshold)) {
+    return false;
+  }
+  if (!s.started) {
+    s.baseline = external_torque;
+    s.started = true;
+    return false;
+  }
+  const S residual = external_torque - s.baseline;
+  s.baseline = s.baseline + p.smoothing * residual;
+  return p.change_threshold < jg::abs(residual);
+}
+
+/// |mu - baseline| before the update (0 before the first cycle): what the calibration
+/// gathers over collision-free motion. Call before residual_change_step.
+template <class S>
+[[nodiscard]] constexpr S residual_deviation(const ResidualChangeState<S>& s, S external_torque) noexcept {
+  return s.started ? jg::abs(external_torque - s.baseline) : S{};
+}
+
+}  // namespace jg
