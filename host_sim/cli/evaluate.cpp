@@ -27,7 +27,7 @@ struct EvaluateOptions {
   double rate = 1000.0, margin = 0.5, free_run_s = 0.0, calibration_s = 3600.0, hold_calibration_s = 1200.0;
   double hold_settle_s = 0.15, isolation_window_s = 0.0;
   bool no_hold = false, free_run_without_holds = false, no_residual = false;
-  double residual_time_constant_s = 0.2;
+  double residual_time_constant_s = 0.05;
   int count = 50, debounce = 1, jobs = 0;
   double speed = 0.8;
   bool sweep = false;

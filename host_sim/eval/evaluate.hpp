@@ -30,7 +30,7 @@ struct DetectionConfig {
   /// (residual_detector.hpp): threshold per joint [N·m] (empty or 0: off), baseline time
   /// constant [s].
   std::vector<double> residual_threshold;
-  double residual_time_constant_s = 0.2;
+  double residual_time_constant_s = 0.05;
   Reaction reaction = Reaction::stop;
   std::vector<LuGreParams<double>> friction;  ///< for the zero-gravity mode's friction compensation
   double retreat_rad = 0.1;   ///< retreat: joint-space path length [rad] to go back along

@@ -40,7 +40,7 @@ struct ExperimentConfig {
   /// threshold per joint [N·m] (empty: off), the baseline's time constant [s], and whether
   /// calibrate() fits it (on the same collision-free motion as the band).
   std::vector<double> residual_threshold;
-  double residual_time_constant_s = 0.2;
+  double residual_time_constant_s = 0.05;
   bool residual_detector = true;
   double isolation_window_s = 0.0;  ///< DetectionConfig::isolation_window_s
   /// The false-alarm run's motion includes holds (make_random_moves_with_holds).

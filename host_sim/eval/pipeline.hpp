@@ -43,7 +43,7 @@ struct Thresholds {
   /// off): threshold per joint [N·m], the largest collision-free |mu - baseline| [N·m], and
   /// the baseline's time constant [s].
   std::vector<double> residual_change, residual_band;
-  double residual_time_constant_s = 0.2;
+  double residual_time_constant_s = 0.05;
 };
 /// Contract JSON (--threshold): {"joints": [{"joint", "threshold", "threshold_uncompensated"}]}
 void write_threshold_json(const std::string& path, const Thresholds& t, const std::vector<int>& joint_ids,

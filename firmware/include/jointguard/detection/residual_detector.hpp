@@ -8,7 +8,7 @@
 // of ms. So the estimate mu minus a slow baseline of itself (an exponential average, time
 // constant T) stays small without contact at any speed and shows a contact's rise almost
 // whole: for a ramp of rise time r the residual at its end is (T / r)(1 - exp(-r / T)) of
-// the ramp's height (0.89 for r = 50 ms, T = 200 ms).
+// the ramp's height (0.63 for r = 50 ms, T = 50 ms; 0.89 for T = 200 ms).
 //
 // Per joint and cycle:
 //   residual = mu - baseline;  baseline += smoothing x residual   (smoothing = dt / T)
@@ -18,8 +18,8 @@
 //
 // Scalar: any (float, double, Q16.16). Q16.16: torques in N·m; the residual saturates;
 // smoothing x residual is one rounded product (an update below one LSB, 1.5e-5 N·m, is
-// lost: the baseline stays within LSB / smoothing of a constant mu, 3 mN·m at 1 kHz with
-// T = 200 ms, far below any threshold); the baseline saturates.
+// lost: the baseline stays within LSB / smoothing of a constant mu, 0.8 mN·m at 1 kHz with
+// T = 50 ms, far below any threshold); the baseline saturates.
 // Cost per joint and cycle: one subtraction, one product, one addition, one |x| and one
 // comparison.
 #pragma once
