@@ -3,12 +3,16 @@
 //
 // Why: near standstill the band detector (detector.hpp) carries the stiction allowance of
 // several N·m, because the friction a slow joint holds is not predicted by any
-// velocity-driven model. But that unpredicted friction builds up with the arm's own
-// motion (over the reversal, a few hundred ms), while a contact's torque rises within tens
-// of ms. So the estimate mu minus a slow baseline of itself (an exponential average, time
-// constant T) stays small without contact at any speed and shows a contact's rise almost
-// whole: for a ramp of rise time r the residual at its end is (T / r)(1 - exp(-r / T)) of
-// the ramp's height (0.63 for r = 50 ms, T = 50 ms; 0.89 for T = 200 ms).
+// velocity-driven model; and a contact that stops a joint moves its band up to that
+// allowance. The estimate mu minus a slow baseline of itself (an exponential average, time
+// constant T) does not depend on the measured velocity: it shows a contact's rise almost
+// whole when the rise is short against T (for a ramp of rise time r the residual at its end
+// is (T / r)(1 - exp(-r / T)) of the ramp's height: 0.63 for r = T). Measured limit
+// (docs/results.md, "Campaign detection: the ceiling"): the unpredicted friction of a slow
+// joint also builds up within tens of ms (collision-free |mu - baseline| up to 3.1-3.8 N·m
+// with T = 50 ms, reached near standstill), so the calibrated threshold (4.9-6.0 N·m) lies
+// between the moving band and the standstill band: it brings some detections forward, it
+// found no collision the band missed.
 //
 // Per joint and cycle:
 //   residual = mu - baseline;  baseline += smoothing x residual   (smoothing = dt / T)
