@@ -26,11 +26,12 @@ struct EvaluateOptions {
   std::string scenario = "paper", model = JG_DEFAULT_MODEL, json, scalar = "float", reaction = "stop";
   double rate = 1000.0, margin = 0.5, free_run_s = 0.0, calibration_s = 3600.0, hold_calibration_s = 1200.0;
   double hold_settle_s = 0.15, isolation_window_s = 0.0;
-  bool no_hold = false, free_run_without_holds = false;
+  bool no_hold = false, free_run_without_holds = false, no_residual = false;
+  double residual_time_constant_s = 0.05;
   int count = 50, debounce = 1, jobs = 0;
   double speed = 0.8;
   bool sweep = false;
-  std::string shard;
+  std::string shard, compare_scalar;
   unsigned long long seed = 1;
   ObserverOptions observer;
   robot::LoadOptions model_options;
@@ -138,8 +139,17 @@ Command add_evaluate(CLI::App& app) {
                   "Name the link from every joint taking part in the signature over this long from the detection [s] (0: the detection cycle)")
       ->capture_default_str()->check(CLI::Range(0.0, 0.1));
   cmd->add_flag("--no-hold", o->no_hold, "Band detector alone (no change detection while a joint holds)");
+  cmd->add_flag("--no-residual", o->no_residual, "No change detection against the estimate's slow baseline while moving");
+  cmd->add_option("--residual-time-constant", o->residual_time_constant_s,
+                  "Time constant of the residual detector's baseline [s]")
+      ->capture_default_str()
+      ->check(finite_range(0.005, 10.0));
   cmd->add_flag("--free-run-without-holds", o->free_run_without_holds,
                 "False-alarm run on random moves with short dwells only (the motion before holds were added)");
+  cmd->add_option("--compare-scalar", o->compare_scalar,
+                  "paper/campaign: also run this firmware scalar's estimator on the same measurements and thresholds "
+                  "and count the collisions both detect on the same cycle")
+      ->check(CLI::IsMember({"float", "q"}));
   cmd->add_option("--margin", o->margin, "Threshold margin above the observed band [N·m]")->capture_default_str()->check(finite_range(0.0, 1000.0));
   cmd->add_option("--debounce", o->debounce, "Cycles over threshold before a detection")->capture_default_str()->check(CLI::Range(1, 50));
   cmd->add_option("--reaction", o->reaction, "Reaction on detection")->check(CLI::IsMember({"none", "stop", "zero_gravity", "retreat", "reflex"}))->capture_default_str();
@@ -178,6 +188,9 @@ Command add_evaluate(CLI::App& app) {
             c.hold_settle_s = o->hold_settle_s;
             c.isolation_window_s = o->isolation_window_s;
             c.free_run_holds = !o->free_run_without_holds;
+            c.residual_detector = !o->no_residual;
+            c.residual_time_constant_s = o->residual_time_constant_s;
+            c.compare_scalar = o->compare_scalar == o->scalar ? std::string() : o->compare_scalar;
             c.reaction = reaction_of(o->reaction);
             eval::RunSplit split;
             split.jobs = o->jobs == 0 ? eval::default_jobs() : o->jobs;
@@ -238,7 +251,9 @@ Command add_evaluate(CLI::App& app) {
                           {"observer", to_string(c.gains.kind)}, {"gains", {c.gains.k1, c.gains.k2, c.gains.k3}},
                           {"hold_change_threshold", c.hold_threshold}, {"hold_settle_s", c.hold_settle_s},
                           {"hold_reference_s", c.hold_reference_s}, {"hold_calibration_s", c.hold_calibration_s},
-                          {"isolation_window_s", c.isolation_window_s}, {"false_alarm_run_with_holds", c.free_run_holds}};
+                          {"isolation_window_s", c.isolation_window_s}, {"false_alarm_run_with_holds", c.free_run_holds},
+                          {"compare_scalar", c.compare_scalar}, {"residual_change_threshold", c.residual_threshold},
+                          {"residual_time_constant_s", c.residual_time_constant_s}};
             if (!o->shard.empty()) {
               const auto segments = static_cast<std::size_t>(std::max(1.0, std::ceil(free_s / eval::kFreeRunSegmentS - 1e-9)));
               const nlohmann::json identity = {{"scenario", o->scenario}, {"count", o->count}, {"seed", o->seed},

@@ -26,6 +26,11 @@ nlohmann::json run_json(const eval::RunResult& r) {
   j["t_threshold_crossed"] = optional_json(r.t_threshold);
   j["delay_after_threshold_crossed"] =
       r.t_detected && r.t_threshold ? nlohmann::json(*r.t_detected - *r.t_threshold) : nlohmann::json(nullptr);
+  j["peak_joint"] = r.peak_joint;
+  j["peak_true_torque"] = r.peak_true_torque_nm;
+  j["speed_at_peak"] = r.speed_at_peak_rad_s;
+  j["detected_by_residual"] = r.detected_by_residual;
+  if (r.compared) j["t_detected_other_scalar"] = optional_json(r.t_detected_other);
   return j;
 }
 
@@ -52,6 +57,12 @@ eval::RunResult run_from_json(const nlohmann::json& j) {
   r.detected_by_hold = j.at("detected_by_hold").get<bool>();
   r.peak_true_torque_held = j.at("peak_true_torque_held").get<double>();
   r.held_push_nm = j.at("held_push").get<double>();
+  r.peak_joint = j.value("peak_joint", 0);
+  r.detected_by_residual = j.value("detected_by_residual", false);
+  r.peak_true_torque_nm = j.value("peak_true_torque", 0.0);
+  r.speed_at_peak_rad_s = j.value("speed_at_peak", 0.0);
+  r.compared = j.contains("t_detected_other_scalar");
+  if (r.compared) r.t_detected_other = optional_of(j, "t_detected_other_scalar");
   return r;
 }
 
@@ -99,6 +110,7 @@ nlohmann::json evaluate_json(const EvaluateFigures& f) {
             {"isolable", sum.isolable},
             {"isolated_of_isolable", sum.isolated_of_isolable},
             {"detected_by_hold", sum.detected_by_hold},
+            {"detected_by_residual", sum.detected_by_residual},
             {"held_smallest_detected", held_smallest(f.runs)},
             {"detection_rate_over_1p5x_threshold", sum.detectable ? static_cast<double>(sum.detectable_found) / sum.detectable : 1.0},
             {"over_1p5x_threshold", {{"collisions", sum.detectable}, {"detected", sum.detectable_found}}},
@@ -111,7 +123,13 @@ nlohmann::json evaluate_json(const EvaluateFigures& f) {
                                          {"max", sum.after_crossing_max}}},
             {"false_alarms_per_hour", f.free_run_s > 0.0 ? static_cast<double>(fr.alarms) * 3600.0 / f.free_run_s : 0.0},
             {"false_alarm_run_s", f.free_run_s}, {"false_alarm_times", fr.times},
-            {"false_alarm_segments", f.free_run.size()}, {"false_alarm_segment_s", eval::kFreeRunSegmentS}});
+            {"false_alarm_segments", f.free_run.size()}, {"false_alarm_segment_s", eval::kFreeRunSegmentS},
+            {"touched", {{"collisions", sum.touched}, {"detected", sum.touched_detected},
+                         {"below_moving_threshold", sum.touched_below_moving}}}});
+  if (sum.compared > 0) {
+    s["same_cycle_other_scalar"] = {{"runs", sum.compared}, {"detected_by_either", sum.compared_detected},
+                                    {"same_cycle", sum.same_cycle}};
+  }
   j["summary"] = s;
   for (const auto& [key, value] : f.extra.items()) j[key] = value;
   return j;
@@ -134,6 +152,16 @@ void print_figures(const EvaluateFigures& f) {
   std::printf("isolable (the true torques name the link: the highest joint over its moving threshold): %d/%d; "
               "isolated of those %d/%d; detections first seen by the holding detector %d\n",
               sum.isolable, sum.runs, sum.isolated_of_isolable, sum.isolable, sum.detected_by_hold);
+  if (sum.touched < sum.runs) {
+    std::printf("touched (the contact exerted any force; a clamp obstacle the arm moves away from never does): %d/%d, "
+                "detected %d/%d; touched with a true torque below the moving threshold on every joint: %d\n",
+                sum.touched, sum.runs, sum.touched_detected, sum.touched, sum.touched_below_moving);
+  }
+  if (sum.compared > 0) {
+    std::printf("the other scalar on the same measurements: %d of %d collisions detected by either scalar detected by "
+                "both on the same cycle\n",
+                sum.same_cycle, sum.compared_detected);
+  }
   const nlohmann::json smallest = held_smallest(f.runs);
   if (!smallest.empty()) {
     std::printf("smallest push detected on a held joint (every larger one detected too):");
@@ -143,6 +171,12 @@ void print_figures(const EvaluateFigures& f) {
     int quiet_alarms = 0;
     for (const auto& r : f.runs) quiet_alarms += r.held_push_nm <= 0.0 ? static_cast<int>(r.false_alarm_times.size()) : 0;
     std::printf("; alarms in the hold without contact: %d\n", quiet_alarms);
+  }
+  if (f.config.contains("residual_change_threshold") && !f.config["residual_change_threshold"].empty()) {
+    std::printf("residual detector (baseline time constant %.3f s): change threshold",
+                f.config.value("residual_time_constant_s", 0.0));
+    for (const auto& h : f.config["residual_change_threshold"]) std::printf(" %.3f", h.get<double>());
+    std::printf(" N·m; detections first seen by it (not the band) %d\n", sum.detected_by_residual);
   }
   if (f.config.contains("hold_change_threshold") && !f.config["hold_change_threshold"].empty()) {
     std::printf("holding detector: change threshold");

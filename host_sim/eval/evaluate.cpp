@@ -29,8 +29,15 @@ HoldChangeParams<double> hold_params(double threshold, double settle_s, double r
   return p;
 }
 
+ResidualChangeParams<double> residual_params(double threshold, double time_constant_s, double dt) {
+  ResidualChangeParams<double> p;
+  p.change_threshold = threshold;
+  p.smoothing = time_constant_s > dt ? dt / time_constant_s : 1.0;
+  return p;
+}
+
 RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator, const DetectionConfig& d,
-                        const std::string& name, bool record_trace) {
+                        const std::string& name, bool record_trace, Estimator* other) {
   const std::size_t n = setup.plant.links.size();
   if (d.threshold.size() != n) throw std::invalid_argument("detection: one threshold per joint required");
   RunResult out;
@@ -49,6 +56,12 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
   const double dt = 1.0 / setup.control_rate_hz;
   for (std::size_t j = 0; j < n; ++j) {
     hold_detector[j] = hold_params(j < d.hold_threshold.size() ? d.hold_threshold[j] : 0.0, d.hold_settle_s, d.hold_reference_s, dt);
+  }
+  std::vector<ResidualChangeParams<double>> residual_detector(n);
+  std::vector<ResidualChangeState<double>> residual_states(n), other_residual_states(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    residual_detector[j] = residual_params(j < d.residual_threshold.size() ? d.residual_threshold[j] : 0.0,
+                                           d.residual_time_constant_s, dt);
   }
   // Per cycle, for the ground truth below: the holding mask and each joint's threshold in
   // effect (the band at the measured velocity, or the change threshold while the holding
@@ -75,6 +88,12 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
   JointMask window_signature = 0;  // joints taking part in the signature since the detection
   double last_alarm_t = -1e9;
   const double isolation_fraction = d.isolation_fraction;
+  out.compared = other != nullptr;
+  bool other_started = false;
+  sim::JointVector other_mu;
+  std::vector<JointDetectorState> other_states(n);
+  std::vector<HoldChangeState<double>> other_hold_states(n);
+  const DebounceSettings debounce{static_cast<std::uint8_t>(d.debounce_cycles)};
   const sim::ControlOverride hook = [&](const sim::CycleContext& ctx) -> std::optional<sim::JointVector> {
     const sim::Measurement& m = *ctx.measurement;
     const JointMask holding = sim::holding_mask(*ctx.reference);
@@ -102,13 +121,32 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       out.t_node_flagged = ctx.t;
       out.link_node_isolated = isolate_link(reported);
     }
+    if (other != nullptr) {
+      // The same detector on the second estimator: only its first detection is recorded
+      // (one before the contact is a false alarm, re-armed as below).
+      estimate(*other, m, holding, other_started, other_mu);
+      JointMask other_now = 0;
+      for (std::size_t j = 0; j < n; ++j) {
+        const auto i = static_cast<Eigen::Index>(j);
+        const bool held_change = hold_change_step(hold_detector[j], other_hold_states[j], ((holding >> j) & 1U) != 0U, other_mu(i));
+        const bool changed = residual_change_step(residual_detector[j], other_residual_states[j], other_mu(i)) || held_change;
+        if (detector_step(thresholds[j], debounce, other_states[j], other_mu(i), m.dq(i), changed)) other_now |= static_cast<JointMask>(1U << j);
+      }
+      if (other_now != 0 && (setup.collisions.empty() || ctx.t < out.t_collision)) {
+        for (auto& st : other_states) reset_detector(st);
+      } else if (other_now != 0 && !out.t_detected_other) {
+        out.t_detected_other = ctx.t;
+      }
+    }
     JointMask now = 0;
-    JointMask by_band = 0;
+    JointMask by_band = 0, by_residual = 0;
     for (std::size_t j = 0; j < n; ++j) {
       const auto i = static_cast<Eigen::Index>(j);
-      const bool changed = hold_change_step(hold_detector[j], hold_states[j], ((holding >> j) & 1U) != 0U, mu(i));
-      if (detector_step(thresholds[j], DebounceSettings{static_cast<std::uint8_t>(d.debounce_cycles)}, states[j], mu(i),
-                        m.dq(i), changed)) {
+      const bool held_change = hold_change_step(hold_detector[j], hold_states[j], ((holding >> j) & 1U) != 0U, mu(i));
+      const bool residual_change = residual_change_step(residual_detector[j], residual_states[j], mu(i));
+      if (residual_change) by_residual |= static_cast<JointMask>(1U << j);
+      const bool changed = residual_change || held_change;
+      if (detector_step(thresholds[j], debounce, states[j], mu(i), m.dq(i), changed)) {
         now |= static_cast<JointMask>(1U << j);
       }
       const double band = threshold_at(thresholds[j], m.dq(i));
@@ -135,7 +173,8 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       // joint may lag a joint below it by a few cycles).
       if (!out.t_detected) {
         out.t_detected = ctx.t;
-        out.detected_by_hold = by_band == 0;
+        out.detected_by_hold = by_band == 0 && by_residual == 0;
+        out.detected_by_residual = by_band == 0 && by_residual != 0;
         out.link_first_cycle = 0;
       }
       // Signature with a lower bar than detection: a joint takes part when its estimate is
@@ -229,7 +268,12 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       const double in_effect = traced ? in_effect_trace[k * n + j] : threshold_at(thresholds[j], rec.dq[j][k]);
       const double ratio = magnitude / in_effect;
       out.max_true_ratio = std::max(out.max_true_ratio, ratio);
-      out.max_true_ratio_moving = std::max(out.max_true_ratio_moving, magnitude / d.threshold[j]);
+      if (magnitude / d.threshold[j] > out.max_true_ratio_moving) {
+        out.max_true_ratio_moving = magnitude / d.threshold[j];
+        out.peak_joint = static_cast<int>(j) + 1;
+        out.peak_true_torque_nm = magnitude;
+        out.speed_at_peak_rad_s = std::fabs(rec.dq[j][k]);
+      }
       if (!out.t_threshold && ratio > 1.0) out.t_threshold = rec.t[k];
       if (magnitude > d.threshold[j]) highest_clear = static_cast<int>(j) + 1;
       if (traced && ((holding_trace[k] >> j) & 1U) != 0U) {

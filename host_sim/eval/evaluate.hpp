@@ -9,6 +9,7 @@
 #include "eval/estimator.hpp"
 #include "jointguard/detection/detector.hpp"
 #include "jointguard/detection/hold_detector.hpp"
+#include "jointguard/detection/residual_detector.hpp"
 #include "sim/simulation.hpp"
 
 namespace jg::eval {
@@ -25,6 +26,11 @@ struct DetectionConfig {
   /// joint [N·m] (empty or 0: off), settle and reference windows [s].
   std::vector<double> hold_threshold;
   double hold_settle_s = 0.15, hold_reference_s = 0.016;
+  /// Change detection against the estimate's slow baseline at any speed
+  /// (residual_detector.hpp): threshold per joint [N·m] (empty or 0: off), baseline time
+  /// constant [s].
+  std::vector<double> residual_threshold;
+  double residual_time_constant_s = 0.05;
   Reaction reaction = Reaction::stop;
   std::vector<LuGreParams<double>> friction;  ///< for the zero-gravity mode's friction compensation
   double retreat_rad = 0.1;   ///< retreat: joint-space path length [rad] to go back along
@@ -58,22 +64,37 @@ struct RunResult {
   std::optional<double> t_comm_fault;      ///< first cycle a drive reported a communication fault (the arm holds)
   std::vector<double> contact_force_n;     ///< contact force per control cycle [N] (runs with collisions)
   bool detected_by_hold = false;           ///< the first detection came from the holding detector alone
+  bool detected_by_residual = false;       ///< the first detection came from the residual detector, not the band
   /// The collided link is nameable at all: the highest joint whose true |tau_ext| clears
   /// its band (the threshold in effect) at some cycle of the contact is the collided link.
   bool isolable = false;
   double held_push_nm = 0.0;               ///< held_push: the torque the push puts on its own joint [N·m]
   double peak_true_torque_held = 0.0;      ///< max true |tau_ext| on a joint while its controller held [N·m]
+  /// Where the true torque peaks against the moving threshold: the joint (1-based, 0 when no
+  /// contact), its true |tau_ext| [N·m] and measured |velocity| [rad/s] there (miss analysis).
+  int peak_joint = 0;
+  double peak_true_torque_nm = 0.0, speed_at_peak_rad_s = 0.0;
+  /// Runs with a second estimator (the other firmware scalar) beside the one that acts: the
+  /// same detector's first detection on its estimate (it sees the same measurements; only
+  /// the first estimator's detection drives the reaction).
+  bool compared = false;
+  std::optional<double> t_detected_other;
   Trace trace;
   io::Recording recording;  ///< the run's recording (kept only with record_trace)
 };
 
-/// Runs one scenario. `record_trace` keeps mu and tau_ext per cycle for plots.
+/// Runs one scenario. `record_trace` keeps mu and tau_ext per cycle for plots. `other`
+/// (optional): a second estimator fed the same measurements, whose detections are only
+/// recorded (RunResult::t_detected_other), e.g. the other scalar's firmware core.
 RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator, const DetectionConfig& detection,
-                        const std::string& name, bool record_trace);
+                        const std::string& name, bool record_trace, Estimator* other = nullptr);
 
 /// The holding detector's parameters from seconds at sample time dt: settle and reference
 /// windows rounded up to whole cycles (at least one cycle of reference).
 HoldChangeParams<double> hold_params(double threshold, double settle_s, double reference_s, double dt);
+
+/// The residual detector's parameters: smoothing dt / T (at most 1).
+ResidualChangeParams<double> residual_params(double threshold, double time_constant_s, double dt);
 
 /// Collision-free run for calibration: max |mu| per joint (the observer band).
 std::vector<double> observer_band(const sim::SimulationSetup& setup, Estimator& estimator, double settle_s = 0.5);

@@ -63,6 +63,16 @@ std::unique_ptr<Estimator> estimator_for(const ExperimentConfig& c) {
   return make_firmware_estimator(f, c.scalar);
 }
 
+namespace {
+/// The compare_scalar's estimator (nullptr when none is configured).
+std::unique_ptr<Estimator> other_estimator_for(const ExperimentConfig& c) {
+  if (c.compare_scalar.empty()) return nullptr;
+  ExperimentConfig other = c;
+  other.scalar = c.compare_scalar;
+  return estimator_for(other);
+}
+}  // namespace
+
 DetectionConfig detection_for(const ExperimentConfig& c) {
   DetectionConfig d;
   d.threshold = c.thresholds;
@@ -73,6 +83,8 @@ DetectionConfig detection_for(const ExperimentConfig& c) {
   d.isolation_window_s = c.isolation_window_s;
   d.hold_settle_s = c.hold_settle_s;
   d.hold_reference_s = c.hold_reference_s;
+  d.residual_threshold = c.residual_threshold;
+  d.residual_time_constant_s = c.residual_time_constant_s;
   d.reaction = c.reaction;
   d.friction = c.friction;
   return d;
@@ -92,6 +104,7 @@ Summary summarize(const std::vector<RunResult>& runs) {
     s.isolable += r.isolable ? 1 : 0;
     s.isolated_of_isolable += r.isolable && r.link_isolated == r.link_true ? 1 : 0;
     s.detected_by_hold += r.t_detected && r.detected_by_hold ? 1 : 0;
+    s.detected_by_residual += r.t_detected && r.detected_by_residual ? 1 : 0;
     if (r.max_true_ratio > 1.5) {
       ++s.detectable;
       s.detectable_found += r.t_detected ? 1 : 0;
@@ -99,6 +112,19 @@ Summary summarize(const std::vector<RunResult>& runs) {
     if (r.max_true_ratio_moving > 1.5) {
       ++s.detectable_moving;
       s.detectable_moving_found += r.t_detected ? 1 : 0;
+    }
+    if (r.peak_force_n > 0.0) {
+      ++s.touched;
+      s.touched_detected += r.t_detected ? 1 : 0;
+      s.touched_below_moving += r.max_true_ratio_moving < 1.0 ? 1 : 0;
+    }
+    if (r.compared) {
+      ++s.compared;
+      if (r.t_detected || r.t_detected_other) {
+        ++s.compared_detected;
+        // Same cycle: equal time stamps of one simulation's control clock.
+        s.same_cycle += r.t_detected && r.t_detected_other && std::fabs(*r.t_detected - *r.t_detected_other) < 1e-9 ? 1 : 0;
+      }
     }
   }
   std::sort(delays.begin(), delays.end());
@@ -192,8 +218,14 @@ HoldSegmentStatistics calibrate_holding_segment(const ExperimentConfig& c, std::
   return out;
 }
 
-/// The band statistics over one segment of collision-free random moves.
-BandStatistics calibrate_band_segment(const ExperimentConfig& c, std::size_t k) {
+/// The band statistics over one segment of collision-free random moves, and the residual
+/// detector's largest collision-free deviation per joint (merged by maximum).
+struct BandSegmentStatistics {
+  BandStatistics band;
+  std::vector<double> residual_band;
+};
+
+BandSegmentStatistics calibrate_band_segment(const ExperimentConfig& c, std::size_t k) {
   // Collision-free motion unlike the identification run: random moves. Not recorded: the
   // compensated and uncompensated observers run in the loop and feed the band statistics.
   const double length = calibration_segment_length(c.calibration_s, k);
@@ -217,6 +249,11 @@ BandStatistics calibrate_band_segment(const ExperimentConfig& c, std::size_t k) 
   BandStatistics stats(n);
   bool started = false;
   sim::JointVector mu, mu0;
+  // The residual detector as it runs in detection (baseline from the first cycle), with a
+  // threshold never reached: its largest collision-free |mu - baseline| per joint.
+  const ResidualChangeParams<double> rp = residual_params(1e9, c.residual_time_constant_s, 1.0 / c.rate_hz);
+  std::vector<ResidualChangeState<double>> residual(n);
+  std::vector<double> residual_band(n, 0.0);
   constexpr double kSettleS = 0.5;
   const sim::ControlOverride hook = [&](const sim::CycleContext& ctx) -> std::optional<sim::JointVector> {
     const sim::Measurement& m = *ctx.measurement;
@@ -228,16 +265,18 @@ BandStatistics calibrate_band_segment(const ExperimentConfig& c, std::size_t k) 
     }
     with->step(in, mu);
     without->step(in, mu0);
-    if (ctx.t >= kSettleS) {
-      for (std::size_t j = 0; j < n; ++j) {
-        const auto i = static_cast<Eigen::Index>(j);
+    for (std::size_t j = 0; j < n; ++j) {
+      const auto i = static_cast<Eigen::Index>(j);
+      if (ctx.t >= kSettleS) {
         stats.add(j, m.dq(i), mu(i), mu0(i));
+        residual_band[j] = std::max(residual_band[j], residual_deviation(residual[j], mu(i)));
       }
+      (void)residual_change_step(rp, residual[j], mu(i));
     }
     return std::nullopt;
   };
   (void)sim::run_simulation(free, hook);
-  return stats;
+  return BandSegmentStatistics{std::move(stats), std::move(residual_band)};
 }
 }  // namespace
 
@@ -249,7 +288,7 @@ Thresholds calibrate(const ExperimentConfig& c, double margin_nm) {
   const std::size_t n = c.model.joints.size();
   const std::size_t band_segments = calibration_segments(c.calibration_s);
   const std::size_t hold_segments = c.hold_calibration_s > 0.0 ? calibration_segments(c.hold_calibration_s) : 0;
-  std::vector<BandStatistics> band(band_segments, BandStatistics(n));
+  std::vector<BandSegmentStatistics> band(band_segments, BandSegmentStatistics{BandStatistics(n), {}});
   std::vector<HoldSegmentStatistics> hold(hold_segments);
   parallel_for(band_segments + hold_segments, std::max(1, c.jobs), [&](std::size_t i) {
     if (i < band_segments) {
@@ -259,8 +298,17 @@ Thresholds calibrate(const ExperimentConfig& c, double margin_nm) {
     }
   });
   BandStatistics stats(n);
-  for (const auto& b : band) stats.merge(b);
+  std::vector<double> residual_band(n, 0.0);
+  for (const auto& b : band) {
+    stats.merge(b.band);
+    for (std::size_t j = 0; j < n; ++j) residual_band[j] = std::max(residual_band[j], b.residual_band[j]);
+  }
   Thresholds t = stats.fit(margin_nm);
+  if (c.residual_detector) {
+    t.residual_band = residual_band;
+    t.residual_time_constant_s = c.residual_time_constant_s;
+    for (const double b : residual_band) t.residual_change.push_back(kResidualFactor * b + kResidualMargin);
+  }
   if (hold_segments > 0) {
     t.hold_band.assign(n, 0.0);
     t.hold_seconds.assign(n, 0.0);
@@ -298,6 +346,7 @@ Preparation prepare(ExperimentConfig& c, double margin_nm, const std::function<v
   c.low_speed_extra = p.thresholds.low_speed_extra;
   c.low_speed_width = p.thresholds.low_speed_width;
   c.hold_threshold = p.thresholds.hold_change;
+  c.residual_threshold = p.thresholds.residual_change;
   if (progress) progress(1.0);
   return p;
 }
@@ -354,8 +403,9 @@ std::vector<RunResult> paper_experiments(const ExperimentConfig& c, bool traces,
     setup.collisions = {e};
     setup.duration_s = s.t + 1.5;
     auto est = estimator_for(c);
+    auto other = other_estimator_for(c);
     const DetectionConfig d = detection_for(c);
-    slots[slot] = run_detection(setup, *est, d, s.name, traces);
+    slots[slot] = run_detection(setup, *est, d, s.name, traces, other.get());
     slots[slot].index = static_cast<int>(chosen[slot]);
   });
   for (auto& r : slots) out.push_back(std::move(r));
@@ -450,8 +500,10 @@ std::vector<RunResult> campaign(const ExperimentConfig& c, int count, const std:
     setup.collisions = {e};
     setup.duration_s = e.t_start + std::max(1.0, e.duration_s + e.rise_s + 0.5);
     auto est = estimator_for(c);
+    auto other = other_estimator_for(c);
     const DetectionConfig d = detection_for(c);
-    out[slot] = run_detection(setup, *est, d, "campaign " + std::to_string(i + 1) + " (" + sim::to_string(e.profile) + ")", false);
+    out[slot] = run_detection(setup, *est, d, "campaign " + std::to_string(i + 1) + " (" + sim::to_string(e.profile) + ")", false,
+                              other.get());
     out[slot].index = static_cast<int>(i);
   }, progress);
   return out;

@@ -36,15 +36,29 @@ struct ExperimentConfig {
   std::vector<double> hold_threshold;
   double hold_settle_s = 0.15, hold_reference_s = 0.016;
   double hold_calibration_s = 1200.0;
+  /// Change detection against the estimate's slow baseline (residual_detector.hpp):
+  /// threshold per joint [N·m] (empty: off), the baseline's time constant [s], and whether
+  /// calibrate() fits it (on the same collision-free motion as the band).
+  std::vector<double> residual_threshold;
+  double residual_time_constant_s = 0.05;
+  bool residual_detector = true;
   double isolation_window_s = 0.0;  ///< DetectionConfig::isolation_window_s
   /// The false-alarm run's motion includes holds (make_random_moves_with_holds).
   bool free_run_holds = true;
+  /// Campaign and paper runs: the other firmware scalar ("float" or "q"; empty: none) runs
+  /// beside `scalar` on the same measurements with the same thresholds, and its detection
+  /// cycle is recorded (RunResult::t_detected_other).
+  std::string compare_scalar;
 };
 
 /// The holding detector's threshold from the largest collision-free deviation seen while
 /// armed: kHoldFactor x it + kHoldMargin [N·m].
 inline constexpr double kHoldFactor = 1.5;
 inline constexpr double kHoldMargin = 0.2;
+/// The residual detector's threshold from the largest collision-free |mu - baseline| seen
+/// on the calibration motion: kResidualFactor x it + kResidualMargin [N·m].
+inline constexpr double kResidualFactor = 1.5;
+inline constexpr double kResidualMargin = 0.2;
 
 /// A simulation set-up on the model at the configured rate with realistic sensors and the
 /// paper's friction as truth.
@@ -127,6 +141,8 @@ struct Summary {
   int isolable = 0, isolated_of_isolable = 0;
   /// Detections whose first cycle over came from the holding detector alone.
   int detected_by_hold = 0;
+  /// Detections whose first cycle over came from the residual detector, not the band.
+  int detected_by_residual = 0;
   /// Collisions whose true torque exceeds 1.5x the threshold in effect on some joint, and
   /// how many of them were detected; the same against the moving threshold (stricter).
   int detectable = 0, detectable_found = 0, detectable_moving = 0, detectable_moving_found = 0;
@@ -135,6 +151,13 @@ struct Summary {
   /// that crossing [s]: how many within 10 ms, median, 95th percentile, max.
   int after_crossing = 0, after_crossing_within_10ms = 0;
   double after_crossing_median = 0, after_crossing_p95 = 0, after_crossing_max = 0;
+  /// The physical ceiling: runs whose contact exerted any force at all (a clamp obstacle
+  /// the arm moves away from is never touched), how many of those were detected, and how
+  /// many touched with a true torque that never reaches the moving threshold on any joint.
+  int touched = 0, touched_detected = 0, touched_below_moving = 0;
+  /// Runs with a second scalar (compare_scalar): how many, how many either scalar detected,
+  /// and of those how many both detected on the same cycle.
+  int compared = 0, compared_detected = 0, same_cycle = 0;
 };
 Summary summarize(const std::vector<RunResult>& runs);
 

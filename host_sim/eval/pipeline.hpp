@@ -39,6 +39,11 @@ struct Thresholds {
   /// [N·m], the settle and reference windows [s] and the armed time seen per joint [s].
   std::vector<double> hold_change, hold_band, hold_seconds;
   double hold_settle_s = 0.15, hold_reference_s = 0.016;
+  /// Change detection against the estimate's slow baseline (residual_detector.hpp; empty:
+  /// off): threshold per joint [N·m], the largest collision-free |mu - baseline| [N·m], and
+  /// the baseline's time constant [s].
+  std::vector<double> residual_change, residual_band;
+  double residual_time_constant_s = 0.05;
 };
 /// Contract JSON (--threshold): {"joints": [{"joint", "threshold", "threshold_uncompensated"}]}
 void write_threshold_json(const std::string& path, const Thresholds& t, const std::vector<int>& joint_ids,
