@@ -1,0 +1,36 @@
+// What a calibration covered (issue 15.3): the region of positions, velocities and
+// accelerations of its collision-free motion, the band's growth beyond its hardest
+// acceleration (stops more abrupt than the calibration's), and the holding detector's
+// change threshold from the recording's own holds. Written into the threshold JSON
+// (calibrate) and used by replay (pipeline.hpp, ReplayOptions).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "eval/pipeline.hpp"
+
+namespace jg::eval {
+
+/// Fills t.q_min, q_max, dq_max, ddq_max and stop_gain from the segments (after settle_s
+/// of each): the acceleration is the backward difference of the measured velocity per
+/// sample (what a drive computes in one subtraction); stop_gain is the largest
+/// |mu| / |ddq| over the samples at half the largest acceleration or more: how much
+/// estimate the model leaves per rad/s^2 where the calibration accelerated hardest,
+/// extended linearly beyond it.
+void cover_region(Thresholds& t, const std::vector<io::Recording>& segments, const robot::RobotModel& model,
+                  const std::vector<LuGreParams<double>>& friction, const ObserverGains& gains, double settle_s,
+                  const std::string& scalar = "float");
+
+/// The holding detector's change threshold from the recording's holds (holding_flags with
+/// `o`): the largest change from the reference while armed (t.hold_band), times
+/// kHoldFactor plus kHoldMargin (experiments.hpp), as the simulated calibration does.
+/// Throws when the recording holds nowhere long enough to arm.
+void calibrate_holds(Thresholds& t, const std::vector<io::Recording>& segments, const robot::RobotModel& model,
+                     const std::vector<LuGreParams<double>>& friction, const ObserverGains& gains, const ReplayOptions& o,
+                     double settle_s, const std::string& scalar = "float");
+
+/// The segments cut to [t_begin, t_end] (recording time stamps); empty pieces dropped.
+std::vector<io::Recording> time_window(const std::vector<io::Recording>& segments, double t_begin, double t_end);
+
+}  // namespace jg::eval
