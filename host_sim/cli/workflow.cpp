@@ -45,6 +45,11 @@ struct HoldingCliOptions {
           ->check(finite_range(0.0, 60.0));
       cmd->add_flag("!--no-stop-allowance", replay.stop_allowance,
                     "Do not widen the band at accelerations beyond the calibration's largest (stops)");
+      cmd->add_option("--stop-gate", replay.stop_gate_s,
+                      "[s] gate the detector this long from an acceleration beyond the calibration's (a stop), "
+                      "instead of widening the band; 0: widen")
+          ->capture_default_str()
+          ->check(finite_range(0.0, 5.0));
     } else {
       cmd->add_option("--hold-settle", settle, "[s] held time skipped before the holding detector's reference")
           ->capture_default_str()
@@ -89,6 +94,8 @@ void report_region(const eval::ReplayResult& r, const eval::Thresholds& t, const
                 "was not calibrated; calibrate on a motion that covers it\n",
                 ids[k], r.outside_q[k], r.outside_dq[k]);
   }
+  if (r.gated_samples > 0) std::printf("stop gate: detector gated in %zu samples\n", r.gated_samples);
+  j["stop_gated_samples"] = r.gated_samples;
   std::size_t widened = 0;
   for (const auto w : r.stop_widened) widened += w;
   if (widened > 0) {

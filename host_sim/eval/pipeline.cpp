@@ -357,13 +357,17 @@ ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel&
     hold[j] = hold_params(thresholds_in.hold_change[j], thresholds_in.hold_settle_s, thresholds_in.hold_reference_s, dt);
   }
   const bool region = thresholds_in.q_min.size() == n && thresholds_in.ddq_max.size() == n && thresholds_in.stop_gain.size() == n;
-  // Stop allowance: the band grows by stop_gain x (|ddq| - ddq_max) when the acceleration
-  // (backward difference of the measured velocity) exceeds the calibration's largest, and
-  // the extra decays with kStopDecayS (the current of an abrupt stop lasts a few samples
-  // after the velocity has dropped: the drive brakes, stiction is taken up).
+  // Stop allowance: when the arm accelerates harder than anything in the calibration
+  // (an abrupt stop), each joint's band grows to s times what the model left there,
+  // s = the arm's largest |ddq_i| / ddq_max_i (backward difference of the measured
+  // velocity): the model's error in a braking transient scales with it, and joints couple
+  // (at the UR10e's stops the waist's current spikes while the waist itself decelerates
+  // less than in the calibration). The extra decays with kStopDecayS (the drive's braking
+  // current and the stiction it takes up last a few samples after the velocity has dropped).
   constexpr double kStopDecayS = 0.1;
   const double stop_decay = std::exp(-dt / kStopDecayS);
   std::vector<double> stop_extra(n, 0.0);
+  double gate_until = -1e300;
   // Re-arming the holding detector after an event: each joint's estimate steady around
   // its own 0.1 s average for rearm_s.
   const double ema_gain = std::min(1.0, dt / 0.1);
@@ -383,6 +387,15 @@ ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel&
   for (std::size_t k = 0; k < rec.samples(); ++k) {
     JointMask mask = 0, by_band = 0;
     r.held_samples += held[k] ? 1 : 0;
+    double stop_ratio = 0.0;  // s above
+    for (std::size_t j = 0; j < n && region && k > 0; ++j) {
+      if (thresholds_in.ddq_max[j] > 0.0) {
+        stop_ratio = std::max(stop_ratio, std::fabs(rec.dq[j][k] - rec.dq[j][k - 1]) / (dt * thresholds_in.ddq_max[j]));
+      }
+    }
+    if (opt.stop_gate_s > 0.0 && stop_ratio > 1.0) gate_until = rec.t[k] + opt.stop_gate_s;
+    const bool gated = rec.t[k] < gate_until;
+    r.gated_samples += gated ? 1 : 0;
     for (std::size_t j = 0; j < n; ++j) {
       const double mu = -d[j][k];
       const double w = rec.dq[j][k];
@@ -393,15 +406,15 @@ ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel&
         const double q = rec.q[j][k];
         if (q < thresholds_in.q_min[j] || q > thresholds_in.q_max[j]) ++r.outside_q[j];
         if (std::fabs(w) > thresholds_in.dq_max[j]) ++r.outside_dq[j];
-        const double accel = k == 0 ? 0.0 : std::fabs(w - rec.dq[j][k - 1]) / dt;
         stop_extra[j] *= stop_decay;
-        if (opt.stop_allowance && accel > thresholds_in.ddq_max[j]) {
-          stop_extra[j] = std::max(stop_extra[j], thresholds_in.stop_gain[j] * (accel - thresholds_in.ddq_max[j]));
+        if (opt.stop_allowance && opt.stop_gate_s <= 0.0 && stop_ratio > 1.0) {
+          stop_extra[j] = std::max(stop_extra[j], thresholds_in.stop_gain[j] * thresholds_in.ddq_max[j] * stop_ratio);
         }
         if (stop_extra[j] > 0.01 * band.base) ++r.stop_widened[j];
         band.base += stop_extra[j];
       }
-      const bool changed = use_hold && hold_change_step(hold[j], hold_state[j], held[k], mu);
+      if (gated) band.base += 1e12;  // nothing is over while the gate is open
+      const bool changed = use_hold && hold_change_step(hold[j], hold_state[j], held[k] && !gated, mu);
       if (threshold_at(band, w) < std::fabs(mu)) by_band |= static_cast<JointMask>(1U << j);
       if (detector_step(band, DebounceSettings{static_cast<std::uint8_t>(debounce_cycles)}, st[j], mu, w, changed)) {
         mask |= static_cast<JointMask>(1U << j);
@@ -472,6 +485,7 @@ ReplayResult replay_segments(const std::vector<io::Recording>& segments, const r
     }
     all.held_samples += r.held_samples;
     all.rearms += r.rearms;
+    all.gated_samples += r.gated_samples;
     all.events.insert(all.events.end(), r.events.begin(), r.events.end());
     if (all.external_torque_max.empty()) all.external_torque_max.assign(r.external_torque_max.size(), 0.0);
     for (std::size_t j = 0; j < r.external_torque_max.size(); ++j) {

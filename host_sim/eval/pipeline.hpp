@@ -119,7 +119,7 @@ struct ReplayResult {
   /// Per joint: samples outside the calibrated position range, faster than its largest
   /// velocity, and with the band widened for an acceleration beyond its largest (stops).
   std::vector<std::size_t> outside_q, outside_dq, stop_widened;
-  std::size_t held_samples = 0, rearms = 0;
+  std::size_t held_samples = 0, rearms = 0, gated_samples = 0;
   std::vector<double> external_torque_max;
   std::vector<double> t;
   std::vector<std::vector<double>> mu;  ///< [joint][sample]
@@ -144,6 +144,11 @@ struct ReplayOptions {
   /// the friction held after a push differs from before it (static friction).
   double rearm_s = 0.5;
   bool stop_allowance = true;  ///< widen the band at accelerations beyond the calibration's
+  /// > 0: instead of widening, gate the detector for this long [s] from the first sample
+  /// whose acceleration exceeds the calibration's (the drive's knowledge that it commanded
+  /// a stop, derived from the recording, which carries no command; a contact that
+  /// decelerates the arm harder than the calibration also opens the gate).
+  double stop_gate_s = 0.0;
 };
 /// Per sample: the whole arm held (true) or not, from the options.
 std::vector<bool> holding_flags(const io::Recording& rec, const ReplayOptions& o);
