@@ -59,13 +59,14 @@ void cover_region(Thresholds& t, const std::vector<io::Recording>& segments, con
   std::vector<std::vector<double>> mu;
   for (const auto& rec : segments) {
     const double dt = step_of(rec);
+    const std::size_t m = accel_baseline(dt);
     for (std::size_t j = 0; j < n; ++j) {
-      for (std::size_t k = 1; k < rec.samples(); ++k) {
+      for (std::size_t k = m; k < rec.samples(); ++k) {
         if (rec.t[k] - rec.t.front() < settle_s) continue;
         t.q_min[j] = std::min(t.q_min[j], rec.q[j][k]);
         t.q_max[j] = std::max(t.q_max[j], rec.q[j][k]);
         t.dq_max[j] = std::max(t.dq_max[j], std::fabs(rec.dq[j][k]));
-        t.ddq_max[j] = std::max(t.ddq_max[j], std::fabs(rec.dq[j][k] - rec.dq[j][k - 1]) / dt);
+        t.ddq_max[j] = std::max(t.ddq_max[j], accel_at(rec, j, k, m, dt));
       }
     }
   }
@@ -73,10 +74,11 @@ void cover_region(Thresholds& t, const std::vector<io::Recording>& segments, con
     if (rec.t.back() - rec.t.front() < settle_s) continue;
     const double dt = step_of(rec);
     const auto d = observer_disturbance(rec, model, gains, true, friction, scalar);
+    const std::size_t m = accel_baseline(dt);
     for (std::size_t j = 0; j < n; ++j) {
-      for (std::size_t k = 1; k < rec.samples(); ++k) {
+      for (std::size_t k = m; k < rec.samples(); ++k) {
         if (rec.t[k] - rec.t.front() < settle_s) continue;
-        const double accel = std::fabs(rec.dq[j][k] - rec.dq[j][k - 1]) / dt;
+        const double accel = accel_at(rec, j, k, m, dt);
         if (accel > 0.0 && accel >= 0.5 * t.ddq_max[j]) t.stop_gain[j] = std::max(t.stop_gain[j], std::fabs(d[j][k]) / accel);
       }
     }

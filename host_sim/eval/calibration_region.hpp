@@ -12,9 +12,23 @@
 
 namespace jg::eval {
 
+/// The acceleration is taken over this long: (dq_k - dq_{k-m}) / (m dt), m = baseline/dt.
+inline constexpr double kAccelBaselineS = 0.01;
+/// m above for sample time dt (at least 1).
+[[nodiscard]] inline std::size_t accel_baseline(double dt) {
+  const double m = kAccelBaselineS / dt;
+  return m < 1.5 ? 1 : static_cast<std::size_t>(m + 0.5);
+}
+/// |acceleration| of joint j at sample k >= m [rad/s^2].
+[[nodiscard]] inline double accel_at(const io::Recording& r, std::size_t j, std::size_t k, std::size_t m, double dt) {
+  const double d = r.dq[j][k] - r.dq[j][k - m];
+  return (d < 0 ? -d : d) / (static_cast<double>(m) * dt);
+}
+
 /// Fills t.q_min, q_max, dq_max, ddq_max and stop_gain from the segments (after settle_s
-/// of each): the acceleration is the backward difference of the measured velocity per
-/// sample (what a drive computes in one subtraction); stop_gain is the largest
+/// of each): the acceleration is the difference of the measured velocity over
+/// kAccelBaselineS (accel_baseline: at 1 kHz the velocity from encoder differences steps
+/// by a count per sample, which a one-sample difference turns into 12 rad/s^2); stop_gain is the largest
 /// |mu| / |ddq| over the samples at half the largest acceleration or more: how much
 /// estimate the model leaves per rad/s^2 where the calibration accelerated hardest,
 /// extended linearly beyond it.

@@ -10,6 +10,7 @@
 
 #include "io/atomic_write.hpp"
 #include "eval/firmware_estimator.hpp"
+#include "eval/calibration_region.hpp"
 #include "eval/evaluate.hpp"
 #include "jointguard/detection/detector.hpp"
 #include "jointguard/detection/hold_detector.hpp"
@@ -359,8 +360,8 @@ ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel&
   const bool region = thresholds_in.q_min.size() == n && thresholds_in.ddq_max.size() == n && thresholds_in.stop_gain.size() == n;
   // Stop allowance: when the arm accelerates harder than anything in the calibration
   // (an abrupt stop), each joint's band grows to s times what the model left there,
-  // s = the arm's largest |ddq_i| / ddq_max_i (backward difference of the measured
-  // velocity): the model's error in a braking transient scales with it, and joints couple
+  // s = the arm's largest |ddq_i| / ddq_max_i (difference of the measured velocity
+  // over kAccelBaselineS, calibration_region.hpp): the model's error in a braking transient scales with it, and joints couple
   // (at the UR10e's stops the waist's current spikes while the waist itself decelerates
   // less than in the calibration). The extra decays with kStopDecayS (the drive's braking
   // current and the stiction it takes up last a few samples after the velocity has dropped).
@@ -368,6 +369,7 @@ ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel&
   const double stop_decay = std::exp(-dt / kStopDecayS);
   std::vector<double> stop_extra(n, 0.0);
   double gate_until = -1e300;
+  const std::size_t accel_m = accel_baseline(dt);
   // Re-arming the holding detector after an event: each joint's estimate steady around
   // its own 0.1 s average for rearm_s.
   const double ema_gain = std::min(1.0, dt / 0.1);
@@ -388,9 +390,9 @@ ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel&
     JointMask mask = 0, by_band = 0;
     r.held_samples += held[k] ? 1 : 0;
     double stop_ratio = 0.0;  // s above
-    for (std::size_t j = 0; j < n && region && k > 0; ++j) {
+    for (std::size_t j = 0; j < n && region && k >= accel_m; ++j) {
       if (thresholds_in.ddq_max[j] > 0.0) {
-        stop_ratio = std::max(stop_ratio, std::fabs(rec.dq[j][k] - rec.dq[j][k - 1]) / (dt * thresholds_in.ddq_max[j]));
+        stop_ratio = std::max(stop_ratio, accel_at(rec, j, k, accel_m, dt) / thresholds_in.ddq_max[j]);
       }
     }
     if (opt.stop_gate_s > 0.0 && stop_ratio > 1.0) gate_until = rec.t[k] + opt.stop_gate_s;
@@ -411,6 +413,12 @@ ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel&
           stop_extra[j] = std::max(stop_extra[j], thresholds_in.stop_gain[j] * thresholds_in.ddq_max[j] * stop_ratio);
         }
         if (stop_extra[j] > 0.01 * band.base) ++r.stop_widened[j];
+        // Faster than the calibration: the moving band grows in proportion to the speed
+        // ratio (the model's errors grow at least linearly with speed: viscous friction's
+        // error with w, the Coriolis terms' with w^2; linear is the cautious lower bound).
+        if (opt.stop_allowance && thresholds_in.dq_max[j] > 0.0 && std::fabs(w) > thresholds_in.dq_max[j]) {
+          band.base *= std::fabs(w) / thresholds_in.dq_max[j];
+        }
         band.base += stop_extra[j];
       }
       if (gated) band.base += 1e12;  // nothing is over while the gate is open

@@ -41,7 +41,7 @@ struct Thresholds {
   double hold_settle_s = 0.15, hold_reference_s = 0.016;
   /// The region the calibration covered (calibration_region.hpp; empty: unknown), per
   /// joint: position range [rad], largest |velocity| [rad/s] and |acceleration| [rad/s^2]
-  /// (backward difference of the velocity per sample), and the band's growth per rad/s^2
+  /// (difference of the velocity over kAccelBaselineS, calibration_region.hpp), and the band's growth per rad/s^2
   /// of acceleration beyond the largest seen (stops more abrupt than the calibration's).
   std::vector<double> q_min, q_max, dq_max, ddq_max, stop_gain;
 };
