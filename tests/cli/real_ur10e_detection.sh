@@ -6,7 +6,8 @@
 #    drive holding its setpoint throughout: every one of the 4 pushes detected, no event
 #    outside them; delay from the onset visible in K·i (defined below);
 #  - motion_free.csv: calibrated on its first 5 s (without its abrupt stop), replayed whole:
-#    the stop raises an alarm with the band alone and none with the stop gate;
+#    the stop raises an alarm with the band alone (and with the widening law) and none with
+#    the stop gate;
 #  - motion_contacts.csv (thresholds of motion_free's first 5 s): events against the README's
 #    three episodes: none outside them (+-0.5 s), episodes 1 and 3 detected.
 # Usage: real_ur10e_detection.sh <jointguard> <source dir>
@@ -29,10 +30,10 @@ M=(--model "$U/ur10e.urdf" --drive "$U/drive.yaml")
 "$J" replay "$U/static_pushes.csv" "${M[@]}" --friction "$W/fr.json" --threshold "$W/th_static.json" --holding always \
   --debounce 2 --json "$W/static.json" > "$W/static.txt"
 "$J" calibrate "$U/motion_free.csv" "${M[@]}" --friction "$W/fr.json" --time-window 0 5 --json "$W/th_free.json" > /dev/null
-for gate in 0 0.3; do
-  for f in motion_free motion_contacts; do
-    "$J" replay "$U/$f.csv" "${M[@]}" --friction "$W/fr.json" --threshold "$W/th_free.json" --debounce 2 \
-      --stop-gate "$gate" --json "$W/${f}_gate$gate.json" > /dev/null
-  done
+for f in motion_free motion_contacts; do
+  R=("$J" replay "$U/$f.csv" "${M[@]}" --friction "$W/fr.json" --threshold "$W/th_free.json" --debounce 2)
+  "${R[@]}" --no-stop-allowance --json "$W/${f}_band.json" > /dev/null
+  "${R[@]}" --json "$W/${f}_widen.json" > /dev/null
+  "${R[@]}" --stop-gate 0.3 --json "$W/${f}_gate.json" > /dev/null
 done
 "$PY" "$SRC/tests/cli/ur10e_score.py" "$U" "$W"

@@ -65,17 +65,17 @@ print(f"static_pushes: false alarms outside them: {len(false)} {false}")
 ok = ok and not false
 
 t0f = float(next(csv.DictReader(open(f"{data}/motion_free.csv")))["t"])
-before = [e - t0f for e in events("motion_free_gate0")]
-after = [e - t0f for e in events("motion_free_gate0.3")]
-print(f"motion_free (calibrated on its first 5 s), alarms: band alone {before}, with the stop gate {after}")
-ok = ok and not after and any(abs(e - STOP_FREE) < 0.1 for e in before)
+free = {v: [round(e - t0f, 3) for e in events(f"motion_free_{v}")] for v in ("band", "widen", "gate")}
+print(f"motion_free (calibrated on its first 5 s), alarms: band alone {free['band']}, "
+      f"widening law {free['widen']}, stop gate {free['gate']}")
+ok = ok and not free["gate"] and any(abs(e - STOP_FREE) < 0.1 for e in free["band"])
 
 t0c = float(next(csv.DictReader(open(f"{data}/motion_contacts.csv")))["t"])
-for gate in ("0", "0.3"):
-    evc = [e - t0c for e in events(f"motion_contacts_gate{gate}")]
+for variant in ("band", "widen", "gate"):
+    evc = [e - t0c for e in events(f"motion_contacts_{variant}")]
     hits = [[e for e in evc if a - 0.5 <= e <= b + 0.5] for a, b in EPISODES]
     outside = [e for e in evc if not any(a - 0.5 <= e <= b + 0.5 for a, b in EPISODES)]
-    print(f"motion_contacts, stop gate {gate} s: events {[round(e, 3) for e in evc]}; per episode "
+    print(f"motion_contacts, {variant}: events {[round(e, 3) for e in evc]}; per episode "
           f"{[len(h) for h in hits]}; outside the episodes {outside}")
     ok = ok and not outside and hits[0] and hits[2]
 if not ok:
