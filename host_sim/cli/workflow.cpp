@@ -212,9 +212,12 @@ Command add_calibrate(CLI::App& app) {
             });
             std::printf("joint  band without / with compensation [N·m]  shrink  threshold (moving)  + at standstill\n");
             for (std::size_t j = 0; j < t.threshold.size(); ++j) {
-              std::printf("%5d  %12.3f / %-12.3f              %5.1fx  %10.3f          %+.3f\n", rec.joint_ids[j], t.band_uncompensated[j],
-                          t.band[j], t.band_uncompensated[j] / std::max(t.threshold[j] - t.margin, 1e-9), t.threshold[j],
-                          t.low_speed_extra[j]);
+              // No sample while moving (a held arm): the moving band is the margin alone, no ratio.
+              const double moving = t.threshold[j] - t.margin;
+              char shrink[16] = "     -";
+              if (moving > 1e-9) std::snprintf(shrink, sizeof shrink, "%5.1fx", t.band_uncompensated[j] / moving);
+              std::printf("%5d  %12.3f / %-12.3f              %s  %10.3f          %+.3f\n", rec.joint_ids[j], t.band_uncompensated[j],
+                          t.band[j], shrink, t.threshold[j], t.low_speed_extra[j]);
             }
             std::printf("joint  region covered: q [rad]         |dq| max [rad/s]  |ddq| max [rad/s^2]  stop gain [N·m s^2/rad]%s\n",
                         t.hold_change.empty() ? "" : "  hold change [N·m] (largest seen, armed s)");
