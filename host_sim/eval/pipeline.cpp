@@ -325,6 +325,7 @@ std::vector<bool> holding_flags(const io::Recording& rec, const ReplayOptions& o
     if (holding) {
       // A held joint yields a little under a push and comes back: the drive still holds.
       for (std::size_t j = 0; j < n; ++j) holding = holding && std::fabs(rec.q[j][k] - rest[j]) <= o.hold_radius;
+      if (!holding) at_rest = 0;  // moved away: it holds again only after arriving anew
     }
     if (!holding && at_rest > arrive) {
       holding = true;
