@@ -4,7 +4,8 @@
 #  - static_pushes.csv (held arm, ~94 Hz irregular, resampled by time stamp): thresholds
 #    calibrated on the first 3 s only (before any push), holding-aware replay with the
 #    drive holding its setpoint throughout: every one of the 4 pushes detected, no event
-#    outside them; delay from the onset visible in K·i (defined below);
+#    outside them; delay from the onset visible in K·i (ur10e_score.py); the same with the
+#    holding flag derived from the recording (--holding still);
 #  - motion_free.csv: calibrated on its first 5 s (without its abrupt stop), replayed whole:
 #    the stop raises an alarm with the band alone (and with the widening law) and none with
 #    the stop gate;
@@ -29,6 +30,11 @@ M=(--model "$U/ur10e.urdf" --drive "$U/drive.yaml")
   --hold-reference 0.1 --hold-floor 0.5 --json "$W/th_static.json" > /dev/null
 "$J" replay "$U/static_pushes.csv" "${M[@]}" --friction "$W/fr.json" --threshold "$W/th_static.json" --holding always \
   --debounce 2 --json "$W/static.json" > "$W/static.txt"
+# The same with the holding flag derived from the recording (at rest, then within 5 mrad).
+"$J" calibrate "$U/static_pushes.csv" "${M[@]}" --friction "$W/fr.json" --time-window 0 3 --holding still \
+  --hold-reference 0.1 --hold-floor 0.5 --json "$W/th_still.json" > /dev/null
+"$J" replay "$U/static_pushes.csv" "${M[@]}" --friction "$W/fr.json" --threshold "$W/th_still.json" --holding still \
+  --debounce 2 --json "$W/static_still.json" > /dev/null
 "$J" calibrate "$U/motion_free.csv" "${M[@]}" --friction "$W/fr.json" --time-window 0 5 --json "$W/th_free.json" > /dev/null
 for f in motion_free motion_contacts; do
   R=("$J" replay "$U/$f.csv" "${M[@]}" --friction "$W/fr.json" --threshold "$W/th_free.json" --debounce 2)

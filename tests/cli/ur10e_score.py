@@ -35,34 +35,35 @@ rows = list(csv.DictReader(open(f"{data}/static_pushes.csv")))
 t0 = float(rows[0]["t"])
 t = [float(r["t"]) - t0 for r in rows]
 tau = [[K[j] * float(r[f"i{j + 1}"]) for r in rows] for j in range(6)]
-ev = [e - t0 for e in events("static")]
-claimed = set()
-print("push  README start  visible onset  first event  delay [ms]  events in the push")
 ok = True
-for n, (a, b) in enumerate(PUSHES, 1):
-    onset = None
-    for j in range(6):
-        pre = [tau[j][i] for i, x in enumerate(t) if a - 1.5 <= x < a - 0.5]
-        level, sigma = statistics.mean(pre), statistics.pstdev(pre)
-        bar = max(4.0 * sigma, 0.3)
-        for i, x in enumerate(t):
-            if x < a - 0.5 or i + 3 > len(t):
-                continue
-            if x > b:
-                break
-            if all(abs(tau[j][i + q] - level) > bar for q in range(3)):
-                onset = x if onset is None else min(onset, x)
-                break
-    mine = [e for e in ev if onset - 0.5 <= e <= b + 1.0]
-    claimed.update(mine)
-    if not mine:
-        print(f"{n:4d}  {a:12.2f}  {onset:13.3f}  missed")
-        ok = False
-        continue
-    print(f"{n:4d}  {a:12.2f}  {onset:13.3f}  {mine[0]:11.3f}  {1e3 * (mine[0] - onset):10.0f}  {len(mine)}")
-false = [e for e in ev if e not in claimed]
-print(f"static_pushes: false alarms outside them: {len(false)} {false}")
-ok = ok and not false
+for run in ("static", "static_still"):
+    ev = [e - t0 for e in events(run)]
+    claimed = set()
+    print(f"{run}: push  README start  visible onset  first event  delay [ms]  events in the push")
+    for n, (a, b) in enumerate(PUSHES, 1):
+        onset = None
+        for j in range(6):
+            pre = [tau[j][i] for i, x in enumerate(t) if a - 1.5 <= x < a - 0.5]
+            level, sigma = statistics.mean(pre), statistics.pstdev(pre)
+            bar = max(4.0 * sigma, 0.3)
+            for i, x in enumerate(t):
+                if x < a - 0.5 or i + 3 > len(t):
+                    continue
+                if x > b:
+                    break
+                if all(abs(tau[j][i + q] - level) > bar for q in range(3)):
+                    onset = x if onset is None else min(onset, x)
+                    break
+        mine = [e for e in ev if onset - 0.5 <= e <= b + 1.0]
+        claimed.update(mine)
+        if not mine:
+            print(f"{n:4d}  {a:12.2f}  {onset:13.3f}  missed")
+            ok = False
+            continue
+        print(f"{n:4d}  {a:12.2f}  {onset:13.3f}  {mine[0]:11.3f}  {1e3 * (mine[0] - onset):10.0f}  {len(mine)}")
+    false = [e for e in ev if e not in claimed]
+    print(f"{run}: false alarms outside them: {len(false)} {false}")
+    ok = ok and not false
 
 t0f = float(next(csv.DictReader(open(f"{data}/motion_free.csv")))["t"])
 free = {v: [round(e - t0f, 3) for e in events(f"motion_free_{v}")] for v in ("band", "widen", "gate")}
