@@ -44,7 +44,8 @@ struct HoldingCliOptions {
           ->capture_default_str()
           ->check(finite_range(0.0, 60.0));
       cmd->add_flag("!--no-stop-allowance", replay.stop_allowance,
-                    "Do not widen the band at accelerations beyond the calibration's largest (stops)");
+                    "Do not widen the band outside the calibrated region (speeds and accelerations, e.g. stops, beyond "
+                    "the calibration's largest): the band alone");
       cmd->add_option("--stop-gate", replay.stop_gate_s,
                       "[s] gate the detector this long from an acceleration beyond the calibration's (a stop), "
                       "instead of widening the band; 0: widen")

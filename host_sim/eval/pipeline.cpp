@@ -361,10 +361,10 @@ ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel&
   const bool region = thresholds_in.q_min.size() == n && thresholds_in.ddq_max.size() == n && thresholds_in.stop_gain.size() == n;
   // Stop allowance: when the arm accelerates harder than anything in the calibration
   // (an abrupt stop), each joint's band grows to s times what the model left there,
-  // s = the arm's largest |ddq_i| / ddq_max_i (difference of the measured velocity
-  // over kAccelBaselineS, calibration_region.hpp): the model's error in a braking transient scales with it, and joints couple
-  // (at the UR10e's stops the waist's current spikes while the waist itself decelerates
-  // less than in the calibration). The extra decays with kStopDecayS (the drive's braking
+  // s = the arm's largest |ddq_i| / ddq_max_i (difference of the measured velocity over
+  // kAccelBaselineS, calibration_region.hpp): the model's error in a braking transient
+  // scales with it, and joints couple (at the UR10e's stops the waist's current spikes
+  // while the waist itself decelerates less than in the calibration). The extra decays with kStopDecayS (the drive's braking
   // current and the stiction it takes up last a few samples after the velocity has dropped).
   constexpr double kStopDecayS = 0.1;
   const double stop_decay = std::exp(-dt / kStopDecayS);
