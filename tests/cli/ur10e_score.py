@@ -4,7 +4,7 @@ Visible onset of a push: the pre-push level of K·i per joint is its mean over t
 that ends 0.5 s before the README's start, its noise the standard deviation there; the onset
 is the first row from 0.5 s before the README's start at which some joint's K·i has left
 its level by more than max(4 sigma, 0.3 N·m) for 3 rows in a row. A push's events are those
-from its onset - 0.5 s to its README end + 1.0 s (the release and the friction it leaves
+from its onset - 0.1 s (one 100 Hz step of resampling) to its README end + 1.0 s (the release and the friction it leaves
 are part of the push); any other event is a false alarm.
 Usage: ur10e_score.py <data dir> <work dir>
 """
@@ -54,7 +54,7 @@ for run in ("static", "static_still"):
                 if all(abs(tau[j][i + q] - level) > bar for q in range(3)):
                     onset = x if onset is None else min(onset, x)
                     break
-        mine = [e for e in ev if onset - 0.5 <= e <= b + 1.0]
+        mine = [e for e in ev if onset - 0.1 <= e <= b + 1.0]
         claimed.update(mine)
         if not mine:
             print(f"{n:4d}  {a:12.2f}  {onset:13.3f}  missed")
