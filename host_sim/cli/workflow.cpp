@@ -1,4 +1,5 @@
 // identify, calibrate, replay: the workflow on recordings.
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -8,7 +9,9 @@
 #include "cli/common.hpp"
 #include "cli/identify_rigid.hpp"
 #include "cli/progress.hpp"
+#include "eval/calibration_region.hpp"
 #include "eval/pipeline.hpp"
+#include "io/atomic_write.hpp"
 
 namespace jg::cli {
 namespace {
@@ -22,11 +25,86 @@ struct WorkflowOptions {
   RecordingOptions input;
 };
 
+/// --holding and its companions (calibrate, replay): how the drive's holding is known.
+struct HoldingCliOptions {
+  std::string holding = "none";
+  eval::ReplayOptions replay;
+  double settle = 0.15, reference = 0.016, floor = 0.0;
+  void add_to(CLI::App* cmd, bool for_replay) {
+    cmd->add_option("--holding", holding,
+                    "When the drive holds a setpoint (holding-aware change detection): none; always (the arm is "
+                    "held the whole recording); still (derived: at rest, then within --hold-radius of where it stopped)")
+        ->check(CLI::IsMember({"none", "always", "still"}))
+        ->capture_default_str();
+    cmd->add_option("--hold-radius", replay.hold_radius, "[rad] a held joint may yield this far and still be held (--holding still)")
+        ->capture_default_str()
+        ->check(finite_range(0.0, 1.0));
+    if (for_replay) {
+      cmd->add_option("--rearm", replay.rearm_s, "[s] after an event on a held arm, estimates steady this long: new reference")
+          ->capture_default_str()
+          ->check(finite_range(0.0, 60.0));
+      cmd->add_flag("!--no-stop-allowance", replay.stop_allowance,
+                    "Do not widen the band outside the calibrated region (speeds and accelerations, e.g. stops, beyond "
+                    "the calibration's largest): the band alone");
+      cmd->add_option("--stop-gate", replay.stop_gate_s,
+                      "[s] gate the detector this long from an acceleration beyond the calibration's (a stop), "
+                      "instead of widening the band; 0: widen")
+          ->capture_default_str()
+          ->check(finite_range(0.0, 5.0));
+    } else {
+      cmd->add_option("--hold-settle", settle, "[s] held time skipped before the holding detector's reference")
+          ->capture_default_str()
+          ->check(finite_range(0.0, 10.0));
+      cmd->add_option("--hold-reference", reference, "[s] held time averaged into the reference")
+          ->capture_default_str()
+          ->check(finite_range(0.0, 10.0));
+      cmd->add_option("--hold-floor", floor,
+                      "Change threshold at least this fraction of the joint's static friction tau_s (the held "
+                      "friction relaxes after a push by part of it)")
+          ->capture_default_str()
+          ->check(finite_range(0.0, 10.0));
+    }
+  }
+  [[nodiscard]] eval::ReplayOptions options() const {
+    eval::ReplayOptions o = replay;
+    o.holding = holding == "always" ? eval::HoldingSource::always
+                : holding == "still" ? eval::HoldingSource::still
+                                     : eval::HoldingSource::none;
+    return o;
+  }
+};
+
 /// The "resampling" and "torque" fields every workflow JSON carries.
 nlohmann::json input_json(const LoadedRecording& in) {
   return {{"resampling", resampling_json(in.data.report)}, {"torque", io::to_string(in.torque)}};
 }
 }  // namespace
+
+/// Warnings where the replay left the calibration's region, into stdout and the JSON.
+void report_region(const eval::ReplayResult& r, const eval::Thresholds& t, const std::vector<int>& ids, nlohmann::json& j) {
+  if (t.q_min.size() != ids.size()) {
+    std::printf("note: the threshold file states no calibrated region (calibrate again to get one)\n");
+    return;
+  }
+  j["outside_region"] = nlohmann::json::array();
+  for (std::size_t k = 0; k < ids.size(); ++k) {
+    j["outside_region"].push_back({{"joint", ids[k]}, {"position_samples", r.outside_q[k]}, {"velocity_samples", r.outside_dq[k]},
+                                   {"stop_widened_samples", r.stop_widened[k]}});
+    if (r.outside_q[k] + r.outside_dq[k] == 0) continue;
+    std::printf("warning: joint %d outside the calibrated region in %zu samples (position) and %zu (velocity): the band there "
+                "was not calibrated; calibrate on a motion that covers it\n",
+                ids[k], r.outside_q[k], r.outside_dq[k]);
+  }
+  if (r.gated_samples > 0) std::printf("stop gate: detector gated in %zu samples\n", r.gated_samples);
+  j["stop_gated_samples"] = r.gated_samples;
+  std::size_t widened = 0;
+  for (const auto w : r.stop_widened) widened += w;
+  if (widened > 0) {
+    std::printf("stop allowance: band widened for accelerations beyond the calibration's in");
+    for (std::size_t k = 0; k < ids.size(); ++k) std::printf(" %zu", r.stop_widened[k]);
+    std::printf(" samples (joints in order)\n");
+  }
+}
 
 Command add_identify(CLI::App& app) {
   auto o = std::make_shared<WorkflowOptions>();
@@ -98,19 +176,57 @@ Command add_calibrate(CLI::App& app) {
   cmd->add_option("--margin", o->margin, "Safety margin added to the band [N·m]")->capture_default_str()->check(finite_range(0.0, 1000.0));
   o->input.add_to(cmd);
   o->observer.add_to(cmd);
-  return {cmd, [o]() {
+  auto hold = std::make_shared<HoldingCliOptions>();
+  hold->add_to(cmd, false);
+  auto window = std::make_shared<std::vector<double>>();
+  cmd->add_option("--time-window", *window, "FROM TO [s from the recording's first time stamp]: calibrate on this part only")
+      ->expected(2);
+  return {cmd, [o, hold, window]() {
             const auto model = robot::load_robot(o->model, o->model_options);
             const auto in = load_recording(o->recording, o->input);
             const auto& rec = in.data.segments.front();
             const auto friction = eval::read_friction_json(o->friction, rec.joint_ids);
+            const auto gains = o->observer.to_gains(in.data.report.rate_hz);
+            constexpr double kSettleS = 0.5;  // calibrate_segments' default: the observer settling
             const auto t = about_recording(o->recording, [&] {
-              return eval::calibrate_segments(in.data.segments, model, friction, o->observer.to_gains(in.data.report.rate_hz), o->margin);
+              auto segments = in.data.segments;
+              if (!window->empty()) {
+                const double t0 = segments.front().t.front();
+                segments = eval::time_window(segments, t0 + (*window)[0], t0 + (*window)[1]);
+                std::printf("calibrating on t = %.3f .. %.3f s (--time-window)\n", segments.front().t.front(), segments.back().t.back());
+              }
+              auto th = eval::calibrate_segments(segments, model, friction, gains, o->margin, kSettleS);
+              eval::cover_region(th, segments, model, friction, gains, kSettleS);
+              if (hold->holding != "none") {
+                th.hold_settle_s = hold->settle;
+                th.hold_reference_s = hold->reference;
+                eval::calibrate_holds(th, segments, model, friction, gains, hold->options(), kSettleS);
+                // A held joint may hold any friction up to its static level tau_s: a calibration
+                // on a few holds saw only the levels they happened to keep. The band's standstill
+                // allowance covers the whole range; small changes are the holding detector's job.
+                for (std::size_t j = 0; j < th.low_speed_extra.size(); ++j) {
+                  th.low_speed_extra[j] = std::max(th.low_speed_extra[j], friction[j].tau_s);
+                  th.hold_change[j] = std::max(th.hold_change[j], hold->floor * friction[j].tau_s);
+                }
+              }
+              return th;
             });
             std::printf("joint  band without / with compensation [N·m]  shrink  threshold (moving)  + at standstill\n");
             for (std::size_t j = 0; j < t.threshold.size(); ++j) {
-              std::printf("%5d  %12.3f / %-12.3f              %5.1fx  %10.3f          %+.3f\n", rec.joint_ids[j], t.band_uncompensated[j],
-                          t.band[j], t.band_uncompensated[j] / std::max(t.threshold[j] - t.margin, 1e-9), t.threshold[j],
-                          t.low_speed_extra[j]);
+              // No sample while moving (a held arm): the moving band is the margin alone, no ratio.
+              const double moving = t.threshold[j] - t.margin;
+              char shrink[16] = "     -";
+              if (moving > 1e-9) std::snprintf(shrink, sizeof shrink, "%5.1fx", t.band_uncompensated[j] / moving);
+              std::printf("%5d  %12.3f / %-12.3f              %s  %10.3f          %+.3f\n", rec.joint_ids[j], t.band_uncompensated[j],
+                          t.band[j], shrink, t.threshold[j], t.low_speed_extra[j]);
+            }
+            std::printf("joint  region covered: q [rad]         |dq| max [rad/s]  |ddq| max [rad/s^2]  stop gain [N·m s^2/rad]%s\n",
+                        t.hold_change.empty() ? "" : "  hold change [N·m] (largest seen, armed s)");
+            for (std::size_t j = 0; j < t.threshold.size(); ++j) {
+              std::printf("%5d  %8.3f .. %-8.3f        %8.3f          %9.3f            %8.3f", rec.joint_ids[j], t.q_min[j], t.q_max[j],
+                          t.dq_max[j], t.ddq_max[j], t.stop_gain[j]);
+              if (!t.hold_change.empty()) std::printf("              %6.3f (%.3f, %.1f)", t.hold_change[j], t.hold_band[j], t.hold_seconds[j]);
+              std::printf("\n");
             }
             if (!o->json.empty()) {
               eval::write_threshold_json(o->json, t, rec.joint_ids, input_json(in));
@@ -135,7 +251,11 @@ Command add_replay(CLI::App& app) {
   cmd->add_option("--debounce", o->debounce, "Cycles over threshold before a detection")->capture_default_str()->check(CLI::Range(1, 50));
   cmd->add_option("--json", o->json, "Write the events here (contract format)");
   o->observer.add_to(cmd);
-  return {cmd, [o]() {
+  auto hold = std::make_shared<HoldingCliOptions>();
+  hold->add_to(cmd, true);
+  auto trace = std::make_shared<std::string>();
+  cmd->add_option("--trace", *trace, "Write t and the estimate mu<j> per sample here (CSV, for plots)");
+  return {cmd, [o, hold, trace]() {
             const auto model = robot::load_robot(o->model, o->model_options);
             const auto in = load_recording(o->recording, o->input);
             const auto& ids = in.data.segments.front().joint_ids;
@@ -144,16 +264,39 @@ Command add_replay(CLI::App& app) {
             // Each segment runs from a fresh state; events keep the recording's time stamps.
             const auto r = about_recording(o->recording, [&] {
               return eval::replay_segments(in.data.segments, model, friction, thresholds, o->observer.to_gains(in.data.report.rate_hz),
-                                           o->scalar, o->debounce);
+                                           o->scalar, o->debounce, hold->options());
             });
-            std::printf("%zu detection(s)\n", r.events.size());
             nlohmann::json j = input_json(in);
+            report_region(r, thresholds, ids, j);
+            if (hold->holding != "none") {
+              std::printf("holding (%s): %zu of %zu samples held; holding detector re-armed %zu time(s)\n", hold->holding.c_str(),
+                          r.held_samples, r.t.size(), r.rearms);
+              j["holding"] = {{"source", hold->holding}, {"held_samples", r.held_samples}, {"rearms", r.rearms}};
+            }
+            std::printf("%zu detection(s)\n", r.events.size());
             j["events"] = nlohmann::json::array();
             for (const auto& e : r.events) {
               std::printf("  t = %.4f s: link %d (joints over threshold:", e.t, e.link);
               for (const int k : e.joints_over) std::printf(" %d", k);
-              std::printf(")\n");
-              j["events"].push_back({{"t", e.t}, {"link", e.link}, {"joints_over", e.joints_over}});
+              std::printf(")%s\n", e.by_hold ? " by the holding detector" : "");
+              j["events"].push_back({{"t", e.t}, {"link", e.link}, {"joints_over", e.joints_over}, {"by_hold", e.by_hold}});
+            }
+            if (!trace->empty()) {
+              std::string text = "t";
+              for (const int id : ids) text += ",mu" + std::to_string(id);
+              text += "\n";
+              char buf[32];
+              for (std::size_t k = 0; k < r.t.size(); ++k) {
+                std::snprintf(buf, sizeof buf, "%.4f", r.t[k]);
+                text += buf;
+                for (const auto& m : r.mu) {
+                  std::snprintf(buf, sizeof buf, ",%.4f", m[k]);
+                  text += buf;
+                }
+                text += "\n";
+              }
+              io::write_text_atomic(*trace, text);
+              std::printf("wrote %s\n", trace->c_str());
             }
             j["external_torque_max"] = r.external_torque_max;
             j["scalar"] = o->scalar;

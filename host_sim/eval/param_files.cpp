@@ -104,6 +104,21 @@ std::vector<std::size_t> joint_order(const std::string& path, const std::vector<
   }
   return order;
 }
+/// The per-joint friction of `identify --rigid-body`'s JSON ({"coulomb", "viscous"}: a
+/// smoothed Coulomb + viscous law) as LuGre parameters: tau_c = tau_s = coulomb (no Stribeck
+/// excess: the fit has none), sigma2 = viscous, sigma1 = 0, and a bristle stiffness that
+/// deflects kRigidBristleRad at tau_c (the fit's tanh smoothing is of that order, and at
+/// 1 mrad sigma0 dt stays well inside Q16.16 at 100 Hz-1 kHz). w_s only shapes the
+/// Stribeck excess, zero here; any positive value gives the same law.
+LuGreParams<double> lugre_from_rigid_body(const nlohmann::json& f, const std::string& path, std::size_t i) {
+  constexpr double kRigidBristleRad = 1e-3;
+  const double coulomb = number(f, "coulomb", path, i);
+  const double viscous = number(f, "viscous", path, i);
+  if (!(coulomb > 0.0) || viscous < 0.0) {
+    fail(path, entry(i) + ".friction", "coulomb must be > 0 and viscous >= 0 [N·m, N·m·s/rad]");
+  }
+  return LuGreParams<double>{coulomb / kRigidBristleRad, 0.0, viscous, coulomb, coulomb, 0.01};
+}
 }  // namespace
 
 std::vector<LuGreParams<double>> read_friction_json(const std::string& path) {
@@ -112,6 +127,10 @@ std::vector<LuGreParams<double>> read_friction_json(const std::string& path) {
   std::vector<LuGreParams<double>> out;
   for (std::size_t i = 0; i < a.size(); ++i) {
     const auto& e = a[i];
+    if (!e.contains("sigma0") && e.contains("friction") && e["friction"].is_object()) {
+      out.push_back(lugre_from_rigid_body(e["friction"], path, i));
+      continue;
+    }
     LuGreParams<double> p{number(e, "sigma0", path, i), number(e, "sigma1", path, i), number(e, "sigma2", path, i),
                           number(e, "tau_c", path, i),  number(e, "tau_s", path, i),  number(e, "w_s", path, i)};
     if (validate(p) != Error::ok) {
@@ -151,7 +170,23 @@ Thresholds read_threshold_json(const std::string& path) {
       t.hold_change.push_back(number(e, "hold_change_threshold", path, i));
       if (!(t.hold_change.back() >= 0.0)) fail(path, entry(i) + ".hold_change_threshold", "must be >= 0 (0: off)");
     }
+    // The calibration's region (calibrate writes it): all joints or none.
+    if (e.contains("region")) {
+      if (t.q_min.size() != i) fail(path, entry(i) + ".region", "given for some joints only");
+      const auto& g = e["region"];
+      if (!g.is_object()) fail(path, entry(i) + ".region", "not an object {q_min, q_max, dq_max, ddq_max}");
+      t.q_min.push_back(number(g, "q_min", path, i));
+      t.q_max.push_back(number(g, "q_max", path, i));
+      t.dq_max.push_back(number(g, "dq_max", path, i));
+      t.ddq_max.push_back(number(g, "ddq_max", path, i));
+      t.stop_gain.push_back(number(e, "stop_gain", path, i, 0.0));
+      if (!(t.q_min.back() <= t.q_max.back())) fail(path, entry(i) + ".region.q_min", "must be <= q_max");
+      if (t.dq_max.back() < 0.0 || t.ddq_max.back() < 0.0 || t.stop_gain.back() < 0.0) {
+        fail(path, entry(i) + ".region", "dq_max, ddq_max and stop_gain must be >= 0");
+      }
+    }
   }
+  if (!t.q_min.empty() && t.q_min.size() != t.threshold.size()) fail(path, "region", "given for some joints only");
   if (!t.hold_change.empty() && t.hold_change.size() != t.threshold.size()) {
     fail(path, "hold_change_threshold", "given for some joints only");
   }
@@ -170,7 +205,9 @@ Thresholds read_threshold_json(const std::string& path, const std::vector<int>& 
   const Thresholds all = read_threshold_json(path);
   Thresholds out = all;
   for (auto [dst, src] : {std::pair{&out.threshold, &all.threshold}, {&out.threshold_uncompensated, &all.threshold_uncompensated},
-                          {&out.low_speed_extra, &all.low_speed_extra}, {&out.hold_change, &all.hold_change}}) {
+                          {&out.low_speed_extra, &all.low_speed_extra}, {&out.hold_change, &all.hold_change},
+                          {&out.q_min, &all.q_min}, {&out.q_max, &all.q_max}, {&out.dq_max, &all.dq_max},
+                          {&out.ddq_max, &all.ddq_max}, {&out.stop_gain, &all.stop_gain}}) {
     if (src->size() != order.size()) continue;  // optional fields the file does not give
     for (std::size_t k = 0; k < order.size(); ++k) (*dst)[k] = (*src)[order[k]];
   }

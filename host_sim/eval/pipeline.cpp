@@ -10,7 +10,10 @@
 
 #include "io/atomic_write.hpp"
 #include "eval/firmware_estimator.hpp"
+#include "eval/calibration_region.hpp"
+#include "eval/evaluate.hpp"
 #include "jointguard/detection/detector.hpp"
+#include "jointguard/detection/hold_detector.hpp"
 #include "robot/torque_kind.hpp"
 
 namespace jg::eval {
@@ -65,6 +68,12 @@ void write_threshold_json(const std::string& path, const Thresholds& t, const st
       e["hold_change_threshold"] = t.hold_change[i];
       if (i < t.hold_band.size()) e["hold_band"] = t.hold_band[i];
       if (i < t.hold_seconds.size()) e["hold_seconds"] = t.hold_seconds[i];
+    }
+  }
+  if (t.q_min.size() == t.threshold.size() && t.stop_gain.size() == t.threshold.size()) {
+    for (std::size_t i = 0; i < t.threshold.size(); ++i) {
+      j["joints"][i]["region"] = {{"q_min", t.q_min[i]}, {"q_max", t.q_max[i]}, {"dq_max", t.dq_max[i]}, {"ddq_max", t.ddq_max[i]}};
+      j["joints"][i]["stop_gain"] = t.stop_gain[i];
     }
   }
   if (!t.hold_change.empty()) {
@@ -308,53 +317,168 @@ std::vector<JointThreshold<double>> threshold_bands(const Thresholds& t) {
   return out;
 }
 
+std::vector<bool> holding_flags(const io::Recording& rec, const ReplayOptions& o) {
+  const std::size_t n = rec.joints(), samples = rec.samples();
+  std::vector<bool> out(samples, o.holding == HoldingSource::always);
+  if (o.holding != HoldingSource::still || samples == 0) return out;
+  const double dt = samples > 1 ? (rec.t.back() - rec.t.front()) / static_cast<double>(samples - 1) : 1.0;
+  const auto arrive = static_cast<std::size_t>(std::ceil(o.arrive_s / dt - 1e-9));
+  std::size_t at_rest = 0;
+  bool holding = false;
+  std::vector<double> rest(n, 0.0);
+  for (std::size_t k = 0; k < samples; ++k) {
+    bool still = true;
+    for (std::size_t j = 0; j < n; ++j) still = still && std::fabs(rec.dq[j][k]) <= o.still_speed;
+    at_rest = still ? at_rest + 1 : 0;
+    if (holding) {
+      // A held joint yields a little under a push and comes back: the drive still holds.
+      for (std::size_t j = 0; j < n; ++j) holding = holding && std::fabs(rec.q[j][k] - rest[j]) <= o.hold_radius;
+      if (!holding) at_rest = 0;  // moved away: it holds again only after arriving anew
+    }
+    if (!holding && at_rest > arrive) {
+      holding = true;
+      for (std::size_t j = 0; j < n; ++j) rest[j] = rec.q[j][k];
+    }
+    out[k] = holding;
+  }
+  return out;
+}
+
 ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel& model,
                               const std::vector<LuGreParams<double>>& friction, const Thresholds& thresholds_in,
-                              const ObserverGains& gains, const std::string& scalar, int debounce_cycles) {
+                              const ObserverGains& gains, const std::string& scalar, int debounce_cycles,
+                              const ReplayOptions& opt) {
   const std::size_t n = rec.joints();
   const auto bands = threshold_bands(thresholds_in);
   const std::vector<double>& thresholds = thresholds_in.threshold;
   if (thresholds.size() != n) throw std::invalid_argument("one threshold per joint needed");
   if (friction.size() != n) throw std::invalid_argument("one friction parameter set per joint needed");
+  const bool use_hold = opt.holding != HoldingSource::none;
+  if (use_hold && thresholds_in.hold_change.size() != n) {
+    throw std::invalid_argument("holding-aware replay needs the threshold file's hold_change_threshold "
+                                "(calibrate with --holding on a recording with holds)");
+  }
   const auto d = observer_disturbance(rec, model, gains, true, friction, scalar);
+  const double dt = sample_time(rec);
+  const auto held = holding_flags(rec, opt);
+  std::vector<HoldChangeParams<double>> hold(n);
+  std::vector<HoldChangeState<double>> hold_state(n);
+  for (std::size_t j = 0; j < n && use_hold; ++j) {
+    hold[j] = hold_params(thresholds_in.hold_change[j], thresholds_in.hold_settle_s, thresholds_in.hold_reference_s, dt);
+  }
+  const bool region = thresholds_in.q_min.size() == n && thresholds_in.ddq_max.size() == n && thresholds_in.stop_gain.size() == n;
+  // Stop allowance: when the arm accelerates harder than anything in the calibration
+  // (an abrupt stop), each joint's band grows to s times what the model left there,
+  // s = the arm's largest |ddq_i| / ddq_max_i (difference of the measured velocity over
+  // kAccelBaselineS, calibration_region.hpp): the model's error in a braking transient
+  // scales with it, and joints couple (at the UR10e's stops the waist's current spikes
+  // while the waist itself decelerates less than in the calibration). The extra decays with kStopDecayS (the drive's braking
+  // current and the stiction it takes up last a few samples after the velocity has dropped).
+  constexpr double kStopDecayS = 0.1;
+  const double stop_decay = std::exp(-dt / kStopDecayS);
+  std::vector<double> stop_extra(n, 0.0);
+  double gate_until = -1e300;
+  const std::size_t accel_m = accel_baseline(dt);
+  // Re-arming the holding detector after an event: each joint's estimate steady around
+  // its own 0.1 s average for rearm_s.
+  const double ema_gain = std::min(1.0, dt / 0.1);
+  const auto rearm_cycles = static_cast<std::size_t>(std::ceil(opt.rearm_s / dt - 1e-9));
+  std::vector<double> ema(n, 0.0);
+  std::vector<std::size_t> steady(n, 0);
   ReplayResult r;
   r.t = rec.t;
   r.external_torque_max.assign(n, 0.0);
+  r.outside_q.assign(n, 0);
+  r.outside_dq.assign(n, 0);
+  r.stop_widened.assign(n, 0);
   r.mu.assign(n, std::vector<double>(rec.samples()));
   std::vector<JointDetectorState> st(n);
   JointMask previous = 0;
   double quiet_since = -1.0;
   for (std::size_t k = 0; k < rec.samples(); ++k) {
-    JointMask mask = 0;
+    JointMask mask = 0, by_band = 0;
+    r.held_samples += held[k] ? 1 : 0;
+    double stop_ratio = 0.0;  // s above
+    for (std::size_t j = 0; j < n && region && k >= accel_m; ++j) {
+      if (thresholds_in.ddq_max[j] > 0.0) {
+        stop_ratio = std::max(stop_ratio, accel_at(rec, j, k, accel_m, dt) / thresholds_in.ddq_max[j]);
+      }
+    }
+    if (opt.stop_gate_s > 0.0 && stop_ratio > 1.0) gate_until = rec.t[k] + opt.stop_gate_s;
+    const bool gated = rec.t[k] < gate_until;
+    r.gated_samples += gated ? 1 : 0;
     for (std::size_t j = 0; j < n; ++j) {
       const double mu = -d[j][k];
+      const double w = rec.dq[j][k];
       r.mu[j][k] = mu;
       r.external_torque_max[j] = std::max(r.external_torque_max[j], std::fabs(mu));
-      if (detector_step(bands[j], DebounceSettings{static_cast<std::uint8_t>(debounce_cycles)},
-                        st[j], mu, rec.dq[j][k])) {
+      JointThreshold<double> band = bands[j];
+      if (region) {
+        const double q = rec.q[j][k];
+        if (q < thresholds_in.q_min[j] || q > thresholds_in.q_max[j]) ++r.outside_q[j];
+        if (std::fabs(w) > thresholds_in.dq_max[j]) ++r.outside_dq[j];
+        stop_extra[j] *= stop_decay;
+        if (opt.stop_allowance && opt.stop_gate_s <= 0.0 && stop_ratio > 1.0) {
+          stop_extra[j] = std::max(stop_extra[j], thresholds_in.stop_gain[j] * thresholds_in.ddq_max[j] * stop_ratio);
+        }
+        if (stop_extra[j] > 0.01 * band.base) ++r.stop_widened[j];
+        // Faster than the calibration: the moving band grows in proportion to the speed
+        // ratio (the model's errors grow at least linearly with speed: viscous friction's
+        // error with w, the Coriolis terms' with w^2; linear is the cautious lower bound).
+        if (opt.stop_allowance && thresholds_in.dq_max[j] > 0.0 && std::fabs(w) > thresholds_in.dq_max[j]) {
+          band.base *= std::fabs(w) / thresholds_in.dq_max[j];
+        }
+        band.base += stop_extra[j];
+      }
+      if (gated) band.base += 1e12;  // nothing is over while the gate is open
+      const bool changed = use_hold && hold_change_step(hold[j], hold_state[j], held[k] && !gated, mu);
+      if (threshold_at(band, w) < std::fabs(mu)) by_band |= static_cast<JointMask>(1U << j);
+      if (detector_step(band, DebounceSettings{static_cast<std::uint8_t>(debounce_cycles)}, st[j], mu, w, changed)) {
         mask |= static_cast<JointMask>(1U << j);
       }
+      ema[j] = k == 0 ? mu : ema[j] + ema_gain * (mu - ema[j]);
+      const double still_within = use_hold ? std::max(hold[j].change_threshold, 1e-9) : thresholds[j];
+      steady[j] = std::fabs(mu - ema[j]) <= still_within ? steady[j] + 1 : 0;
     }
     if (mask != 0 && previous == 0) {
       ReplayEvent e;
       e.t = rec.t[k];
+      e.by_hold = by_band == 0;
       JointMask signature = mask;  // as in run_detection: joints above 30 % of their threshold
       for (std::size_t j = 0; j < n; ++j) {
-        if (std::fabs(r.mu[j][k]) > 0.3 * thresholds[j]) signature |= static_cast<JointMask>(1U << j);
+        const bool part = use_hold && hold_state[j].armed
+                              ? hold_deviation(hold_state[j], r.mu[j][k]) > 0.6 * hold[j].change_threshold
+                              : std::fabs(r.mu[j][k]) > 0.3 * thresholds[j];
+        if (part) signature |= static_cast<JointMask>(1U << j);
       }
       e.link = rec.joint_ids[static_cast<std::size_t>(isolate_link(signature) - 1)];
       for (std::size_t j = 0; j < n; ++j) {
         if ((mask & (1U << j)) != 0U) e.joints_over.push_back(rec.joint_ids[j]);
       }
       r.events.push_back(e);
+      std::fill(steady.begin(), steady.end(), std::size_t{0});  // re-arm only after steady from here
+    }
+    const bool held_rearm = use_hold && held[k];
+    if (mask != 0 && held_rearm) {
+      // Holding-aware: the push has ended when every estimate is steady again, at whatever
+      // level the static friction now holds, and no joint is over its band: new reference.
+      bool rearm = by_band == 0;
+      for (std::size_t j = 0; j < n; ++j) rearm = rearm && steady[j] >= rearm_cycles;
+      if (rearm) {
+        for (auto& s : st) reset_detector(s);
+        for (auto& h : hold_state) h = HoldChangeState<double>{};
+        mask = 0;
+        ++r.rearms;
+      }
     }
     // Re-arm once every joint is back under its threshold for 0.2 s (a new event can follow).
     bool all_quiet = true;
     for (std::size_t j = 0; j < n; ++j) all_quiet = all_quiet && std::fabs(r.mu[j][k]) < thresholds[j];
-    if (mask != 0 && all_quiet) {
+    if (mask != 0 && all_quiet && !held_rearm) {
       if (quiet_since < 0.0) quiet_since = rec.t[k];
       if (rec.t[k] - quiet_since > 0.2) {
         for (auto& s : st) reset_detector(s);
+        for (auto& h : hold_state) h = HoldChangeState<double>{};
         mask = 0;
         quiet_since = -1.0;
       }
@@ -366,11 +490,19 @@ ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel&
 
 ReplayResult replay_segments(const std::vector<io::Recording>& segments, const robot::RobotModel& model,
                              const std::vector<LuGreParams<double>>& friction, const Thresholds& thresholds,
-                             const ObserverGains& gains, const std::string& scalar, int debounce_cycles) {
+                             const ObserverGains& gains, const std::string& scalar, int debounce_cycles,
+                             const ReplayOptions& options) {
   if (segments.empty()) throw std::invalid_argument("replay: no recording to replay");
   ReplayResult all;
   for (const auto& rec : segments) {
-    ReplayResult r = replay_recording(rec, model, friction, thresholds, gains, scalar, debounce_cycles);
+    ReplayResult r = replay_recording(rec, model, friction, thresholds, gains, scalar, debounce_cycles, options);
+    for (auto [dst, src] : {std::pair{&all.outside_q, &r.outside_q}, {&all.outside_dq, &r.outside_dq}, {&all.stop_widened, &r.stop_widened}}) {
+      if (dst->empty()) dst->assign(src->size(), 0);
+      for (std::size_t j = 0; j < src->size(); ++j) (*dst)[j] += (*src)[j];
+    }
+    all.held_samples += r.held_samples;
+    all.rearms += r.rearms;
+    all.gated_samples += r.gated_samples;
     all.events.insert(all.events.end(), r.events.begin(), r.events.end());
     if (all.external_torque_max.empty()) all.external_torque_max.assign(r.external_torque_max.size(), 0.0);
     for (std::size_t j = 0; j < r.external_torque_max.size(); ++j) {

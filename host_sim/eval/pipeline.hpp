@@ -44,6 +44,11 @@ struct Thresholds {
   /// the baseline's time constant [s].
   std::vector<double> residual_change, residual_band;
   double residual_time_constant_s = 0.05;
+  /// The region the calibration covered (calibration_region.hpp; empty: unknown), per
+  /// joint: position range [rad], largest |velocity| [rad/s] and |acceleration| [rad/s^2]
+  /// (difference of the velocity over kAccelBaselineS, calibration_region.hpp), and the band's growth per rad/s^2
+  /// of acceleration beyond the largest seen (stops more abrupt than the calibration's).
+  std::vector<double> q_min, q_max, dq_max, ddq_max, stop_gain;
 };
 /// Contract JSON (--threshold): {"joints": [{"joint", "threshold", "threshold_uncompensated"}]}
 void write_threshold_json(const std::string& path, const Thresholds& t, const std::vector<int>& joint_ids,
@@ -114,9 +119,14 @@ struct ReplayEvent {
   double t = 0.0;
   int link = 0;
   std::vector<int> joints_over;
+  bool by_hold = false;  ///< raised by the holding detector alone (no joint over its band)
 };
 struct ReplayResult {
   std::vector<ReplayEvent> events;
+  /// Per joint: samples outside the calibrated position range, faster than its largest
+  /// velocity, and with the band widened for an acceleration beyond its largest (stops).
+  std::vector<std::size_t> outside_q, outside_dq, stop_widened;
+  std::size_t held_samples = 0, rearms = 0, gated_samples = 0;
   std::vector<double> external_torque_max;
   std::vector<double> t;
   std::vector<std::vector<double>> mu;  ///< [joint][sample]
@@ -124,13 +134,41 @@ struct ReplayResult {
 /// The detector's band per joint from calibrated thresholds.
 std::vector<JointThreshold<double>> threshold_bands(const Thresholds& t);
 
+/// How replay knows that the drive holds a setpoint (holding-aware change detection).
+enum class HoldingSource {
+  none,    ///< never: the band alone (the former behaviour)
+  always,  ///< the drive holds one setpoint for the whole recording (the user says so)
+  still,   ///< derived: the arm came to rest (every |dq| <= still_speed for arrive_s) and
+           ///< every joint stays within hold_radius of where it stopped
+};
+struct ReplayOptions {
+  HoldingSource holding = HoldingSource::none;
+  double still_speed = 1e-9;   ///< [rad/s] "at rest" for HoldingSource::still
+  double arrive_s = 0.05;      ///< [s] at rest this long before holding starts
+  double hold_radius = 0.005;  ///< [rad] a held joint yields this far under a push and still holds
+  /// After an event the holding detector re-arms (new reference) once every joint's
+  /// estimate has stayed within its change threshold of its own 0.1 s average for rearm_s:
+  /// the friction held after a push differs from before it (static friction).
+  double rearm_s = 0.5;
+  bool stop_allowance = true;  ///< widen the band at accelerations beyond the calibration's
+  /// > 0: instead of widening, gate the detector for this long [s] from the first sample
+  /// whose acceleration exceeds the calibration's (the drive's knowledge that it commanded
+  /// a stop, derived from the recording, which carries no command; a contact that
+  /// decelerates the arm harder than the calibration also opens the gate).
+  double stop_gate_s = 0.0;
+};
+/// Per sample: the whole arm held (true) or not, from the options.
+std::vector<bool> holding_flags(const io::Recording& rec, const ReplayOptions& o);
+
 ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel& model,
                               const std::vector<LuGreParams<double>>& friction, const Thresholds& thresholds,
-                              const ObserverGains& gains, const std::string& scalar, int debounce_cycles);
+                              const ObserverGains& gains, const std::string& scalar, int debounce_cycles,
+                              const ReplayOptions& options = {});
 /// Replay of uniform segments, each from a fresh state; events, t and mu merged in time
 /// order (events keep the recording's time stamps).
 ReplayResult replay_segments(const std::vector<io::Recording>& segments, const robot::RobotModel& model,
                              const std::vector<LuGreParams<double>>& friction, const Thresholds& thresholds,
-                             const ObserverGains& gains, const std::string& scalar, int debounce_cycles);
+                             const ObserverGains& gains, const std::string& scalar, int debounce_cycles,
+                             const ReplayOptions& options = {});
 
 }  // namespace jg::eval

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "io/yaml_fields.hpp"
+#include "motion/calibration_motion.hpp"
 #include "models/paper_friction.hpp"
 #include "robot/robot_model.hpp"
 #include "sim/apply_effects.hpp"
@@ -53,6 +54,25 @@ std::shared_ptr<const Trajectory> parse_trajectory(const YamlFields& t, std::siz
     return make_random_moves(to_joint_vector(t.numbers("start_rad", n)), to_joint_vector(t.numbers("lower_rad", n)),
                              to_joint_vector(t.numbers("upper_rad", n)), speed, t.number("duration_s"), seed);
   }
+  if (type == "calibration") {
+    // Covers the workspace and its stops (motion/calibration_motion.hpp).
+    t.allow_only({"type", "start_rad", "lower_rad", "upper_rad", "max_speed_rad_s", "accel_rad_s2", "stop_decel_rad_s2",
+                  "stop_share", "levels", "speed_steps", "dwell_max_s", "duration_s"});
+    CalibrationMotion c;
+    c.max_speed = t.number("max_speed_rad_s");
+    c.accel = t.number("accel_rad_s2", c.accel);
+    c.stop_decel = t.number("stop_decel_rad_s2", c.stop_decel);
+    c.stop_share = t.number("stop_share", c.stop_share);
+    c.levels = static_cast<int>(t.integer("levels", c.levels));
+    c.speed_steps = static_cast<int>(t.integer("speed_steps", c.speed_steps));
+    c.dwell_max_s = t.number("dwell_max_s", c.dwell_max_s);
+    try {
+      return make_calibration_motion(to_joint_vector(t.numbers("start_rad", n)), to_joint_vector(t.numbers("lower_rad", n)),
+                                     to_joint_vector(t.numbers("upper_rad", n)), c, t.number("duration_s"), seed);
+    } catch (const std::invalid_argument& e) {
+      t.fail("type", e.what());
+    }
+  }
   if (type == "move") {
     // One rest-to-rest quintic move whose fastest joint peaks at peak_speed_rad_s (the
     // quintic's peak is 1.875 x its mean speed), then a dwell: the ISO/TS 15066 scenarios.
@@ -66,7 +86,7 @@ std::shared_ptr<const Trajectory> parse_trajectory(const YamlFields& t, std::siz
     if (!(dwell >= 0.0) || dwell > 3600.0) t.fail("dwell_s", "expected in [0, 3600]");
     return std::make_unique<WaypointTrajectory>(start, std::vector<WaypointTrajectory::Waypoint>{{target, 1.875 * travel / speed, dwell}});
   }
-  t.fail("type", "unknown trajectory type '" + type + "' (excitation, pick, random, move)");
+  t.fail("type", "unknown trajectory type '" + type + "' (excitation, pick, random, move, calibration)");
 }
 
 JointFrictionTruth parse_friction(const YamlFields& f, const JointFrictionTruth& base) {

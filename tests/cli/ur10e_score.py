@@ -1,0 +1,84 @@
+"""Scores the UR10e replays of real_ur10e_detection.sh against the data's README times.
+
+Visible onset of a push: the pre-push level of K·i per joint is its mean over the second
+that ends 0.5 s before the README's start, its noise the standard deviation there; the onset
+is the first row from 0.5 s before the README's start at which some joint's K·i has left
+its level by more than max(4 sigma, 0.3 N·m) for 3 rows in a row. A push's events are those
+from its onset - 0.1 s (one 100 Hz step of resampling) to its README end + 1.0 s (the release and the friction it leaves
+are part of the push); any other event is a false alarm.
+Usage: ur10e_score.py <data dir> <work dir>
+"""
+import csv
+import json
+import statistics
+import sys
+
+data, work = sys.argv[1], sys.argv[2]
+PUSHES = [(3.17, 5.64), (11.64, 15.87), (25.37, 30.94), (37.96, 43.26)]  # README, t - t0 [s]
+EPISODES = [(3.4, 4.2), (9.4, 10.0), (16.5, 16.93)]                        # motion_contacts
+STOP_FREE = 5.06                                                            # motion_free's stop
+
+
+def k_i():
+    for line in open(f"{data}/drive.yaml"):
+        if line.startswith("k_i:"):
+            return [float(v) for v in line.split("[")[1].split("]")[0].split(",")]
+    raise SystemExit("drive.yaml: no k_i")
+
+
+def events(name):
+    return [e["t"] for e in json.load(open(f"{work}/{name}.json"))["events"]]
+
+
+K = k_i()
+rows = list(csv.DictReader(open(f"{data}/static_pushes.csv")))
+t0 = float(rows[0]["t"])
+t = [float(r["t"]) - t0 for r in rows]
+tau = [[K[j] * float(r[f"i{j + 1}"]) for r in rows] for j in range(6)]
+ok = True
+for run in ("static", "static_still"):
+    ev = [e - t0 for e in events(run)]
+    claimed = set()
+    print(f"{run}: push  README start  visible onset  first event  delay [ms]  events in the push")
+    for n, (a, b) in enumerate(PUSHES, 1):
+        onset = None
+        for j in range(6):
+            pre = [tau[j][i] for i, x in enumerate(t) if a - 1.5 <= x < a - 0.5]
+            level, sigma = statistics.mean(pre), statistics.pstdev(pre)
+            bar = max(4.0 * sigma, 0.3)
+            for i, x in enumerate(t):
+                if x < a - 0.5 or i + 3 > len(t):
+                    continue
+                if x > b:
+                    break
+                if all(abs(tau[j][i + q] - level) > bar for q in range(3)):
+                    onset = x if onset is None else min(onset, x)
+                    break
+        mine = [e for e in ev if onset - 0.1 <= e <= b + 1.0]
+        claimed.update(mine)
+        if not mine:
+            print(f"{n:4d}  {a:12.2f}  {onset:13.3f}  missed")
+            ok = False
+            continue
+        print(f"{n:4d}  {a:12.2f}  {onset:13.3f}  {mine[0]:11.3f}  {1e3 * (mine[0] - onset):10.0f}  {len(mine)}")
+    false = [e for e in ev if e not in claimed]
+    print(f"{run}: false alarms outside them: {len(false)} {false}")
+    ok = ok and not false
+
+t0f = float(next(csv.DictReader(open(f"{data}/motion_free.csv")))["t"])
+free = {v: [round(e - t0f, 3) for e in events(f"motion_free_{v}")] for v in ("band", "widen", "gate")}
+print(f"motion_free (calibrated on its first 5 s), alarms: band alone {free['band']}, "
+      f"widening law {free['widen']}, stop gate {free['gate']}")
+ok = ok and not free["gate"] and any(abs(e - STOP_FREE) < 0.1 for e in free["band"])
+
+t0c = float(next(csv.DictReader(open(f"{data}/motion_contacts.csv")))["t"])
+for variant in ("band", "widen", "gate"):
+    evc = [e - t0c for e in events(f"motion_contacts_{variant}")]
+    hits = [[e for e in evc if a - 0.5 <= e <= b + 0.5] for a, b in EPISODES]
+    outside = [e for e in evc if not any(a - 0.5 <= e <= b + 0.5 for a, b in EPISODES)]
+    print(f"motion_contacts, {variant}: events {[round(e, 3) for e in evc]}; per episode "
+          f"{[len(h) for h in hits]}; outside the episodes {outside}")
+    ok = ok and not outside and hits[0] and hits[2]
+if not ok:
+    raise SystemExit("UR10e detection: FAILED")
+print("UR10e detection: ok")
