@@ -41,14 +41,6 @@ Candidate candidate(const Matrix& At, const Vector& tau, const Vector& sigma, do
   return c;
 }
 
-double log_sum_exp(const std::vector<double>& v) {
-  const double top = *std::max_element(v.begin(), v.end());
-  if (!std::isfinite(top)) return top;
-  double sum = 0.0;
-  for (const double x : v) sum += std::exp(x - top);
-  return top + std::log(sum);
-}
-
 void check(const sim::ArmDynamics& arm, const TorqueObservation& obs) {
   const auto n = static_cast<Eigen::Index>(arm.joints());
   if (obs.q.size() != n || obs.tau_nm.size() != n || obs.sigma_nm.size() != n) {
@@ -80,57 +72,91 @@ ContactEstimatorParams default_contact_params(const std::vector<double>& reaches
   return p;
 }
 
-ContactEstimate estimate_contact(const sim::ArmDynamics& arm, const TorqueObservation& obs,
-                                 const ContactEstimatorParams& params) {
-  check(arm, obs);
-  const int n = arm.joints();
-  if (static_cast<int>(params.segments.size()) < n || params.points_per_link < 1 || !(params.force_prior_n > 0.0)) {
+EvidenceGrid make_grid(int joints, const ContactEstimatorParams& params) {
+  if (static_cast<int>(params.segments.size()) < joints || params.points_per_link < 1 || !(params.force_prior_n > 0.0)) {
     throw std::invalid_argument("contact estimate: one segment per link, at least one point and a force prior > 0 N required");
   }
-  const Vector tau = obs.tau_nm;
-  const Vector sigma = obs.sigma_nm;
+  EvidenceGrid g;
   const int points = params.points_per_link;
-  // Per link and grid point: the model's evidence and the force posterior.
-  std::vector<std::vector<Candidate>> grid(static_cast<std::size_t>(n));
-  std::vector<std::vector<double>> along(static_cast<std::size_t>(n));
-  std::vector<double> link_log_evidence(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) {
+  for (int i = 0; i < joints; ++i) {
     const LinkSegment seg = params.segments[static_cast<std::size_t>(i)];
-    std::vector<double> logs;
+    std::vector<double> along;
     for (int k = 0; k < points; ++k) {
-      const double s = points == 1 ? 0.5 * (seg.along_min_m + seg.along_max_m)
-                                   : seg.along_min_m + (seg.along_max_m - seg.along_min_m) * k / (points - 1);
-      const Matrix At = jacobian_transposed(arm, obs.q, i, Eigen::Vector3d(s, 0.0, 0.0));
-      grid[static_cast<std::size_t>(i)].push_back(candidate(At, tau, sigma, params.force_prior_n));
-      along[static_cast<std::size_t>(i)].push_back(s);
-      logs.push_back(grid[static_cast<std::size_t>(i)].back().log_evidence);
+      along.push_back(points == 1 ? 0.5 * (seg.along_min_m + seg.along_max_m)
+                                  : seg.along_min_m + (seg.along_max_m - seg.along_min_m) * k / (points - 1));
     }
-    link_log_evidence[static_cast<std::size_t>(i)] = log_sum_exp(logs) - std::log(static_cast<double>(points));
+    g.along_m.push_back(along);
+    g.chi2.emplace_back(along.size(), 0.0);
+  }
+  return g;
+}
+
+void accumulate(EvidenceGrid& grid, const sim::ArmDynamics& arm, const TorqueObservation& obs, double weight) {
+  check(arm, obs);
+  for (std::size_t i = 0; i < grid.along_m.size(); ++i) {
+    for (std::size_t k = 0; k < grid.along_m[i].size(); ++k) {
+      const Eigen::Vector3d point(grid.along_m[i][k], 0.0, 0.0);
+      const Matrix At = jacobian_transposed(arm, obs.q, static_cast<int>(i), point);
+      const Vector r = (obs.tau_nm - At * force_at(arm, obs, static_cast<int>(i) + 1, point)).cwiseQuotient(obs.sigma_nm);
+      grid.chi2[i][k] = std::max(grid.chi2[i][k], r.squaredNorm());
+    }
+  }
+  grid.weight += weight;
+}
+
+ContactEstimate estimate_contact(const sim::ArmDynamics& arm, const TorqueObservation& obs,
+                                 const ContactEstimatorParams& params, const EvidenceGrid* evidence) {
+  check(arm, obs);
+  const int n = arm.joints();
+  EvidenceGrid own;
+  if (evidence == nullptr) {
+    own = make_grid(n, params);
+    accumulate(own, arm, obs);
+    evidence = &own;
+  }
+  if (static_cast<int>(evidence->along_m.size()) != n || !(evidence->weight > 0.0)) {
+    throw std::invalid_argument("contact estimate: evidence of another arm, or empty");
   }
   ContactEstimate e;
-  const double total = log_sum_exp(link_log_evidence);
-  for (int i = 0; i < n; ++i) e.link_probability.push_back(std::exp(link_log_evidence[static_cast<std::size_t>(i)] - total));
-  const auto best = static_cast<std::size_t>(
-      std::max_element(e.link_probability.begin(), e.link_probability.end()) - e.link_probability.begin());
+  std::size_t best = static_cast<std::size_t>(n) - 1;
+  bool found = false;
+  for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i) {
+    const auto& c = evidence->chi2[i];
+    const std::size_t k = static_cast<std::size_t>(std::min_element(c.begin(), c.end()) - c.begin());
+    const double mean = c[k];
+    e.link_chi2.push_back(mean);
+    const Matrix At = jacobian_transposed(arm, obs.q, static_cast<int>(i), Eigen::Vector3d(evidence->along_m[i][k], 0.0, 0.0));
+    const int dof = n - rank_of(At, obs.sigma_nm);
+    if (!found && mean <= params.accept_chi2_per_dof * std::max(dof, 0) + 1e-12) {
+      best = i;
+      found = true;
+    }
+  }
   e.link = static_cast<int>(best) + 1;
-  // Within the link: the posterior over the points (uniform prior along the segment).
-  const auto& cands = grid[best];
-  std::vector<double> w(cands.size());
-  const double top = std::max_element(cands.begin(), cands.end(), [](const Candidate& a, const Candidate& b) {
-                       return a.log_evidence < b.log_evidence;
-                     })->log_evidence;
+  // Within the link: the posterior over the points from the latest torques (linear-Gaussian
+  // model, uniform prior along the segment), and the force there.
+  const auto& along = evidence->along_m[best];
+  std::vector<double> logs;
+  for (const double s_m : along) {
+    const Matrix At = jacobian_transposed(arm, obs.q, static_cast<int>(best), Eigen::Vector3d(s_m, 0.0, 0.0));
+    logs.push_back(candidate(At, obs.tau_nm, obs.sigma_nm, params.force_prior_n).log_evidence);
+  }
+  const double top = *std::max_element(logs.begin(), logs.end());
+  std::vector<double> w(logs.size());
   double wsum = 0.0;
-  for (std::size_t k = 0; k < cands.size(); ++k) wsum += (w[k] = std::exp(cands[k].log_evidence - top));
-  double mean_s = 0.0, mean_f = 0.0;
-  for (std::size_t k = 0; k < cands.size(); ++k) {
+  for (std::size_t k = 0; k < logs.size(); ++k) wsum += (w[k] = std::exp(logs[k] - top));
+  double mean_s = 0.0, mean_f = 0.0, var_s = 0.0, var_f = 0.0;
+  std::vector<Candidate> cands;
+  for (std::size_t k = 0; k < logs.size(); ++k) {
     w[k] /= wsum;
-    mean_s += w[k] * along[best][k];
+    const Matrix At = jacobian_transposed(arm, obs.q, static_cast<int>(best), Eigen::Vector3d(along[k], 0.0, 0.0));
+    cands.push_back(candidate(At, obs.tau_nm, obs.sigma_nm, params.force_prior_n));
+    mean_s += w[k] * along[k];
     mean_f += w[k] * cands[k].force_mean.norm();
     e.force_base += w[k] * cands[k].force_mean;
   }
-  double var_s = 0.0, var_f = 0.0;
-  for (std::size_t k = 0; k < cands.size(); ++k) {
-    var_s += w[k] * (along[best][k] - mean_s) * (along[best][k] - mean_s);
+  for (std::size_t k = 0; k < logs.size(); ++k) {
+    var_s += w[k] * (along[k] - mean_s) * (along[k] - mean_s);
     var_f += w[k] * ((cands[k].force_mean.norm() - mean_f) * (cands[k].force_mean.norm() - mean_f) + cands[k].force_trace_cov);
   }
   e.along_m = mean_s;
@@ -141,8 +167,8 @@ ContactEstimate estimate_contact(const sim::ArmDynamics& arm, const TorqueObserv
   const sim::LinkPoses poses = arm.poses(obs.q);
   e.point_base = poses.origin[best] + poses.rotation[best] * e.point_in_link;
   const Matrix At = jacobian_transposed(arm, obs.q, static_cast<int>(best), e.point_in_link);
-  e.determined_components = rank_of(At, sigma);
-  const Vector r = (tau - At * force_at(arm, obs, e.link, e.point_in_link)).cwiseQuotient(sigma);
+  e.determined_components = rank_of(At, obs.sigma_nm);
+  const Vector r = (obs.tau_nm - At * force_at(arm, obs, e.link, e.point_in_link)).cwiseQuotient(obs.sigma_nm);
   e.residual_chi2 = r.squaredNorm();
   return e;
 }

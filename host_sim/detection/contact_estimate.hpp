@@ -43,6 +43,7 @@ struct ContactEstimatorParams {
   std::vector<LinkSegment> segments;  ///< per link (index 0 = link 1)
   int points_per_link = 33;           ///< grid along each segment (>= 1)
   double force_prior_n = 60.0;        ///< rms per component of the isotropic force prior [N]
+  double accept_chi2_per_dof = 9.0;   ///< a link explains the torques up to this residual per dof (3 sigma)
 };
 
 /// The default segments of an arm: each link's body from 10 % of its reach to its reach
@@ -59,7 +60,7 @@ struct TorqueObservation {
 
 struct ContactEstimate {
   int link = 0;                         ///< 1-based; 0 when nothing was estimated
-  std::vector<double> link_probability; ///< posterior per link (index 0 = link 1)
+  std::vector<double> link_chi2;        ///< largest residual over the observations at each link's best point (index 0 = link 1)
   double along_m = 0.0;                 ///< posterior mean of the point along the link's x axis [m]
   double along_sigma_m = 0.0;           ///< its posterior standard deviation [m]
   Eigen::Vector3d point_in_link = Eigen::Vector3d::Zero();  ///< (along_m, 0, 0) [m]
@@ -73,10 +74,29 @@ struct ContactEstimate {
   double residual_chi2 = 0.0;  ///< sum ((tau - J^T F) / sigma)^2 at the estimated point and force
 };
 
-/// Estimates the contact from one observation. Throws std::invalid_argument on sizes that
-/// do not match the arm or a sigma <= 0.
+/// The residual of every (link, point) hypothesis over observations: the torques of several
+/// cycles of one contact (one link and point, the force fitted per cycle); the largest
+/// residual over the cycles is kept (a joint that carries the contact clears its noise at
+/// some cycle, once the contact's force has built up; averaging would dilute it with the
+/// cycles before). The link: the most proximal one whose largest residual stays within
+/// accept_chi2_per_dof per residual degree of freedom (n - rank of its J^T): the joints it
+/// cannot load, and the torque patterns it cannot make, carry no more than noise. The most
+/// distal link always explains n <= 3 torques; a more proximal link that explains them is
+/// preferred because a distal contact showing no torque on its own joints is a coincidence.
+struct EvidenceGrid {
+  std::vector<std::vector<double>> along_m;  ///< [link][point] the grid along each link's x axis
+  std::vector<std::vector<double>> chi2;     ///< [link][point] largest ((tau - J^T F) / sigma)^2 over the observations
+  double weight = 0.0;                       ///< sum of the weights added (observations)
+};
+EvidenceGrid make_grid(int joints, const ContactEstimatorParams& params);
+/// Adds one observation's log evidence with `weight`. Throws as estimate_contact.
+void accumulate(EvidenceGrid& grid, const sim::ArmDynamics& arm, const TorqueObservation& obs, double weight = 1.0);
+
+/// Estimates the contact: the link from `evidence` (all observations of the contact so far;
+/// nullptr: from `obs` alone), the point and the force from `obs` (the latest torques).
+/// Throws std::invalid_argument on sizes that do not match the arm or a sigma <= 0.
 ContactEstimate estimate_contact(const sim::ArmDynamics& arm, const TorqueObservation& obs,
-                                 const ContactEstimatorParams& params);
+                                 const ContactEstimatorParams& params, const EvidenceGrid* evidence = nullptr);
 
 /// The force [N, base frame] that best explains the torques for a contact at a known point
 /// on a known link (1-based): weighted least squares, minimum norm where J^T is rank-deficient.

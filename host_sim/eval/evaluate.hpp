@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "eval/contact_window.hpp"
 #include "eval/estimator.hpp"
 #include "jointguard/detection/detector.hpp"
 #include "jointguard/detection/hold_detector.hpp"
@@ -31,6 +32,7 @@ struct DetectionConfig {
   double retreat_s = 0.3;     ///< retreat: time to go back [s], then hold
   double reflex_gain = 1.0;   ///< reflex: motor torque = gravity + gain x estimated contact torque
   double reflex_s = 0.3;      ///< reflex: duration [s], then hold where the arm is
+  ContactWindowConfig contact;  ///< the contact estimate over a short window from the detection
 };
 
 struct Trace {
@@ -63,6 +65,9 @@ struct RunResult {
   bool isolable = false;
   double held_push_nm = 0.0;               ///< held_push: the torque the push puts on its own joint [N·m]
   double peak_true_torque_held = 0.0;      ///< max true |tau_ext| on a joint while its controller held [N·m]
+  /// The contact estimated over the window after the detection (link, point, force) and the
+  /// truth beside it; empty when nothing was detected or the window did not end in the run.
+  std::optional<ContactOutcome> contact;
   Trace trace;
   io::Recording recording;  ///< the run's recording (kept only with record_trace)
 };
