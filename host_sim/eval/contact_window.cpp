@@ -72,6 +72,7 @@ void ContactWindow::set_truth(const sim::ArmDynamics& arm, const sim::CollisionE
   const long k = std::max(0L, decision_cycle_ - 1);
   if (k < static_cast<long>(contact_force_n.size())) o.force_true_n = contact_force_n[static_cast<std::size_t>(k)];
   o.along_true_m = event.point_in_link.x();
+  o.point_error_m = o.estimate.link == event.link ? (o.estimate.point_in_link - event.point_in_link).norm() : -1.0;
   for (const auto& joint : tau_ext) {
     if (static_cast<std::size_t>(decision_cycle_) < joint.size()) o.torque_true_nm.push_back(joint[static_cast<std::size_t>(decision_cycle_)]);
   }

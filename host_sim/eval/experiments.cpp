@@ -107,7 +107,7 @@ Summary summarize(const std::vector<RunResult>& runs) {
       s.force_within_20pct += within(c.estimate.force_n) ? 1 : 0;
       s.force_within_20pct_true_point += within(c.force_at_true_point_n) ? 1 : 0;
       s.peak_force_within_20pct += std::fabs(c.peak_force_n - r.peak_force_n) <= 0.2 * r.peak_force_n ? 1 : 0;
-      s.point_within_5cm += right && c.point_error_m <= 0.05 ? 1 : 0;
+      s.point_within_5cm += right && c.point_error_m >= 0.0 && c.point_error_m <= 0.05 ? 1 : 0;
       s.along_within_5cm += right && std::fabs(c.estimate.along_m - c.along_true_m) <= 0.05 ? 1 : 0;
     }
     if (r.max_true_ratio > 1.5) {
