@@ -7,14 +7,14 @@
 // the link's x axis (the segment towards the next joint: the links' bodies), p = (s, 0, 0)
 // in the link frame, s on a grid over the link's segment.
 //
-// Linear-Gaussian model per (link, s): F ~ N(0, force_prior_n^2 I) (isotropic: no
-// preferred direction), tau | F ~ N(J^T F, diag(sigma^2)). Then tau | link, s is Gaussian
-// (covariance S = force_prior^2 J^T J + diag(sigma^2)), the force given (link, s) has a
-// closed-form posterior, and the evidence of each link (averaged over s, a uniform prior
-// along the segment) names the link. The evidence prefers the most proximal link that
-// explains the torques: a more distal link could explain a torque pattern with zero
-// torque on its own joints only by coincidence (Occam's factor), so a joint whose torque
+// The link: the most proximal one whose weighted least-squares fit tau ~ J^T F leaves a
+// residual within the noise (EvidenceGrid below): a more distal link explains a torque
+// pattern with no torque on its own joints only by coincidence, so a joint whose torque
 // stays within its noise is not taken as carrying the contact.
+// The point and the force on that link: a linear-Gaussian model per s, F ~ N(0,
+// force_prior_n^2 I) (isotropic: no preferred direction), tau | F ~ N(J^T F, diag(sigma^2));
+// tau | s is Gaussian (covariance force_prior^2 J^T J + diag(sigma^2)), which weighs the
+// points (uniform prior along the segment), and the force given s has a closed-form posterior.
 //
 // What the torques determine (n joint torques, here n = 3): given the point, the force
 // components in the range of J_i(p) (rank min(i, 3) away from singularities): on the last
