@@ -28,6 +28,7 @@ struct EvaluateOptions {
   double hold_settle_s = 0.15, isolation_window_s = 0.0;
   bool no_hold = false, free_run_without_holds = false, no_residual = false;
   double residual_time_constant_s = 0.05;
+  double contact_before_s = 0.005, contact_after_s = 0.020;
   int count = 50, debounce = 1, jobs = 0;
   double speed = 0.8;
   bool sweep = false;
@@ -61,20 +62,26 @@ void write_safety(const eval::ExperimentConfig& c, const EvaluateOptions& o, int
   nlohmann::json j;
   j["safety"]["speed_rad_s"] = o.speed;
   j["safety"]["cases"] = nlohmann::json::array();
-  std::printf("%-16s %-6s %-13s %9s %9s %8s %8s %8s %s\n", "region", "kind", "reaction", "v [m/s]", "det [ms]", "F_tr [N]",
-              "F_qs [N]", "limit", "verdict");
+  std::printf("%-16s %-6s %-13s %9s %9s %8s %8s %8s %8s %s\n", "region", "kind", "reaction", "v [m/s]", "det [ms]", "F_tr [N]",
+              "F_est[N]", "F_qs [N]", "limit", "verdict");
   for (const auto& r : results) {
     const auto& out = r.outcome;
-    std::printf("%-16s %-6s %-13s %9.3f %9s %8.1f %8.1f %4.0f/%-4.0f %s\n", r.c.region.c_str(), sim::to_string(r.c.kind),
+    // #17.4: the contact force the estimator followed at its decided point (peak, N) beside
+    // the simulated truth ("-": nothing detected, no estimate).
+    const auto& est = r.run.contact;
+    std::printf("%-16s %-6s %-13s %9.3f %9s %8.1f %8s %8.1f %4.0f/%-4.0f %s\n", r.c.region.c_str(), sim::to_string(r.c.kind),
                 eval::to_string(r.c.reaction), r.contact_speed_m_s,
                 r.detection_delay_s ? std::to_string(1e3 * *r.detection_delay_s).substr(0, 5).c_str() : "-",
-                out.peak_transient_n, out.peak_quasi_static_n, out.limit_transient_n, out.limit_quasi_static_n,
+                out.peak_transient_n, est ? std::to_string(est->peak_force_n).substr(0, 6).c_str() : "-", out.peak_quasi_static_n, out.limit_transient_n, out.limit_quasi_static_n,
                 out.within_limits ? "within" : "EXCEEDS");
     j["safety"]["cases"].push_back(
         {{"region", r.c.region}, {"kind", sim::to_string(r.c.kind)}, {"reaction", eval::to_string(r.c.reaction)},
          {"contact_speed_m_s", r.contact_speed_m_s},
          {"detection_delay_s", r.detection_delay_s ? nlohmann::json(*r.detection_delay_s) : nlohmann::json(nullptr)},
          {"link_isolated", r.run.link_isolated},
+         {"force_estimate_peak_n", est ? nlohmann::json(est->peak_force_n) : nlohmann::json(nullptr)},
+         {"force_estimate_at_decision_n", est ? nlohmann::json(est->estimate.force_n) : nlohmann::json(nullptr)},
+         {"link_estimated", est ? est->estimate.link : 0},
          {"peak_transient_n", out.peak_transient_n}, {"peak_quasi_static_n", out.peak_quasi_static_n},
          {"limit_transient_n", out.limit_transient_n}, {"limit_quasi_static_n", out.limit_quasi_static_n},
          {"within_limits", out.within_limits}});
@@ -138,6 +145,12 @@ Command add_evaluate(CLI::App& app) {
   cmd->add_option("--isolation-window", o->isolation_window_s,
                   "Name the link from every joint taking part in the signature over this long from the detection [s] (0: the detection cycle)")
       ->capture_default_str()->check(CLI::Range(0.0, 0.1));
+  cmd->add_option("--contact-window-before", o->contact_before_s,
+                  "Contact estimate: torque estimates kept from before the detection [s]")
+      ->capture_default_str()->check(CLI::Range(0.0, 0.1));
+  cmd->add_option("--contact-window-after", o->contact_after_s,
+                  "Contact estimate: the link and point decided this long after the detection [s]")
+      ->capture_default_str()->check(CLI::Range(0.0, 0.2));
   cmd->add_flag("--no-hold", o->no_hold, "Band detector alone (no change detection while a joint holds)");
   cmd->add_flag("--no-residual", o->no_residual, "No change detection against the estimate's slow baseline while moving");
   cmd->add_option("--residual-time-constant", o->residual_time_constant_s,
@@ -187,6 +200,8 @@ Command add_evaluate(CLI::App& app) {
             c.hold_calibration_s = o->no_hold ? 0.0 : o->hold_calibration_s;
             c.hold_settle_s = o->hold_settle_s;
             c.isolation_window_s = o->isolation_window_s;
+            c.contact_before_s = o->contact_before_s;
+            c.contact_after_s = o->contact_after_s;
             c.free_run_holds = !o->free_run_without_holds;
             c.residual_detector = !o->no_residual;
             c.residual_time_constant_s = o->residual_time_constant_s;
@@ -253,7 +268,8 @@ Command add_evaluate(CLI::App& app) {
                           {"hold_reference_s", c.hold_reference_s}, {"hold_calibration_s", c.hold_calibration_s},
                           {"isolation_window_s", c.isolation_window_s}, {"false_alarm_run_with_holds", c.free_run_holds},
                           {"compare_scalar", c.compare_scalar}, {"residual_change_threshold", c.residual_threshold},
-                          {"residual_time_constant_s", c.residual_time_constant_s}};
+                          {"residual_time_constant_s", c.residual_time_constant_s},
+                          {"contact_window_before_s", c.contact_before_s}, {"contact_window_after_s", c.contact_after_s}};
             if (!o->shard.empty()) {
               const auto segments = static_cast<std::size_t>(std::max(1.0, std::ceil(free_s / eval::kFreeRunSegmentS - 1e-9)));
               const nlohmann::json identity = {{"scenario", o->scenario}, {"count", o->count}, {"seed", o->seed},

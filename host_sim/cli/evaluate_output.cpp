@@ -10,6 +10,53 @@ namespace jg::cli {
 namespace {
 nlohmann::json optional_json(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); }
 
+nlohmann::json vector_json(const Eigen::Vector3d& v) { return nlohmann::json::array({v.x(), v.y(), v.z()}); }
+Eigen::Vector3d vector_of(const nlohmann::json& j) { return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()}; }
+
+/// The contact estimate of a run (link, point, force with their spread) and the truth beside it.
+nlohmann::json contact_json(const eval::ContactOutcome& c) {
+  const auto& e = c.estimate;
+  return {{"t", c.t}, {"link", e.link}, {"link_residual_chi2", e.link_chi2},
+          {"along_link", e.along_m}, {"along_link_sigma", e.along_sigma_m},
+          {"point_in_link", vector_json(e.point_in_link)}, {"point_base", vector_json(e.point_base)},
+          {"force", e.force_n}, {"force_sigma", e.force_sigma_n}, {"force_base", vector_json(e.force_base)},
+          {"determined_force_components", e.determined_components}, {"residual_chi2", e.residual_chi2},
+          {"torque", std::vector<double>(c.observation.tau_nm.data(), c.observation.tau_nm.data() + c.observation.tau_nm.size())},
+          {"torque_sigma", std::vector<double>(c.observation.sigma_nm.data(), c.observation.sigma_nm.data() + c.observation.sigma_nm.size())},
+          {"force_true_at_estimate", c.force_true_n}, {"along_link_true", c.along_true_m},
+          {"point_error", c.point_error_m >= 0.0 ? nlohmann::json(c.point_error_m) : nlohmann::json(nullptr)},
+          {"force_given_true_point", c.force_at_true_point_n}, {"peak_force", c.peak_force_n}, {"t_peak_force", c.t_peak},
+          {"torque_true", c.torque_true_nm}};
+}
+
+eval::ContactOutcome contact_from_json(const nlohmann::json& j) {
+  eval::ContactOutcome c;
+  c.t = j.at("t").get<double>();
+  c.estimate.link = j.at("link").get<int>();
+  c.estimate.link_chi2 = j.at("link_residual_chi2").get<std::vector<double>>();
+  c.estimate.along_m = j.at("along_link").get<double>();
+  c.estimate.along_sigma_m = j.at("along_link_sigma").get<double>();
+  c.estimate.point_in_link = vector_of(j.at("point_in_link"));
+  c.estimate.point_base = vector_of(j.at("point_base"));
+  c.estimate.force_n = j.at("force").get<double>();
+  c.estimate.force_sigma_n = j.at("force_sigma").get<double>();
+  c.estimate.force_base = vector_of(j.at("force_base"));
+  c.estimate.determined_components = j.at("determined_force_components").get<int>();
+  c.estimate.residual_chi2 = j.at("residual_chi2").get<double>();
+  const auto tau = j.at("torque").get<std::vector<double>>();
+  const auto sigma = j.at("torque_sigma").get<std::vector<double>>();
+  c.observation.tau_nm = Eigen::Map<const Eigen::VectorXd>(tau.data(), static_cast<Eigen::Index>(tau.size()));
+  c.observation.sigma_nm = Eigen::Map<const Eigen::VectorXd>(sigma.data(), static_cast<Eigen::Index>(sigma.size()));
+  c.force_true_n = j.at("force_true_at_estimate").get<double>();
+  c.along_true_m = j.at("along_link_true").get<double>();
+  c.point_error_m = j.at("point_error").is_null() ? -1.0 : j.at("point_error").get<double>();
+  c.force_at_true_point_n = j.at("force_given_true_point").get<double>();
+  c.peak_force_n = j.at("peak_force").get<double>();
+  c.t_peak = j.at("t_peak_force").get<double>();
+  c.torque_true_nm = j.at("torque_true").get<std::vector<double>>();
+  return c;
+}
+
 nlohmann::json run_json(const eval::RunResult& r) {
   nlohmann::json j{{"name", r.name}, {"index", r.index}, {"t_collision", r.t_collision}, {"link_true", r.link_true},
                    {"link_isolated", r.link_isolated}, {"peak_force", r.peak_force_n},
@@ -17,10 +64,13 @@ nlohmann::json run_json(const eval::RunResult& r) {
                    {"max_true_torque_over_moving_threshold", r.max_true_ratio_moving},
                    {"isolable", r.isolable}, {"link_first_cycle", r.link_first_cycle}, {"detected_by_hold", r.detected_by_hold},
                    {"peak_true_torque_held", r.peak_true_torque_held}, {"held_push", r.held_push_nm}};
-  // Contract fields: the true contact force (peak over the run, N) and the detector's estimate
-  // of it, null: the contact's force is not estimated yet (docs/results.md, issue 15).
+  // Contract fields: the true contact force (peak over the run, N) and the estimate's force
+  // magnitude (at the end of the estimate's window, N; null: no estimate). The estimate
+  // compares with `contact_estimate.force_true_at_estimate` (the same cycle), not the peak.
   j["force_true"] = r.peak_force_n;
-  j["force_estimate"] = nullptr;
+  j["force_estimate"] = r.contact ? nlohmann::json(r.contact->estimate.force_n) : nlohmann::json(nullptr);
+  j["link_estimated"] = r.contact ? r.contact->estimate.link : 0;
+  j["contact_estimate"] = r.contact ? contact_json(*r.contact) : nlohmann::json(nullptr);
   j["t_detected"] = optional_json(r.t_detected);
   j["delay"] = r.t_detected ? nlohmann::json(*r.t_detected - r.t_collision) : nlohmann::json(nullptr);
   j["t_threshold_crossed"] = optional_json(r.t_threshold);
@@ -63,6 +113,7 @@ eval::RunResult run_from_json(const nlohmann::json& j) {
   r.speed_at_peak_rad_s = j.value("speed_at_peak", 0.0);
   r.compared = j.contains("t_detected_other_scalar");
   if (r.compared) r.t_detected_other = optional_of(j, "t_detected_other_scalar");
+  if (j.contains("contact_estimate") && !j.at("contact_estimate").is_null()) r.contact = contact_from_json(j.at("contact_estimate"));
   return r;
 }
 
@@ -115,6 +166,15 @@ nlohmann::json evaluate_json(const EvaluateFigures& f) {
             {"detection_rate_over_1p5x_threshold", sum.detectable ? static_cast<double>(sum.detectable_found) / sum.detectable : 1.0},
             {"over_1p5x_threshold", {{"collisions", sum.detectable}, {"detected", sum.detectable_found}}},
             {"over_1p5x_moving_threshold", {{"collisions", sum.detectable_moving}, {"detected", sum.detectable_moving_found}}},
+            {"isolation_accuracy_by_estimate", sum.estimated_link_right / n},
+            {"isolated_of_isolable_by_estimate", sum.estimated_right_of_isolable},
+            {"contact_estimate", {{"estimated", sum.estimated}, {"link_right", sum.estimated_link_right},
+                                  {"link_right_of_isolable", sum.estimated_right_of_isolable},
+                                  {"force_within_20pct", sum.force_within_20pct},
+                                  {"force_within_20pct_given_true_point", sum.force_within_20pct_true_point},
+                                  {"peak_force_within_20pct_of_true_peak", sum.peak_force_within_20pct},
+                                  {"point_within_5cm", sum.point_within_5cm},
+                                  {"along_link_within_5cm", sum.along_within_5cm}}},
             {"delay_min", sum.delay_min}, {"delay_median", sum.delay_median}, {"delay_max", sum.delay_max},
             {"after_threshold_crossed", {{"detections", sum.after_crossing},
                                          {"within_10ms", sum.after_crossing_within_10ms},
@@ -161,6 +221,15 @@ void print_figures(const EvaluateFigures& f) {
     std::printf("the other scalar on the same measurements: %d of %d collisions detected by either scalar detected by "
                 "both on the same cycle\n",
                 sum.same_cycle, sum.compared_detected);
+  }
+  if (sum.estimated > 0) {
+    std::printf("contact estimate (%d detections, window around the detection): link right %d/%d, of the isolable %d/%d; "
+                "force within 20 %% of the truth at its cycle %d/%d (given the true point %d/%d), peak force within 20 %% "
+                "of the true peak %d/%d; point within 5 cm (link right) %d/%d, along the link %d/%d\n",
+                sum.estimated, sum.estimated_link_right, sum.estimated, sum.estimated_right_of_isolable, sum.isolable,
+                sum.force_within_20pct, sum.estimated, sum.force_within_20pct_true_point, sum.estimated,
+                sum.peak_force_within_20pct, sum.estimated, sum.point_within_5cm, sum.estimated, sum.along_within_5cm,
+                sum.estimated);
   }
   const nlohmann::json smallest = held_smallest(f.runs);
   if (!smallest.empty()) {

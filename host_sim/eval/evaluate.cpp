@@ -94,6 +94,8 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
   std::vector<JointDetectorState> other_states(n);
   std::vector<HoldChangeState<double>> other_hold_states(n);
   const DebounceSettings debounce{static_cast<std::uint8_t>(d.debounce_cycles)};
+  ContactWindow contact(d.contact, dt);
+  sim::JointVector contact_tau(static_cast<Eigen::Index>(n)), contact_threshold(static_cast<Eigen::Index>(n));
   const sim::ControlOverride hook = [&](const sim::CycleContext& ctx) -> std::optional<sim::JointVector> {
     const sim::Measurement& m = *ctx.measurement;
     const JointMask holding = sim::holding_mask(*ctx.reference);
@@ -151,9 +153,12 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       }
       const double band = threshold_at(thresholds[j], m.dq(i));
       if (band < std::fabs(mu(i))) by_band |= static_cast<JointMask>(1U << j);
-      if (record_ground_truth) {
-        in_effect_trace.push_back(hold_states[j].armed ? std::min(band, hold_detector[j].change_threshold) : band);
-      }
+      const double in_effect = hold_states[j].armed ? std::min(band, hold_detector[j].change_threshold) : band;
+      if (record_ground_truth) in_effect_trace.push_back(in_effect);
+      // The contact estimate explains a held joint's change since arrival (its estimate
+      // there is mostly the friction it holds).
+      contact_tau(i) = hold_states[j].armed ? mu(i) - hold_states[j].reference : mu(i);
+      contact_threshold(i) = in_effect;
     }
     if (record_ground_truth) holding_trace.push_back(holding);
     if (now != 0 && (setup.collisions.empty() || ctx.t < out.t_collision)) {
@@ -207,6 +212,7 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       }
       reacting = reacting || d.reaction != Reaction::none;
     }
+    if (!setup.collisions.empty()) contact.add(nominal, ctx.t, m.q, contact_tau, contact_threshold, out.t_detected);
     mask = now;
     if (record_trace) {
       out.trace.t.push_back(ctx.t);
@@ -285,6 +291,8 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
     if (highest_clear != 0 && highest_clear == out.link_true) out.isolable = true;
   }
   out.peak_force_n = r.peak_contact_force_n;
+  if (!setup.collisions.empty()) contact.set_truth(nominal, setup.collisions.front(), r.contact_force_n, rec.tau_ext);
+  out.contact = contact.outcome();
   out.contact_force_n = std::move(r.contact_force_n);
   if (record_trace) {
     out.trace.tau_ext = rec.tau_ext;

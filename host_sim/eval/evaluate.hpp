@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "eval/contact_window.hpp"
 #include "eval/estimator.hpp"
 #include "jointguard/detection/detector.hpp"
 #include "jointguard/detection/hold_detector.hpp"
@@ -37,6 +38,7 @@ struct DetectionConfig {
   double retreat_s = 0.3;     ///< retreat: time to go back [s], then hold
   double reflex_gain = 1.0;   ///< reflex: motor torque = gravity + gain x estimated contact torque
   double reflex_s = 0.3;      ///< reflex: duration [s], then hold where the arm is
+  ContactWindowConfig contact;  ///< the contact estimate over a short window from the detection
 };
 
 struct Trace {
@@ -79,6 +81,9 @@ struct RunResult {
   /// the first estimator's detection drives the reaction).
   bool compared = false;
   std::optional<double> t_detected_other;
+  /// The contact estimated over the window after the detection (link, point, force) and the
+  /// truth beside it; empty when nothing was detected or the window did not end in the run.
+  std::optional<ContactOutcome> contact;
   Trace trace;
   io::Recording recording;  ///< the run's recording (kept only with record_trace)
 };

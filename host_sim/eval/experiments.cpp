@@ -87,6 +87,11 @@ DetectionConfig detection_for(const ExperimentConfig& c) {
   d.residual_time_constant_s = c.residual_time_constant_s;
   d.reaction = c.reaction;
   d.friction = c.friction;
+  d.contact.before_s = c.contact_before_s;
+  d.contact.after_s = c.contact_after_s;
+  d.contact.noise_band_sigmas = c.contact_noise_band_sigmas;
+  d.contact.observer_gain_per_s = c.gains.kind == ObserverKind::first_order ? c.gains.k1 : 0.0;
+  d.contact.estimator = detection::default_contact_params(c.model.reaches());
   return d;
 }
 
@@ -105,6 +110,19 @@ Summary summarize(const std::vector<RunResult>& runs) {
     s.isolated_of_isolable += r.isolable && r.link_isolated == r.link_true ? 1 : 0;
     s.detected_by_hold += r.t_detected && r.detected_by_hold ? 1 : 0;
     s.detected_by_residual += r.t_detected && r.detected_by_residual ? 1 : 0;
+    if (r.contact) {
+      const ContactOutcome& c = *r.contact;
+      const bool right = c.estimate.link == r.link_true;
+      ++s.estimated;
+      s.estimated_link_right += right ? 1 : 0;
+      s.estimated_right_of_isolable += right && r.isolable ? 1 : 0;
+      const auto within = [&c](double f) { return std::fabs(f - c.force_true_n) <= 0.2 * c.force_true_n; };
+      s.force_within_20pct += within(c.estimate.force_n) ? 1 : 0;
+      s.force_within_20pct_true_point += within(c.force_at_true_point_n) ? 1 : 0;
+      s.peak_force_within_20pct += std::fabs(c.peak_force_n - r.peak_force_n) <= 0.2 * r.peak_force_n ? 1 : 0;
+      s.point_within_5cm += right && c.point_error_m >= 0.0 && c.point_error_m <= 0.05 ? 1 : 0;
+      s.along_within_5cm += right && std::fabs(c.estimate.along_m - c.along_true_m) <= 0.05 ? 1 : 0;
+    }
     if (r.max_true_ratio > 1.5) {
       ++s.detectable;
       s.detectable_found += r.t_detected ? 1 : 0;

@@ -49,6 +49,9 @@ struct ExperimentConfig {
   /// beside `scalar` on the same measurements with the same thresholds, and its detection
   /// cycle is recorded (RunResult::t_detected_other).
   std::string compare_scalar;
+  /// The contact estimate (ContactWindowConfig): samples before the detection, the decision
+  /// after it [s], noise per threshold.
+  double contact_before_s = 0.005, contact_after_s = 0.020, contact_noise_band_sigmas = 3.0;
 };
 
 /// The holding detector's threshold from the largest collision-free deviation seen while
@@ -158,6 +161,13 @@ struct Summary {
   /// Runs with a second scalar (compare_scalar): how many, how many either scalar detected,
   /// and of those how many both detected on the same cycle.
   int compared = 0, compared_detected = 0, same_cycle = 0;
+  /// The contact estimate (RunResult::contact): runs with one; its link right (in all, and
+  /// among the isolable); its force magnitude within 20 % of the true force at the estimate's
+  /// cycle (and the same given the true point); the point within 5 cm of the true one (3-D,
+  /// and along the link's axis), the link right.
+  int estimated = 0, estimated_link_right = 0, estimated_right_of_isolable = 0;
+  int force_within_20pct = 0, force_within_20pct_true_point = 0, point_within_5cm = 0, along_within_5cm = 0;
+  int peak_force_within_20pct = 0;  ///< the force followed after the decision: its peak against the run's true peak
 };
 Summary summarize(const std::vector<RunResult>& runs);
 

@@ -39,6 +39,8 @@ cases = json.load(open(sys.argv[1]))["safety"]["cases"]
 assert len(cases) == 12 * 2 * 5, len(cases)
 assert {c["reaction"] for c in cases} == {"none", "stop", "zero_gravity", "retreat", "reflex"}
 assert all(c["detection_delay_s"] is not None for c in cases), "every contact detected"
+# #17.4: the estimated contact force beside the truth, for every detected contact.
+assert all(c["force_estimate_peak_n"] is not None and c["force_estimate_peak_n"] > 0 for c in cases), "force estimated"
 PY
 # A bad body region: exit 1, the field named.
 sed 's/body_region: hand/body_region: elbowx/' "${SRC}/scenarios/iso_hand_clamp.yaml" > "${T}/bad.yaml"

@@ -1,0 +1,216 @@
+#include "detection/contact_estimate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace jg::detection {
+namespace {
+using Matrix = Eigen::MatrixXd;
+using Vector = Eigen::VectorXd;
+
+/// J^T of a point (s, 0, 0) on link `link` (0-based): n x 3.
+Matrix jacobian_transposed(const sim::ArmDynamics& arm, const sim::JointVector& q, int link, const Eigen::Vector3d& point) {
+  return arm.point_jacobian(q, link, point).transpose();
+}
+
+/// The linear-Gaussian model at one candidate point: log evidence of tau, force posterior.
+struct Candidate {
+  double log_evidence = 0.0;
+  Eigen::Vector3d force_mean = Eigen::Vector3d::Zero();
+  double force_trace_cov = 0.0;  ///< trace of the force's posterior covariance [N^2]
+};
+
+Candidate candidate(const Matrix& At, const Vector& tau, const Vector& sigma, double prior_n) {
+  const double p2 = prior_n * prior_n;
+  const auto n = tau.size();
+  Matrix S = p2 * At * At.transpose();
+  for (Eigen::Index j = 0; j < n; ++j) S(j, j) += sigma(j) * sigma(j);
+  const Eigen::LLT<Matrix> llt(S);  // S is positive definite: sigma > 0
+  const Vector alpha = llt.solve(tau);
+  double log_det = 0.0;
+  const Matrix L = llt.matrixL();
+  for (Eigen::Index j = 0; j < n; ++j) log_det += 2.0 * std::log(L(j, j));
+  Candidate c;
+  c.log_evidence = -0.5 * (tau.dot(alpha) + log_det + static_cast<double>(n) * std::log(2.0 * M_PI));
+  c.force_mean = p2 * At.transpose() * alpha;
+  const Matrix cov = p2 * Matrix::Identity(3, 3) - p2 * p2 * At.transpose() * llt.solve(At);
+  c.force_trace_cov = std::max(0.0, cov.trace());
+  return c;
+}
+
+void check(const sim::ArmDynamics& arm, const TorqueObservation& obs) {
+  const auto n = static_cast<Eigen::Index>(arm.joints());
+  if (obs.q.size() != n || obs.tau_nm.size() != n || obs.sigma_nm.size() != n) {
+    throw std::invalid_argument("contact estimate: q, tau and sigma need one value per joint (" + std::to_string(n) + ")");
+  }
+  for (Eigen::Index j = 0; j < n; ++j) {
+    if (!(obs.sigma_nm(j) > 0.0) || !std::isfinite(obs.tau_nm(j)) || !std::isfinite(obs.q(j))) {
+      throw std::invalid_argument("contact estimate: joint " + std::to_string(j + 1) + ": sigma must be > 0, tau and q finite");
+    }
+  }
+}
+
+int rank_of(const Matrix& At, const Vector& sigma) {
+  // Rank of the noise-weighted J^T: singular values below 1e-6 of the largest count as zero.
+  Matrix W = At;
+  for (Eigen::Index j = 0; j < W.rows(); ++j) W.row(j) /= sigma(j);
+  Eigen::JacobiSVD<Matrix> svd(W);
+  svd.setThreshold(1e-6);
+  return static_cast<int>(svd.rank());
+}
+}  // namespace
+
+ContactEstimatorParams default_contact_params(const std::vector<double>& reaches_m) {
+  ContactEstimatorParams p;
+  for (const double r : reaches_m) {
+    const double length = std::max(r, 0.1);
+    p.segments.push_back({0.1 * length, length});
+  }
+  return p;
+}
+
+EvidenceGrid make_grid(int joints, const ContactEstimatorParams& params) {
+  if (static_cast<int>(params.segments.size()) < joints || params.points_per_link < 1 || !(params.force_prior_n > 0.0)) {
+    throw std::invalid_argument("contact estimate: one segment per link, at least one point and a force prior > 0 N required");
+  }
+  EvidenceGrid g;
+  const int points = params.points_per_link;
+  for (int i = 0; i < joints; ++i) {
+    const LinkSegment seg = params.segments[static_cast<std::size_t>(i)];
+    std::vector<double> along;
+    for (int k = 0; k < points; ++k) {
+      along.push_back(points == 1 ? 0.5 * (seg.along_min_m + seg.along_max_m)
+                                  : seg.along_min_m + (seg.along_max_m - seg.along_min_m) * k / (points - 1));
+    }
+    g.along_m.push_back(along);
+    g.chi2.emplace_back(along.size(), 0.0);
+  }
+  return g;
+}
+
+void accumulate(EvidenceGrid& grid, const sim::ArmDynamics& arm, const TorqueObservation& obs, double weight) {
+  check(arm, obs);
+  for (std::size_t i = 0; i < grid.along_m.size(); ++i) {
+    for (std::size_t k = 0; k < grid.along_m[i].size(); ++k) {
+      const Eigen::Vector3d point(grid.along_m[i][k], 0.0, 0.0);
+      const Matrix At = jacobian_transposed(arm, obs.q, static_cast<int>(i), point);
+      const Vector r = (obs.tau_nm - At * force_at(arm, obs, static_cast<int>(i) + 1, point)).cwiseQuotient(obs.sigma_nm);
+      grid.chi2[i][k] = std::max(grid.chi2[i][k], r.squaredNorm());
+    }
+  }
+  grid.weight += weight;
+}
+
+ContactEstimate estimate_contact(const sim::ArmDynamics& arm, const TorqueObservation& obs,
+                                 const ContactEstimatorParams& params, const EvidenceGrid* evidence) {
+  check(arm, obs);
+  const int n = arm.joints();
+  EvidenceGrid own;
+  if (evidence == nullptr) {
+    own = make_grid(n, params);
+    accumulate(own, arm, obs);
+    evidence = &own;
+  }
+  if (static_cast<int>(evidence->along_m.size()) != n || !(evidence->weight > 0.0)) {
+    throw std::invalid_argument("contact estimate: evidence of another arm, or empty");
+  }
+  ContactEstimate e;
+  std::size_t best = static_cast<std::size_t>(n) - 1;
+  bool found = false;
+  for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i) {
+    const auto& c = evidence->chi2[i];
+    const std::size_t k = static_cast<std::size_t>(std::min_element(c.begin(), c.end()) - c.begin());
+    const double mean = c[k];
+    e.link_chi2.push_back(mean);
+    const Matrix At = jacobian_transposed(arm, obs.q, static_cast<int>(i), Eigen::Vector3d(evidence->along_m[i][k], 0.0, 0.0));
+    const int dof = n - rank_of(At, obs.sigma_nm);
+    if (!found && mean <= params.accept_chi2_per_dof * std::max(dof, 0) + 1e-12) {
+      best = i;
+      found = true;
+    }
+  }
+  e.link = static_cast<int>(best) + 1;
+  // Within the link: the posterior over the points from the latest torques (linear-Gaussian
+  // model, uniform prior along the segment), and the force there.
+  const auto& along = evidence->along_m[best];
+  std::vector<double> logs;
+  for (const double s_m : along) {
+    const Matrix At = jacobian_transposed(arm, obs.q, static_cast<int>(best), Eigen::Vector3d(s_m, 0.0, 0.0));
+    logs.push_back(candidate(At, obs.tau_nm, obs.sigma_nm, params.force_prior_n).log_evidence);
+  }
+  const double top = *std::max_element(logs.begin(), logs.end());
+  std::vector<double> w(logs.size());
+  double wsum = 0.0;
+  for (std::size_t k = 0; k < logs.size(); ++k) wsum += (w[k] = std::exp(logs[k] - top));
+  double mean_s = 0.0, mean_f = 0.0, var_s = 0.0, var_f = 0.0;
+  std::vector<Candidate> cands;
+  for (std::size_t k = 0; k < logs.size(); ++k) {
+    w[k] /= wsum;
+    const Matrix At = jacobian_transposed(arm, obs.q, static_cast<int>(best), Eigen::Vector3d(along[k], 0.0, 0.0));
+    cands.push_back(candidate(At, obs.tau_nm, obs.sigma_nm, params.force_prior_n));
+    mean_s += w[k] * along[k];
+    mean_f += w[k] * cands[k].force_mean.norm();
+    e.force_base += w[k] * cands[k].force_mean;
+  }
+  for (std::size_t k = 0; k < logs.size(); ++k) {
+    var_s += w[k] * (along[k] - mean_s) * (along[k] - mean_s);
+    var_f += w[k] * ((cands[k].force_mean.norm() - mean_f) * (cands[k].force_mean.norm() - mean_f) + cands[k].force_trace_cov);
+  }
+  e.along_m = mean_s;
+  e.along_sigma_m = std::sqrt(var_s);
+  e.force_n = mean_f;
+  e.force_sigma_n = std::sqrt(var_f);
+  e.point_in_link = Eigen::Vector3d(mean_s, 0.0, 0.0);
+  const sim::LinkPoses poses = arm.poses(obs.q);
+  e.point_base = poses.origin[best] + poses.rotation[best] * e.point_in_link;
+  const Matrix At = jacobian_transposed(arm, obs.q, static_cast<int>(best), e.point_in_link);
+  e.determined_components = rank_of(At, obs.sigma_nm);
+  const Vector r = (obs.tau_nm - At * force_at(arm, obs, e.link, e.point_in_link)).cwiseQuotient(obs.sigma_nm);
+  e.residual_chi2 = r.squaredNorm();
+  return e;
+}
+
+Eigen::Vector3d force_at(const sim::ArmDynamics& arm, const TorqueObservation& obs, int link,
+                         const Eigen::Vector3d& point_in_link) {
+  check(arm, obs);
+  if (link < 1 || link > arm.joints()) throw std::invalid_argument("contact estimate: no link " + std::to_string(link));
+  Matrix W = jacobian_transposed(arm, obs.q, link - 1, point_in_link);
+  Vector b = obs.tau_nm;
+  for (Eigen::Index j = 0; j < W.rows(); ++j) {
+    W.row(j) /= obs.sigma_nm(j);
+    b(j) /= obs.sigma_nm(j);
+  }
+  Eigen::JacobiSVD<Matrix> svd(W, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  svd.setThreshold(1e-6);  // minimum norm: the undetermined components are left at zero
+  return svd.solve(b);
+}
+
+TorqueObservation summarize_window(const std::vector<WindowSample>& samples, double observer_gain_per_s) {
+  if (samples.empty()) throw std::invalid_argument("contact estimate: empty window");
+  const WindowSample& last = samples.back();
+  TorqueObservation o{last.q, last.mu_nm, sim::JointVector::Zero(last.mu_nm.size())};
+  const auto count = static_cast<double>(samples.size());
+  double t_mean = 0.0;
+  for (const auto& s : samples) t_mean += s.t / count;
+  double stt = 0.0;
+  for (const auto& s : samples) stt += (s.t - t_mean) * (s.t - t_mean);
+  for (Eigen::Index j = 0; j < o.tau_nm.size(); ++j) {
+    double mean = 0.0, sigma = 0.0;
+    for (const auto& s : samples) {
+      mean += s.mu_nm(j) / count;
+      sigma += s.sigma_nm(j) / count;
+    }
+    double slope = 0.0;
+    if (stt > 0.0) {
+      for (const auto& s : samples) slope += (s.t - t_mean) * (s.mu_nm(j) - mean) / stt;
+    }
+    o.tau_nm(j) = mean + slope * (last.t - t_mean) + (observer_gain_per_s > 0.0 ? slope / observer_gain_per_s : 0.0);
+    o.sigma_nm(j) = sigma;
+  }
+  return o;
+}
+
+}  // namespace jg::detection

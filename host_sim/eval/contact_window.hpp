@@ -1,0 +1,72 @@
+// The contact estimate in a closed-loop run, on the master's side: it keeps the drives'
+// external torque estimates of the last few cycles. At the detection, the cycles before it
+// (before_s) and then every cycle after the reaction's own transient (settle_s: the hold's
+// torque step shows in every joint's estimate for a few ms) add their evidence to every
+// (link, point) hypothesis (detection/contact_estimate); the link and point are decided
+// after_s after the detection. From then on the force at that point is followed until the end of the run
+// (its peak is the figure ISO/TS 15066 compares). The run's ground truth (the collided link,
+// the point, the true force) is set beside it for the campaign figures.
+#pragma once
+
+#include <deque>
+#include <optional>
+#include <vector>
+
+#include "detection/contact_estimate.hpp"
+#include "io/recording.hpp"
+#include "plant/collision.hpp"
+
+namespace jg::eval {
+
+struct ContactWindowConfig {
+  bool enabled = true;
+  double before_s = 0.005;      ///< samples kept from before the detection [s]
+  double fit_s = 0.010;         ///< sliding window each cycle's force observation is fitted over [s]
+  double settle_s = 0.008;      ///< cycles this soon after the detection are left out [s]
+  double after_s = 0.020;       ///< the decision after the detection [s]
+  /// 1-sigma noise per joint = the threshold in effect / noise_band_sigmas (the threshold is
+  /// about the largest collision-free estimate: several sigma of the observer's noise).
+  double noise_band_sigmas = 3.0;
+  double observer_gain_per_s = 0.0;  ///< first-order observer gain for the lag correction (0: none)
+  detection::ContactEstimatorParams estimator;
+};
+
+/// The estimate and, where the run knows it, the truth beside it.
+struct ContactOutcome {
+  double t = 0.0;  ///< the decision's cycle [s]
+  detection::ContactEstimate estimate;
+  detection::TorqueObservation observation;
+  double peak_force_n = 0.0;  ///< largest force followed at the decided point after the decision [N]
+  double t_peak = 0.0;        ///< its cycle [s]
+  // Ground truth (simulation only):
+  double force_true_n = 0.0;           ///< true contact force at the decision's cycle [N]
+  double along_true_m = 0.0;           ///< true point's coordinate along the link's x axis [m]
+  double point_error_m = -1.0;         ///< 3-D distance estimated-true point when the link is right, else -1
+  double force_at_true_point_n = 0.0;  ///< |force_at| the true link and point at the decision [N]
+  std::vector<double> torque_true_nm;  ///< true external joint torques at the decision's cycle [N·m]
+};
+
+class ContactWindow {
+ public:
+  ContactWindow(ContactWindowConfig config, double dt);
+  /// Every cycle: the posture, each joint's torque to explain (the estimate, or its change
+  /// since arrival for a joint whose holding detector is armed) and its threshold in effect.
+  void add(const sim::ArmDynamics& arm, double t, const sim::JointVector& q, const sim::JointVector& tau_nm,
+           const sim::JointVector& threshold_nm, const std::optional<double>& t_detected);
+  [[nodiscard]] const std::optional<ContactOutcome>& outcome() const { return outcome_; }
+  /// The truth of the run's first collision; `contact_force_n` per control cycle (SimulationResult).
+  void set_truth(const sim::ArmDynamics& arm, const sim::CollisionEvent& event, const std::vector<double>& contact_force_n,
+                 const std::vector<std::vector<double>>& tau_ext);
+
+ private:
+  detection::TorqueObservation observe() const;
+  ContactWindowConfig config_;
+  double dt_;
+  std::optional<detection::EvidenceGrid> grid_;
+  std::deque<detection::WindowSample> samples_;
+  std::size_t keep_;
+  long cycle_ = 0, decision_cycle_ = 0;
+  std::optional<ContactOutcome> outcome_;
+};
+
+}  // namespace jg::eval
