@@ -1,0 +1,118 @@
+// The reaction's two frames (kind 0x4, formerly reserved as "joint state"):
+//
+//   0x040 reaction command, master -> every drive, CAN FD 32 B, every cycle while the arm
+//         reacts, sent before that cycle's sync:
+//         seq, reaction (Reaction, 1..4), collided joints (bit j-1: joint j), reserved 0,
+//         retreat target of joints 1..7 [rad] (Q16.16 int32 LE; 0 for absent joints), CRC
+//   0x04j reaction torque, drive j -> master, FD 8 B, every cycle the drive reacts, before
+//         its status: seq, torque [N·m] (Q16.16), reaction (Reaction), cycles since the
+//         reaction started (saturates at 255), CRC
+//
+// Layout rules as frames.hpp (sequence first, CRC-8/AUTOSAR after the fields, zero padding);
+// an unknown reaction value or a non-zero reserved byte is refused as bad_padding (a byte
+// outside its defined values that the CRC does not make wrong). Values saturate on encoding.
+#pragma once
+
+#include <cstdint>
+
+#include "jointguard/detection/detector.hpp"
+#include "jointguard/protocol/frames.hpp"
+
+namespace jg::protocol {
+
+inline constexpr std::uint16_t kReactionCommandId = 0x040;  ///< frame_id(MessageKind::joint_state, 0)
+inline constexpr std::uint8_t kReactionCommandLength = 32;
+inline constexpr std::uint8_t kReactionTorqueLength = 8;
+inline constexpr std::uint8_t kReactionJoints = 7;
+
+[[nodiscard]] constexpr bool known_reaction(std::uint8_t r) noexcept {
+  return r >= static_cast<std::uint8_t>(Reaction::stop) && r <= static_cast<std::uint8_t>(Reaction::reflex);
+}
+
+/// The master's command (the whole arm's; each drive reads its own joint's part).
+template <class S>
+struct ReactionCommandMessage {
+  Reaction reaction = Reaction::stop;
+  std::uint8_t collided = 0;                ///< bit j-1: joint j is in the collision's signature
+  S retreat_target[kReactionJoints]{};      ///< [rad]
+};
+
+template <class S>
+constexpr std::uint8_t encode_reaction_command(const ReactionCommandMessage<S>& m, std::uint8_t sequence,
+                                               std::uint8_t* buf) noexcept {
+  buf[0] = sequence;
+  buf[1] = static_cast<std::uint8_t>(m.reaction);
+  buf[2] = m.collided;
+  buf[3] = 0U;
+  for (std::uint8_t j = 0; j < kReactionJoints; ++j) {
+    detail::put_i32(buf + 4 + 4 * j, detail::to_wire(m.retreat_target[j]));
+  }
+  return detail::finish(buf, static_cast<std::uint8_t>(4U + 4U * kReactionJoints), kReactionCommandLength);
+}
+
+/// Checks the frame and reads joint `joint`'s part (1..7): the reaction, whether the
+/// joint is collided and its retreat target.
+template <class S>
+constexpr FrameError decode_reaction_command(const std::uint8_t* buf, std::uint8_t length, std::uint8_t joint,
+                                             Reaction& reaction, bool& collided, S& retreat_target) noexcept {
+  if (const FrameError e = detail::check(buf, length, static_cast<std::uint8_t>(4U + 4U * kReactionJoints), kReactionCommandLength);
+      e != FrameError::ok) {
+    return e;
+  }
+  if (!known_reaction(buf[1]) || buf[3] != 0U || joint < 1U || joint > kReactionJoints) {
+    return FrameError::bad_padding;
+  }
+  reaction = static_cast<Reaction>(buf[1]);
+  collided = ((buf[2] >> (joint - 1U)) & 1U) != 0U;
+  detail::from_wire(detail::get_i32(buf + 4 + 4 * (joint - 1U)), retreat_target);
+  return FrameError::ok;
+}
+
+/// All joints' parts of a command frame (the master's side and the decoder's).
+template <class S>
+constexpr FrameError decode_reaction_command(const std::uint8_t* buf, std::uint8_t length, ReactionCommandMessage<S>& m) noexcept {
+  bool collided = false;
+  S target{};
+  const FrameError e = decode_reaction_command(buf, length, 1U, m.reaction, collided, target);
+  if (e == FrameError::ok) {
+    m.collided = buf[2];
+    for (std::uint8_t j = 0; j < kReactionJoints; ++j) {
+      detail::from_wire(detail::get_i32(buf + 4 + 4 * j), m.retreat_target[j]);
+    }
+  }
+  return e;
+}
+
+template <class S>
+struct ReactionTorqueMessage {
+  S torque{};                          ///< [N·m] the reaction's term of the joint's motor torque
+  Reaction reaction = Reaction::stop;
+  std::uint8_t cycles = 0;             ///< cycles since the reaction started (saturating)
+};
+
+template <class S>
+constexpr std::uint8_t encode_reaction_torque(const ReactionTorqueMessage<S>& m, std::uint8_t sequence, std::uint8_t* buf) noexcept {
+  buf[0] = sequence;
+  detail::put_i32(buf + 1, detail::to_wire(m.torque));
+  buf[5] = static_cast<std::uint8_t>(m.reaction);
+  buf[6] = m.cycles;
+  return detail::finish(buf, 7U, kReactionTorqueLength);
+}
+
+template <class S>
+constexpr FrameError decode_reaction_torque(const std::uint8_t* buf, std::uint8_t length, ReactionTorqueMessage<S>& m,
+                                            std::uint8_t& sequence) noexcept {
+  if (const FrameError e = detail::check(buf, length, 7U, kReactionTorqueLength); e != FrameError::ok) {
+    return e;
+  }
+  if (!known_reaction(buf[5])) {
+    return FrameError::bad_padding;
+  }
+  detail::from_wire(detail::get_i32(buf + 1), m.torque);
+  m.reaction = static_cast<Reaction>(buf[5]);
+  m.cycles = buf[6];
+  sequence = buf[0];
+  return FrameError::ok;
+}
+
+}  // namespace jg::protocol
