@@ -71,7 +71,10 @@ Command add_decode(CLI::App& app) {
                                         (f.data[5] & protocol::kStatusBooting) != 0U;
               if (announcement) {
                 ++announcements;  // start-up only, not per-cycle traffic
-              } else if (protocol::kind_of(f.id) != protocol::MessageKind::sensor) {
+              } else if (protocol::kind_of(f.id) != protocol::MessageKind::sensor &&
+                         !(protocol::kind_of(f.id) == protocol::MessageKind::joint_state && protocol::joint_of(f.id) != 0U)) {
+                // Sensor samples and the drives' reaction torques exist only in host-in-the-loop
+                // runs (on the arm each drive samples its joint and drives its motor itself).
                 ++product_frames;
                 product_s += wire;
               }

@@ -2,14 +2,15 @@
 //
 //   0x040 reaction command, master -> every drive, CAN FD 32 B, every cycle while the arm
 //         reacts, sent before that cycle's sync:
-//         seq, reaction (Reaction, 1..4), collided joints (bit j-1: joint j), reserved 0,
-//         retreat target of joints 1..7 [rad] (Q16.16 int32 LE; 0 for absent joints), CRC
+//         seq, reaction (Reaction, 1..4), collided joints (bit j-1: joint j), retreat
+//         target of joints 1..7 [rad] (Q16.16 int32 LE at byte 3 + 4(j-1); 0 for absent
+//         joints), CRC (byte 31)
 //   0x04j reaction torque, drive j -> master, FD 8 B, every cycle the drive reacts, before
 //         its status: seq, torque [N·m] (Q16.16), reaction (Reaction), cycles since the
 //         reaction started (saturates at 255), CRC
 //
 // Layout rules as frames.hpp (sequence first, CRC-8/AUTOSAR after the fields, zero padding);
-// an unknown reaction value or a non-zero reserved byte is refused as bad_padding (a byte
+// an unknown reaction value (or a collided bit beyond joint 7) is refused as bad_padding (a byte
 // outside its defined values that the CRC does not make wrong). Values saturate on encoding.
 #pragma once
 
@@ -24,6 +25,10 @@ inline constexpr std::uint16_t kReactionCommandId = 0x040;  ///< frame_id(Messag
 inline constexpr std::uint8_t kReactionCommandLength = 32;
 inline constexpr std::uint8_t kReactionTorqueLength = 8;
 inline constexpr std::uint8_t kReactionJoints = 7;
+inline constexpr std::uint8_t kTargetsOffset = 3;
+/// seq, reaction, collided, 7 targets: 31 bytes, then the CRC fills the 32-byte frame.
+inline constexpr std::uint8_t kCommandFieldBytes = kTargetsOffset + 4U * kReactionJoints;
+static_assert(kCommandFieldBytes + 1U == kReactionCommandLength, "the command's CRC is its last byte");
 
 [[nodiscard]] constexpr bool known_reaction(std::uint8_t r) noexcept {
   return r >= static_cast<std::uint8_t>(Reaction::stop) && r <= static_cast<std::uint8_t>(Reaction::reflex);
@@ -43,11 +48,10 @@ constexpr std::uint8_t encode_reaction_command(const ReactionCommandMessage<S>& 
   buf[0] = sequence;
   buf[1] = static_cast<std::uint8_t>(m.reaction);
   buf[2] = m.collided;
-  buf[3] = 0U;
   for (std::uint8_t j = 0; j < kReactionJoints; ++j) {
-    detail::put_i32(buf + 4 + 4 * j, detail::to_wire(m.retreat_target[j]));
+    detail::put_i32(buf + kTargetsOffset + 4 * j, detail::to_wire(m.retreat_target[j]));
   }
-  return detail::finish(buf, static_cast<std::uint8_t>(4U + 4U * kReactionJoints), kReactionCommandLength);
+  return detail::finish(buf, kCommandFieldBytes, kReactionCommandLength);
 }
 
 /// Checks the frame and reads joint `joint`'s part (1..7): the reaction, whether the
@@ -55,16 +59,15 @@ constexpr std::uint8_t encode_reaction_command(const ReactionCommandMessage<S>& 
 template <class S>
 constexpr FrameError decode_reaction_command(const std::uint8_t* buf, std::uint8_t length, std::uint8_t joint,
                                              Reaction& reaction, bool& collided, S& retreat_target) noexcept {
-  if (const FrameError e = detail::check(buf, length, static_cast<std::uint8_t>(4U + 4U * kReactionJoints), kReactionCommandLength);
-      e != FrameError::ok) {
+  if (const FrameError e = detail::check(buf, length, kCommandFieldBytes, kReactionCommandLength); e != FrameError::ok) {
     return e;
   }
-  if (!known_reaction(buf[1]) || buf[3] != 0U || joint < 1U || joint > kReactionJoints) {
+  if (!known_reaction(buf[1]) || (buf[2] & 0x80U) != 0U || joint < 1U || joint > kReactionJoints) {
     return FrameError::bad_padding;
   }
   reaction = static_cast<Reaction>(buf[1]);
   collided = ((buf[2] >> (joint - 1U)) & 1U) != 0U;
-  detail::from_wire(detail::get_i32(buf + 4 + 4 * (joint - 1U)), retreat_target);
+  detail::from_wire(detail::get_i32(buf + kTargetsOffset + 4 * (joint - 1U)), retreat_target);
   return FrameError::ok;
 }
 
@@ -77,7 +80,7 @@ constexpr FrameError decode_reaction_command(const std::uint8_t* buf, std::uint8
   if (e == FrameError::ok) {
     m.collided = buf[2];
     for (std::uint8_t j = 0; j < kReactionJoints; ++j) {
-      detail::from_wire(detail::get_i32(buf + 4 + 4 * j), m.retreat_target[j]);
+      detail::from_wire(detail::get_i32(buf + kTargetsOffset + 4 * j), m.retreat_target[j]);
     }
   }
   return e;
