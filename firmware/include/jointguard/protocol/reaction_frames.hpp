@@ -14,6 +14,7 @@
 // outside its defined values that the CRC does not make wrong). Values saturate on encoding.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "jointguard/detection/detector.hpp"
@@ -29,6 +30,8 @@ inline constexpr std::uint8_t kTargetsOffset = 3;
 /// seq, reaction, collided, 7 targets: 31 bytes, then the CRC fills the 32-byte frame.
 inline constexpr std::uint8_t kCommandFieldBytes = kTargetsOffset + 4U * kReactionJoints;
 static_assert(kCommandFieldBytes + 1U == kReactionCommandLength, "the command's CRC is its last byte");
+/// Byte offset of joint j's retreat target (j 0-based).
+[[nodiscard]] constexpr std::size_t target_offset(unsigned j) noexcept { return kTargetsOffset + 4U * static_cast<std::size_t>(j); }
 
 [[nodiscard]] constexpr bool known_reaction(std::uint8_t r) noexcept {
   return r >= static_cast<std::uint8_t>(Reaction::stop) && r <= static_cast<std::uint8_t>(Reaction::reflex);
@@ -49,7 +52,7 @@ constexpr std::uint8_t encode_reaction_command(const ReactionCommandMessage<S>& 
   buf[1] = static_cast<std::uint8_t>(m.reaction);
   buf[2] = m.collided;
   for (std::uint8_t j = 0; j < kReactionJoints; ++j) {
-    detail::put_i32(buf + kTargetsOffset + 4 * j, detail::to_wire(m.retreat_target[j]));
+    detail::put_i32(buf + target_offset(j), detail::to_wire(m.retreat_target[j]));
   }
   return detail::finish(buf, kCommandFieldBytes, kReactionCommandLength);
 }
@@ -67,7 +70,7 @@ constexpr FrameError decode_reaction_command(const std::uint8_t* buf, std::uint8
   }
   reaction = static_cast<Reaction>(buf[1]);
   collided = ((buf[2] >> (joint - 1U)) & 1U) != 0U;
-  detail::from_wire(detail::get_i32(buf + kTargetsOffset + 4 * (joint - 1U)), retreat_target);
+  detail::from_wire(detail::get_i32(buf + target_offset(joint - 1U)), retreat_target);
   return FrameError::ok;
 }
 
@@ -80,7 +83,7 @@ constexpr FrameError decode_reaction_command(const std::uint8_t* buf, std::uint8
   if (e == FrameError::ok) {
     m.collided = buf[2];
     for (std::uint8_t j = 0; j < kReactionJoints; ++j) {
-      detail::from_wire(detail::get_i32(buf + kTargetsOffset + 4 * j), m.retreat_target[j]);
+      detail::from_wire(detail::get_i32(buf + target_offset(j)), m.retreat_target[j]);
     }
   }
   return e;
