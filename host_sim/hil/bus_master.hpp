@@ -32,7 +32,7 @@ struct MasterCounters {
   std::uint64_t frames_received = 0;
   std::uint64_t restarts = 0;          ///< drives that announced themselves again mid-run (rebooted)
   std::uint64_t invalid_samples = 0;   ///< sensor frames sent marked invalid (the plant's value was not finite)
-  std::uint64_t reaction_frames = 0;   ///< reaction torque frames received from the drives
+  std::uint64_t reaction_frames = 0;   ///< reaction status frames (status + reaction torque) received
 };
 
 template <class Port>
@@ -135,21 +135,22 @@ class BusMaster {
         ++counters_.foreign;
         continue;
       }
+      protocol::StatusMessage<q16> m{};
+      std::uint8_t seq = 0;
       if (kind == protocol::MessageKind::joint_state) {
-        protocol::ReactionTorqueMessage<q16> r{};
-        std::uint8_t rseq = 0;
-        if (protocol::decode_reaction_torque(static_cast<const std::uint8_t*>(f.data), f.length, r, rseq) != protocol::FrameError::ok) {
+        // A reacting drive's status, with its reaction torque.
+        protocol::ReactionStatusMessage<q16> r{};
+        if (protocol::decode_reaction_status(static_cast<const std::uint8_t*>(f.data), f.length, r, seq) != protocol::FrameError::ok) {
           ++counters_.rejected;
-        } else {
+          continue;
+        }
+        m = r.status;
+        if (seq == static_cast<std::uint8_t>(cycle_ & 0xFFU)) {
           reaction_torque_[joint - 1] = r.torque.to_double();
           have_reaction_[joint - 1] = true;
           ++counters_.reaction_frames;
         }
-        continue;
-      }
-      protocol::StatusMessage<q16> m{};
-      std::uint8_t seq = 0;
-      if (protocol::decode_status(static_cast<const std::uint8_t*>(f.data), f.length, m, seq) != protocol::FrameError::ok) {
+      } else if (protocol::decode_status(static_cast<const std::uint8_t*>(f.data), f.length, m, seq) != protocol::FrameError::ok) {
         ++counters_.rejected;
         continue;
       }

@@ -1,7 +1,7 @@
 // The reaction on the drives (issue 17): the reaction law of node/joint_reaction.hpp in
 // float and Q16.16 against double, its two frames (round trip, refusals, the DBC), and
-// the drive's hook: no reaction frame before the master's command, then one torque frame
-// per cycle from the joint's hold point.
+// the drive's hook: no reaction frame before the master's command, then its status goes
+// out every cycle as the reaction status (status + torque term from the joint's hold point).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -91,15 +91,22 @@ TEST(ReactionFrames, RoundTripAndRefusals) {
   (void)protocol::encode_reaction_command(none, 1, bad);
   EXPECT_EQ(protocol::decode_reaction_command(bad, len, 1, r, collided, target), protocol::FrameError::bad_padding);
 
-  const protocol::ReactionTorqueMessage<float> m{-12.5F, Reaction::reflex, 200};
-  const std::uint8_t tl = protocol::encode_reaction_torque(m, 9, buf);
-  protocol::ReactionTorqueMessage<q16> back{};
+  const protocol::ReactionStatusMessage<float> m{{2.25F, protocol::kStatusCollision | protocol::kStatusReady, 3}, -12.5F};
+  const std::uint8_t tl = protocol::encode_reaction_status(m, 9, buf);
+  ASSERT_EQ(tl, protocol::kReactionStatusLength);
+  protocol::ReactionStatusMessage<q16> back{};
   std::uint8_t seq = 0;
-  ASSERT_EQ(protocol::decode_reaction_torque(buf, tl, back, seq), protocol::FrameError::ok);
+  ASSERT_EQ(protocol::decode_reaction_status(buf, tl, back, seq), protocol::FrameError::ok);
   EXPECT_EQ(back.torque.to_double(), -12.5);
-  EXPECT_EQ(back.reaction, Reaction::reflex);
-  EXPECT_EQ(back.cycles, 200);
+  EXPECT_EQ(back.status.external_torque.to_double(), 2.25);
+  EXPECT_EQ(back.status.flags, protocol::kStatusCollision | protocol::kStatusReady);
+  EXPECT_EQ(back.status.rejected, 3);
   EXPECT_EQ(seq, 9);
+  // Bytes 0-6 are the status frame's: a status decoder reads the same fields.
+  std::uint8_t st[8]{};
+  (void)protocol::encode_status(m.status, 9, st);
+  EXPECT_TRUE(std::equal(st, st + 7, buf));
+  EXPECT_EQ(protocol::decode_reaction_status(buf, 8, back, seq), protocol::FrameError::wrong_length);
 
   // The DBC describes both frames as sent.
   const can::Dbc dbc = can::read_dbc(std::string(JG_SOURCE_DIR) + "/docs/can/jointguard.dbc");
@@ -107,12 +114,13 @@ TEST(ReactionFrames, RoundTripAndRefusals) {
   EXPECT_EQ(dbc.messages.at(protocol::kReactionCommandId).length, protocol::kReactionCommandLength);
   const auto tid = protocol::frame_id(protocol::MessageKind::joint_state, 2);
   ASSERT_EQ(dbc.messages.count(tid), 1U);
+  EXPECT_EQ(dbc.messages.at(tid).length, protocol::kReactionStatusLength);
   for (const auto& s : dbc.messages.at(tid).signals) {
-    if (s.name == "torque") {
+    if (s.name == "reaction_torque") {
       EXPECT_DOUBLE_EQ(can::decode_signal(s, buf, tl), -12.5);
     }
-    if (s.name == "reaction") {
-      EXPECT_EQ(can::decode_signal(s, buf, tl), 4.0);
+    if (s.name == "external_torque") {
+      EXPECT_DOUBLE_EQ(can::decode_signal(s, buf, tl), 2.25);
     }
   }
   (void)protocol::encode_reaction_command(c, 42, buf);
@@ -140,7 +148,7 @@ TEST(ReactionDrive, TorqueFramesOnlyAfterTheCommandFromTheHoldPoint) {
   JointDrive<float, can::SimPort> drive(DriveConfig{NodeConfig{1, 1, 5}, true}, test::unit_link_params(1e4F), bus.attach(),
                                         Vec3<float>{0.0F, 0.0F, -9.81F});
   double t = 0.0;
-  std::size_t torque_frames = 0;
+  std::size_t torque_frames = 0, statuses = 0;
   double last_torque = 0.0;
   auto cycle = [&](std::uint32_t k, double q, double dq, bool command) {
     if (command) {
@@ -163,10 +171,11 @@ TEST(ReactionDrive, TorqueFramesOnlyAfterTheCommandFromTheHoldPoint) {
     bus.run_until(t += 0.0005);  // the drive's frames reach the master
     hal::CanFrame f{};
     while (master.receive(f)) {
+      if (protocol::kind_of(f.id) == protocol::MessageKind::status) ++statuses;
       if (protocol::kind_of(f.id) != protocol::MessageKind::joint_state) continue;
-      protocol::ReactionTorqueMessage<q16> m{};
+      protocol::ReactionStatusMessage<q16> m{};
       std::uint8_t seq = 0;
-      ASSERT_EQ(protocol::decode_reaction_torque(f.data, f.length, m, seq), protocol::FrameError::ok);
+      ASSERT_EQ(protocol::decode_reaction_status(f.data, f.length, m, seq), protocol::FrameError::ok);
       EXPECT_EQ(seq, static_cast<std::uint8_t>(k));
       ++torque_frames;
       last_torque = m.torque.to_double();
@@ -174,13 +183,15 @@ TEST(ReactionDrive, TorqueFramesOnlyAfterTheCommandFromTheHoldPoint) {
   };
   for (std::uint32_t k = 0; k < 5; ++k) cycle(k, 0.1 * k, 0.0, false);
   EXPECT_EQ(torque_frames, 0U) << "no reaction frame while no collision is raised";
+  EXPECT_EQ(statuses, 5U);
   EXPECT_EQ(drive.reaction().kind, Reaction::none);
   cycle(5, 0.5, 0.0, true);  // the command: the drive holds where it is (0.5 rad)
   EXPECT_EQ(torque_frames, 1U);
   EXPECT_EQ(drive.reaction().kind, Reaction::stop);
   cycle(6, 0.51, 0.0, false);  // pushed 0.01 rad away: K x -0.01 = -20 N·m
   EXPECT_EQ(torque_frames, 2U);
-  EXPECT_NEAR(last_torque, -20.0, 0.05);  // positions travel as Q16.16: 2000 x 2^-16 rad steps
+  EXPECT_NEAR(last_torque, -20.0, 0.05);
+  EXPECT_EQ(statuses, 5U) << "a reacting drive's status goes out as the reaction status frame";  // positions travel as Q16.16: 2000 x 2^-16 rad steps
   EXPECT_EQ(drive.counters().command_rejected, 0U);
 }
 

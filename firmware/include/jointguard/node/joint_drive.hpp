@@ -250,22 +250,22 @@ class JointDrive {
     }
     if (react_) {  // the only cost of the reaction while no collision is raised: this test
       react(seq);
+      return;
     }
     publish(protocol::MessageKind::status, seq, status_);
   }
 
-  /// The reaction's cycle: started on the first command, the torque term sent to the master
-  /// (on the MCU it is also the drive's own motor torque term).
+  /// The reaction's cycle: started on the first command; its torque term goes to the
+  /// master with the status (on the MCU it is also the drive's own motor torque term).
   void react(std::uint8_t seq) noexcept {
     start_reaction(reaction_, command_, sample_.position);
     const JointEstimatorState<S>& st = node_.state();
     reaction_torque_ = jg::reaction_torque(reaction_gains_, reaction_, sample_.position, sample_.velocity,
                                            st.external_torque, st.friction_torque);
-    const protocol::ReactionTorqueMessage<S> m{
-        reaction_torque_, reaction_.kind, static_cast<std::uint8_t>(reaction_.cycles > 255U ? 255U : reaction_.cycles)};
     tx_.fd = true;
     tx_.id = protocol::frame_id(protocol::MessageKind::joint_state, config_.node.joint);
-    tx_.length = protocol::encode_reaction_torque(m, seq, static_cast<std::uint8_t*>(tx_.data));
+    tx_.length = protocol::encode_reaction_status(protocol::ReactionStatusMessage<S>{status_, reaction_torque_}, seq,
+                                                  static_cast<std::uint8_t*>(tx_.data));
     if (port_.send(tx_) != hal::CanStatus::ok) {
       ++counters_.send_failures;
     }

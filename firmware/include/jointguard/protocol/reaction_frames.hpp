@@ -5,9 +5,12 @@
 //         seq, reaction (Reaction, 1..4), collided joints (bit j-1: joint j), retreat
 //         target of joints 1..7 [rad] (Q16.16 int32 LE at byte 3 + 4(j-1); 0 for absent
 //         joints), CRC (byte 31)
-//   0x04j reaction torque, drive j -> master, FD 8 B, every cycle the drive reacts, before
-//         its status: seq, torque [N·m] (Q16.16), reaction (Reaction), cycles since the
-//         reaction started (saturates at 255), CRC
+//   0x04j reaction status, drive j -> master, FD 12 B, every cycle the drive reacts, in
+//         place of its status frame (0x05j): seq, external torque, flags, rejected (bytes
+//         0-6 as the status), the reaction's torque term [N·m] (Q16.16), CRC. On the arm the
+//         drive applies the term to its own motor and the 4 bytes are not needed; in
+//         host-in-the-loop runs the plant stands in for the motors. Replacing the status
+//         keeps the bus load of a reacting arm that of a running one (no extra frame).
 //
 // Layout rules as frames.hpp (sequence first, CRC-8/AUTOSAR after the fields, zero padding);
 // an unknown reaction value (or a collided bit beyond joint 7) is refused as bad_padding (a byte
@@ -24,7 +27,7 @@ namespace jg::protocol {
 
 inline constexpr std::uint16_t kReactionCommandId = 0x040;  ///< frame_id(MessageKind::joint_state, 0)
 inline constexpr std::uint8_t kReactionCommandLength = 32;
-inline constexpr std::uint8_t kReactionTorqueLength = 8;
+inline constexpr std::uint8_t kReactionStatusLength = 12;
 inline constexpr std::uint8_t kReactionJoints = 7;
 inline constexpr std::uint8_t kTargetsOffset = 3;
 /// seq, reaction, collided, 7 targets: 31 bytes, then the CRC fills the 32-byte frame.
@@ -89,34 +92,34 @@ constexpr FrameError decode_reaction_command(const std::uint8_t* buf, std::uint8
   return e;
 }
 
+/// While a drive reacts its status goes out as this frame instead of 0x05j: the status
+/// (same fields, same bytes 0-6) and the reaction's torque term.
 template <class S>
-struct ReactionTorqueMessage {
-  S torque{};                          ///< [N·m] the reaction's term of the joint's motor torque
-  Reaction reaction = Reaction::stop;
-  std::uint8_t cycles = 0;             ///< cycles since the reaction started (saturating)
+struct ReactionStatusMessage {
+  StatusMessage<S> status{};
+  S torque{};  ///< [N·m] the reaction's term of the joint's motor torque
 };
 
 template <class S>
-constexpr std::uint8_t encode_reaction_torque(const ReactionTorqueMessage<S>& m, std::uint8_t sequence, std::uint8_t* buf) noexcept {
+constexpr std::uint8_t encode_reaction_status(const ReactionStatusMessage<S>& m, std::uint8_t sequence, std::uint8_t* buf) noexcept {
   buf[0] = sequence;
-  detail::put_i32(buf + 1, detail::to_wire(m.torque));
-  buf[5] = static_cast<std::uint8_t>(m.reaction);
-  buf[6] = m.cycles;
-  return detail::finish(buf, 7U, kReactionTorqueLength);
+  detail::put_i32(buf + 1, detail::to_wire(m.status.external_torque));
+  buf[5] = m.status.flags;
+  buf[6] = m.status.rejected;
+  detail::put_i32(buf + 7, detail::to_wire(m.torque));
+  return detail::finish(buf, 11U, kReactionStatusLength);
 }
 
 template <class S>
-constexpr FrameError decode_reaction_torque(const std::uint8_t* buf, std::uint8_t length, ReactionTorqueMessage<S>& m,
+constexpr FrameError decode_reaction_status(const std::uint8_t* buf, std::uint8_t length, ReactionStatusMessage<S>& m,
                                             std::uint8_t& sequence) noexcept {
-  if (const FrameError e = detail::check(buf, length, 7U, kReactionTorqueLength); e != FrameError::ok) {
+  if (const FrameError e = detail::check(buf, length, 11U, kReactionStatusLength); e != FrameError::ok) {
     return e;
   }
-  if (!known_reaction(buf[5])) {
-    return FrameError::bad_padding;
-  }
-  detail::from_wire(detail::get_i32(buf + 1), m.torque);
-  m.reaction = static_cast<Reaction>(buf[5]);
-  m.cycles = buf[6];
+  detail::from_wire(detail::get_i32(buf + 1), m.status.external_torque);
+  m.status.flags = buf[5];
+  m.status.rejected = buf[6];
+  detail::from_wire(detail::get_i32(buf + 7), m.torque);
   sequence = buf[0];
   return FrameError::ok;
 }
