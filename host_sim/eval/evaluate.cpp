@@ -90,8 +90,9 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       if (path.size() == path_capacity) path.erase(path.begin());
       path.push_back(m.q);
     }
-    // The friction prediction every cycle, as the drives' estimators run it (zero-gravity).
-    for (std::size_t j = 0; j < friction.size() && j < n; ++j) {
+    // Zero gravity: the friction prediction every cycle from the start, as the drives'
+    // estimators run it (their reaction uses that prediction).
+    for (std::size_t j = 0; d.reaction == Reaction::zero_gravity && j < friction.size() && j < n; ++j) {
       const auto i = static_cast<Eigen::Index>(j);
       friction_now(i) = lugre_step(friction[j], friction_state[j], m.dq(i));
     }
