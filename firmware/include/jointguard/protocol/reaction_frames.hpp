@@ -34,7 +34,7 @@ inline constexpr std::uint8_t kTargetsOffset = 3;
 inline constexpr std::uint8_t kCommandFieldBytes = kTargetsOffset + 4U * kReactionJoints;
 static_assert(kCommandFieldBytes + 1U == kReactionCommandLength, "the command's CRC is its last byte");
 /// Byte offset of joint j's retreat target (j 0-based).
-[[nodiscard]] constexpr std::size_t target_offset(unsigned j) noexcept { return kTargetsOffset + 4U * static_cast<std::size_t>(j); }
+[[nodiscard]] constexpr std::size_t target_offset(unsigned j) noexcept { return kTargetsOffset + std::size_t{4} * j; }
 
 [[nodiscard]] constexpr bool known_reaction(std::uint8_t r) noexcept {
   return r >= static_cast<std::uint8_t>(Reaction::stop) && r <= static_cast<std::uint8_t>(Reaction::reflex);
