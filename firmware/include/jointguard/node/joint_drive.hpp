@@ -195,13 +195,7 @@ class JointDrive {
                                f.id == protocol::frame_id(protocol::MessageKind::inward, static_cast<std::uint8_t>(j + 1U)))) {
       node_.deliver(f);  // checked and read in place, no copy into an inbox
     } else if (f.id == protocol::kReactionCommandId && !f.extended) {
-      // The master's reaction command: latched once, run from this drive's next cycle.
-      if (protocol::decode_reaction_command(static_cast<const std::uint8_t*>(f.data), f.length, j, command_.kind,
-                                            command_.collided, command_.retreat_target) != protocol::FrameError::ok) {
-        ++counters_.command_rejected;
-      } else {
-        react_ = true;
-      }
+      take_command(f);
     } else {
       ++counters_.foreign;
     }
@@ -255,9 +249,21 @@ class JointDrive {
     publish(protocol::MessageKind::status, seq, status_);
   }
 
+  /// The master's reaction command: latched once, run from this drive's next cycle. Out of
+  /// line and cold (as react): the routing and the cycle of a drive that is not reacting
+  /// keep their code and registers.
+  [[gnu::noinline, gnu::cold]] void take_command(const hal::CanFrame& f) noexcept {
+    if (protocol::decode_reaction_command(static_cast<const std::uint8_t*>(f.data), f.length, config_.node.joint,
+                                          command_.kind, command_.collided, command_.retreat_target) != protocol::FrameError::ok) {
+      ++counters_.command_rejected;
+    } else {
+      react_ = true;
+    }
+  }
+
   /// The reaction's cycle: started on the first command; its torque term goes to the
   /// master with the status (on the MCU it is also the drive's own motor torque term).
-  void react(std::uint8_t seq) noexcept {
+  [[gnu::noinline, gnu::cold]] void react(std::uint8_t seq) noexcept {
     start_reaction(reaction_, command_, sample_.position);
     const JointEstimatorState<S>& st = node_.state();
     reaction_torque_ = jg::reaction_torque(reaction_gains_, reaction_, sample_.position, sample_.velocity,
@@ -291,12 +297,13 @@ class JointDrive {
   std::uint32_t pending_cycle_ = 0, last_cycle_ = 0;
   bool has_sample_ = false, sync_pending_ = false, synced_ = false, event_sent_ = false, sample_valid_ = true;
   DriveCounters counters_{};
+  hal::CanFrame rx_{}, tx_{};  ///< frame buffers kept across cycles: no per-frame zeroing
+  // The reaction last: the members the cycle uses keep their offsets (cheaper addressing).
+  bool react_ = false;  ///< a reaction command has arrived
   ReactionGains<S> reaction_gains_{};
   ReactionCommand<S> command_{};
   JointReactionState<S> reaction_{};
   S reaction_torque_{};
-  bool react_ = false;  ///< a reaction command has arrived
-  hal::CanFrame rx_{}, tx_{};  ///< frame buffers kept across cycles: no per-frame zeroing
 };
 
 }  // namespace jg
