@@ -84,7 +84,8 @@ std::string safety_section(const eval::ExperimentConfig& c, const SafetySectionO
   h << "</table>\n";
 
   Plot p;
-  p.title = "Contact force against time by reaction: " + o.plot_region + ", " + sim::to_string(o.plot_kind) + " contact";
+  p.title = "Contact force by reaction: " + o.plot_region + ", " + sim::to_string(o.plot_kind);
+  p.width = 900;  // the legend of five reactions follows the title on its line
   p.x_label = "time from the contact's onset [s]";
   p.y_label = "contact force [N]";
   const double dt = 1.0 / c.rate_hz;
