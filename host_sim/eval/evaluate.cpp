@@ -9,6 +9,8 @@
 namespace jg::eval {
 namespace {
 constexpr double kHeldSignatureFraction = 0.6;
+/// Cycles the master waits for the drives' first reaction torques before holding the arm itself.
+constexpr int kReactionAnswerCycles = 5;
 // One cycle of the estimator on a measurement; the first measurement also starts it.
 void estimate(Estimator& estimator, const sim::Measurement& m, JointMask holding, bool& started, sim::JointVector& mu) {
   const EstimatorInput in{m.q, m.dq, m.tau_m, holding};
@@ -76,6 +78,7 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
   gains.reflex_gain = d.reflex_gain;
   std::vector<JointReactionState<double>> reaction(n);
   bool drives_react = false;
+  int unanswered_cycles = 0;
   sim::JointVector friction_now = sim::JointVector::Zero(static_cast<Eigen::Index>(n));
   sim::JointVector mu;
   JointMask mask = 0;
@@ -207,7 +210,17 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       // The drives run the reaction; until their first torques are in (the cycle after the
       // detection) the trajectory's controller keeps the arm.
       sim::JointVector tau;
-      if (!estimator.reaction_torque(tau)) return std::nullopt;
+      if (!estimator.reaction_torque(tau)) {
+        // Drives that do not answer the command within a few cycles (lost, or firmware
+        // without reactions): the master holds the arm itself.
+        if (++unanswered_cycles <= kReactionAnswerCycles) return std::nullopt;
+        comm_stop = true;
+        for (std::size_t j = 0; j < n; ++j) {
+          const auto i = static_cast<Eigen::Index>(j);
+          demand(i) += gains.hold_stiffness * (hold(i) - m.q(i)) - gains.hold_damping * m.dq(i);
+        }
+        return demand;
+      }
       demand += tau;
     } else {
       for (std::size_t j = 0; j < n; ++j) {
