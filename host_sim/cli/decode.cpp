@@ -72,6 +72,14 @@ Command add_decode(CLI::App& app) {
                                         (f.data[5] & protocol::kStatusBooting) != 0U;
               if (announcement) {
                 ++announcements;  // start-up only, not per-cycle traffic
+              } else if (protocol::kind_of(f.id) == protocol::MessageKind::joint_state && protocol::joint_of(f.id) != 0U) {
+                // A reacting drive's status with its reaction torque: on the arm the drive
+                // sends its 8-byte status (the torque goes to its own motor), so that is what
+                // the product traffic counts.
+                hal::CanFrame as_status = f;
+                as_status.length = protocol::kStatusFrameLength;
+                ++product_frames;
+                product_s += can::frame_duration_s(as_status, timing);
               } else if (protocol::kind_of(f.id) != protocol::MessageKind::sensor) {
                 ++product_frames;
                 product_s += wire;

@@ -19,6 +19,7 @@
 
 #include "diagnosis/testset.hpp"
 #include "eval/experiments.hpp"
+#include "report/safety_report.hpp"
 #include "report/svg_plot.hpp"
 #include "robot/robot_model.hpp"
 #include "tuning/observer_tuning.hpp"
@@ -221,6 +222,10 @@ int run_demo(const DemoOptions& options) {
           "with the standstill allowance at rest, where the friction held is not predicted); the fourth column counts against "
           "the moving threshold alone. "
           "Isolation names the highest joint over threshold at the detection cycle (paper's signature).</p>\n";
+
+  // 4a. ISO/TS 15066: body-region contacts by reaction (report/safety_report.*).
+  std::printf("[4/7] ISO/TS 15066 body-region contacts, every region and reaction...\n");
+  html << report::safety_section(c, report::SafetySectionOptions{});
 
   // 4b. Model-mismatch diagnosis: concealed effects named, fitted, written back.
   std::printf("[5/7] diagnosis: concealed effects named and written back into the simulation...\n");

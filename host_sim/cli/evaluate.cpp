@@ -32,6 +32,10 @@ struct EvaluateOptions {
   int count = 50, debounce = 1, jobs = 0;
   double speed = 0.8;
   bool sweep = false;
+  double contact_area_cm2 = 1.0;
+  std::vector<std::string> regions;  ///< safety: only these (empty: all)
+  std::string kind;                  ///< safety: free or clamp only (empty: both)
+  bool compare_bus = false;
   std::string shard, compare_scalar;
   unsigned long long seed = 1;
   ObserverOptions observer;
@@ -46,49 +50,87 @@ Reaction reaction_of(const std::string& s) {
   return Reaction::stop;
 }
 
+nlohmann::json outcome_json(const safety::ContactOutcome& out) {
+  nlohmann::json j = {{"peak_transient_n", out.peak_transient_n}, {"peak_quasi_static_n", out.peak_quasi_static_n},
+                      {"limit_transient_n", out.limit_transient_n}, {"limit_quasi_static_n", out.limit_quasi_static_n},
+                      {"force_within_limits", out.force_within}, {"within_limits", out.within_limits}};
+  if (out.contact_area_cm2 > 0.0) {
+    j["contact_area_cm2"] = out.contact_area_cm2;
+    j["peak_transient_pressure_n_per_cm2"] = out.peak_transient_pressure;
+    j["peak_quasi_static_pressure_n_per_cm2"] = out.peak_quasi_static_pressure;
+    j["limit_transient_pressure_n_per_cm2"] = out.limit_transient_pressure;
+    j["limit_quasi_static_pressure_n_per_cm2"] = out.limit_quasi_static_pressure;
+    j["pressure_within_limits"] = out.pressure_within;
+  }
+  return j;
+}
+
 void write_safety(const eval::ExperimentConfig& c, const EvaluateOptions& o, int jobs) {
   const std::vector<Reaction> reactions = {Reaction::none, Reaction::stop, Reaction::zero_gravity, Reaction::retreat,
                                            Reaction::reflex};
-  std::vector<std::string> regions;
-  for (const auto& r : safety::body_regions()) regions.emplace_back(r.name);
+  std::vector<std::string> regions = o.regions;
+  if (regions.empty()) {
+    for (const auto& r : safety::body_regions()) regions.emplace_back(r.name);
+  }
+  for (const auto& r : regions) (void)safety::body_region(r);  // an unknown name: the list of known ones
   std::vector<eval::SafetyCase> cases;
   for (const auto& region : regions) {
     for (const auto kind : {sim::CollisionProfile::free, sim::CollisionProfile::clamp}) {
-      for (const Reaction r : reactions) cases.push_back({region, kind, r, o.speed});
+      if (!o.kind.empty() && o.kind != sim::to_string(kind)) continue;
+      for (const Reaction r : reactions) cases.push_back({region, kind, r, o.speed, false, o.contact_area_cm2});
+    }
+  }
+  // --compare-bus: every case again with the joint drives' firmware on the simulated bus,
+  // which run the reaction the master commands (node/joint_reaction.hpp).
+  const std::size_t in_process = cases.size();
+  if (o.compare_bus) {
+    for (std::size_t i = 0; i < in_process; ++i) {
+      eval::SafetyCase b = cases[i];
+      b.on_bus = true;
+      cases.push_back(b);
     }
   }
   std::vector<eval::SafetyResult> results(cases.size());
   eval::parallel_for(cases.size(), jobs, [&](std::size_t i) { results[i] = eval::run_safety_case(c, cases[i]); });
   nlohmann::json j;
   j["safety"]["speed_rad_s"] = o.speed;
+  j["safety"]["scalar"] = c.scalar;
   j["safety"]["cases"] = nlohmann::json::array();
-  std::printf("%-16s %-6s %-13s %9s %9s %8s %8s %8s %8s %s\n", "region", "kind", "reaction", "v [m/s]", "det [ms]", "F_tr [N]",
-              "F_est[N]", "F_qs [N]", "limit", "verdict");
-  for (const auto& r : results) {
+  std::printf("%-16s %-6s %-13s %9s %9s %8s %8s %8s %9s %8s %8s %s\n", "region", "kind", "reaction", "v [m/s]", "det [ms]",
+              "F_tr [N]", "F_est[N]", "F_qs [N]", "limit", "p_tr", "p_qs", "verdict");
+  for (std::size_t i = 0; i < in_process; ++i) {
+    const auto& r = results[i];
     const auto& out = r.outcome;
     // #17.4: the contact force the estimator followed at its decided point (peak, N) beside
     // the simulated truth ("-": nothing detected, no estimate).
     const auto& est = r.run.contact;
-    std::printf("%-16s %-6s %-13s %9.3f %9s %8.1f %8s %8.1f %4.0f/%-4.0f %s\n", r.c.region.c_str(), sim::to_string(r.c.kind),
+    std::printf("%-16s %-6s %-13s %9.3f %9s %8.1f %8s %8.1f %4.0f/%-4.0f %8.1f %8.1f %s", r.c.region.c_str(), sim::to_string(r.c.kind),
                 eval::to_string(r.c.reaction), r.contact_speed_m_s,
                 r.detection_delay_s ? std::to_string(1e3 * *r.detection_delay_s).substr(0, 5).c_str() : "-",
-                out.peak_transient_n, est ? std::to_string(est->peak_force_n).substr(0, 6).c_str() : "-", out.peak_quasi_static_n, out.limit_transient_n, out.limit_quasi_static_n,
+                out.peak_transient_n, est ? std::to_string(est->peak_force_n).substr(0, 6).c_str() : "-", out.peak_quasi_static_n,
+                out.limit_transient_n, out.limit_quasi_static_n, out.peak_transient_pressure, out.peak_quasi_static_pressure,
                 out.within_limits ? "within" : "EXCEEDS");
-    j["safety"]["cases"].push_back(
-        {{"region", r.c.region}, {"kind", sim::to_string(r.c.kind)}, {"reaction", eval::to_string(r.c.reaction)},
-         {"contact_speed_m_s", r.contact_speed_m_s},
-         {"detection_delay_s", r.detection_delay_s ? nlohmann::json(*r.detection_delay_s) : nlohmann::json(nullptr)},
-         {"link_isolated", r.run.link_isolated},
-         {"force_estimate_peak_n", est ? nlohmann::json(est->peak_force_n) : nlohmann::json(nullptr)},
-         {"force_estimate_at_decision_n", est ? nlohmann::json(est->estimate.force_n) : nlohmann::json(nullptr)},
-         {"link_estimated", est ? est->estimate.link : 0},
-         {"peak_transient_n", out.peak_transient_n}, {"peak_quasi_static_n", out.peak_quasi_static_n},
-         {"limit_transient_n", out.limit_transient_n}, {"limit_quasi_static_n", out.limit_quasi_static_n},
-         {"within_limits", out.within_limits}});
+    nlohmann::json cj = {{"region", r.c.region}, {"kind", sim::to_string(r.c.kind)}, {"reaction", eval::to_string(r.c.reaction)},
+                         {"contact_speed_m_s", r.contact_speed_m_s},
+                         {"detection_delay_s", r.detection_delay_s ? nlohmann::json(*r.detection_delay_s) : nlohmann::json(nullptr)},
+                         {"link_isolated", r.run.link_isolated},
+                         {"force_estimate_peak_n", est ? nlohmann::json(est->peak_force_n) : nlohmann::json(nullptr)},
+                         {"force_estimate_at_decision_n", est ? nlohmann::json(est->estimate.force_n) : nlohmann::json(nullptr)},
+                         {"link_estimated", est ? est->estimate.link : 0}};
+    cj.update(outcome_json(out));
+    if (o.compare_bus) {
+      const auto& b = results[in_process + i];
+      cj["bus"] = outcome_json(b.outcome);
+      cj["bus"]["detection_delay_s"] = b.detection_delay_s ? nlohmann::json(*b.detection_delay_s) : nlohmann::json(nullptr);
+      std::printf("   bus: %8.1f %8.1f %s", b.outcome.peak_transient_n, b.outcome.peak_quasi_static_n,
+                  b.outcome.within_limits ? "within" : "EXCEEDS");
+    }
+    std::printf("\n");
+    j["safety"]["cases"].push_back(cj);
   }
   if (o.sweep) {
     const std::vector<double> speeds = {0.1, 0.2, 0.3, 0.4, 0.6, 0.8, 1.0, 1.25, 1.5, 2.0};
-    const auto allowed = eval::allowed_speeds(c, regions, reactions, speeds, jobs);
+    const auto allowed = eval::allowed_speeds(c, regions, reactions, speeds, jobs, o.contact_area_cm2);
     j["safety"]["allowed_speed"] = nlohmann::json::array();
     j["safety"]["sweep_speeds_rad_s"] = speeds;
     std::printf("\nlargest waist speed [rad/s] (contact point [m/s]) within the limits, free and clamped:\n%-16s", "region");
@@ -129,6 +171,16 @@ Command add_evaluate(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--speed", o->speed, "safety: peak waist speed of the test swing [rad/s]")->capture_default_str()->check(finite_range(0.05, 3.0));
   cmd->add_flag("--sweep", o->sweep, "safety: also the largest speed each region and reaction allow");
+  cmd->add_option("--contact-area", o->contact_area_cm2,
+                  "safety and body-region scenarios: the arm's contact face [cm^2] for the pressures against ISO/TS 15066 "
+                  "Table A.2 (0: forces only)")
+      ->capture_default_str()
+      ->check(finite_range(0.0, 1000.0));
+  cmd->add_option("--region", o->regions, "safety: only these body regions (repeatable; default all)");
+  cmd->add_option("--kind", o->kind, "safety: only free or only clamp contacts")->check(CLI::IsMember({"free", "clamp"}));
+  cmd->add_flag("--compare-bus", o->compare_bus,
+                "safety: every case also with the joint drives' firmware on the simulated CAN FD bus running the reaction "
+                "(JSON: cases[].bus)");
   cmd->add_option("--model", o->model, "Robot file (YAML or URDF)")->capture_default_str()->check(CLI::ExistingFile);
   add_model_selection(cmd, o->model_options);
   cmd->add_option("--rate", o->rate, "Control and observer rate [Hz]")->capture_default_str()->check(CLI::Range(50.0, 20000.0));
@@ -243,18 +295,23 @@ Command add_evaluate(CLI::App& app) {
                 const auto& f = fig.runs.back().contact_force_n;
                 const auto onset = std::find_if(f.begin(), f.end(), [](double x) { return x > 0.0; });
                 const safety::BodyRegion& region = safety::body_region(events.front().body_region);
-                const safety::ContactOutcome out = safety::assess(region, std::vector<double>(onset, f.end()), 1.0 / c.rate_hz);
+                const safety::ContactOutcome out =
+                    safety::assess(region, std::vector<double>(onset, f.end()), 1.0 / c.rate_hz, o->contact_area_cm2);
                 std::printf("%s (%s contact), reaction %s: peak transient %.1f N (limit %.0f N), quasi-static %.1f N "
                             "(limit %.0f N): %s\n",
                             region.name, sim::to_string(events.front().profile), o->reaction.c_str(), out.peak_transient_n,
                             region.transient_factor > 0.0 ? out.limit_transient_n : out.limit_quasi_static_n,
                             out.peak_quasi_static_n, out.limit_quasi_static_n, out.within_limits ? "within the limits" : "EXCEEDS the limits");
-                fig.extra["safety"] = {{"region", region.name}, {"kind", sim::to_string(events.front().profile)},
-                                       {"reaction", o->reaction}, {"peak_transient_n", out.peak_transient_n},
-                                       {"peak_quasi_static_n", out.peak_quasi_static_n},
-                                       {"limit_transient_n", out.limit_transient_n},
-                                       {"limit_quasi_static_n", out.limit_quasi_static_n},
-                                       {"within_limits", out.within_limits}};
+                fig.extra["safety"] = outcome_json(out);
+                fig.extra["safety"]["region"] = region.name;
+                fig.extra["safety"]["kind"] = sim::to_string(events.front().profile);
+                fig.extra["safety"]["reaction"] = o->reaction;
+                if (out.contact_area_cm2 > 0.0) {
+                  std::printf("pressure on %.2f cm^2: transient %.1f N/cm^2, quasi-static %.1f N/cm^2 (limits %.0f/%.0f N/cm^2, %s)\n",
+                              out.contact_area_cm2, out.peak_transient_pressure, out.peak_quasi_static_pressure,
+                              region.transient_factor > 0.0 ? out.limit_transient_pressure : out.limit_quasi_static_pressure,
+                              out.limit_quasi_static_pressure, region.pressure_area);
+                }
               }
             }
             fig.free_run = eval::free_run_segments(c, free_s, split, [&](double f) { bar.update(0.8 + 0.2 * f); });

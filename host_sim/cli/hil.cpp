@@ -80,6 +80,7 @@ int run_node(const NodeOptions& o) {
   const DriveConfig dc{NodeConfig{static_cast<std::uint8_t>(o.joint), static_cast<std::uint8_t>(n), static_cast<std::uint8_t>(o.fault_cycles)},
                        true};
   JointDrive<S, hil::DriveFaultPort> drive(dc, p, port, eval::gravity_of<S>(model));
+  drive.set_reaction_gains(reaction_gains<S>(fc.dt));  // the reaction the master commands (0.3 s retreat/reflex)
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   std::fprintf(stderr, "jointguard node: joint %d of %zu (%s) on %s, waiting for the master's sync\n", o.joint, n,

@@ -29,7 +29,7 @@ void HilOptions::add_to(CLI::App* cmd, bool plant) {
   cmd->add_option("--threshold", threshold, "Calibrated thresholds (calibrate's JSON; required with a bus)")->check(CLI::ExistingFile);
   cmd->add_option("--scalar", scalar, "Drives' scalar on the in-process bus")->check(CLI::IsMember({"float", "q"}))->capture_default_str();
   cmd->add_option("--debounce", debounce, "Cycles over threshold before a detection")->capture_default_str()->check(CLI::Range(1, 50));
-  cmd->add_option("--reaction", reaction, "Reaction on detection")->check(CLI::IsMember({"none", "stop", "zero_gravity"}))->capture_default_str();
+  cmd->add_option("--reaction", reaction, "Reaction on detection")->check(CLI::IsMember({"none", "stop", "zero_gravity", "retreat", "reflex"}))->capture_default_str();
   cmd->add_option("--timeout-ms", timeout_ms,
                   "SocketCAN: how long a cycle waits for a drive's status before closing without it (5 such cycles: "
                   "communication fault, the arm holds); a drive already silent is waited for a tenth of it")->capture_default_str()->check(CLI::Range(10, 600000));
@@ -64,7 +64,11 @@ int run_hil_command(const HilOptions& o) {
   c.gains = o.observer.to_gains(scenario.setup.control_rate_hz);
   c.scalar = o.scalar;
   c.debounce_cycles = o.debounce;
-  c.reaction = o.reaction == "none" ? Reaction::none : (o.reaction == "zero_gravity" ? Reaction::zero_gravity : Reaction::stop);
+  c.reaction = o.reaction == "none"           ? Reaction::none
+               : o.reaction == "zero_gravity" ? Reaction::zero_gravity
+               : o.reaction == "retreat"      ? Reaction::retreat
+               : o.reaction == "reflex"       ? Reaction::reflex
+                                              : Reaction::stop;
   c.interface = o.iface;
   c.cycle_timeout_ms = o.timeout_ms;
   try {

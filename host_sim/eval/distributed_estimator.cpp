@@ -71,6 +71,16 @@ class BusEstimator final : public DistributedEstimator {
   can::SimBus& bus() override { return bus_; }
   [[nodiscard]] bool communication_fault() const override { return master_.any_comm_fault(); }
   [[nodiscard]] bool input_fault() const override { return master_.any_input_fault(); }
+  bool command_reaction(Reaction reaction, JointMask collided, const sim::JointVector& retreat_target) override {
+    master_.command_reaction(reaction, collided, retreat_target.data());
+    return true;
+  }
+  [[nodiscard]] bool reaction_torque(sim::JointVector& torque) const override {
+    std::vector<double> t;
+    if (!master_.reaction_torques(t)) return false;
+    torque = Eigen::Map<const Eigen::VectorXd>(t.data(), static_cast<Eigen::Index>(t.size()));
+    return true;
+  }
   [[nodiscard]] BusStatistics statistics() const override {
     BusStatistics s{bus_.frames_sent(), bus_.busy_time(), time_, master_.counters(), incomplete_, master_.events(), {}, {}};
     for (const auto& d : drives_) {
@@ -93,7 +103,9 @@ class BusEstimator final : public DistributedEstimator {
     const JointEstimatorParams<S> p = joint_params<S>(fc, j, band, config_.debounce_cycles, hold);
     const DriveConfig dc{NodeConfig{static_cast<std::uint8_t>(j + 1), static_cast<std::uint8_t>(n), config_.fault_cycles}, true};
     // A drive's node refers to the drive's relay port: drives never move.
-    return std::make_unique<JointDrive<S, can::SimPort>>(dc, p, *ports_[j], gravity_of<S>(fc.model));
+    auto d = std::make_unique<JointDrive<S, can::SimPort>>(dc, p, *ports_[j], gravity_of<S>(fc.model));
+    d->set_reaction_gains(reaction_gains<S>(fc.dt, config_.retreat_s, config_.reflex_s));
+    return d;
   }
 
   /// Frame faults, babble and link down act on the bus itself over their windows.

@@ -32,6 +32,7 @@ struct DistributedConfig {
   /// The drives' holding detectors (empty: off), one per joint.
   std::vector<HoldChangeParams<double>> node_hold;
   std::uint8_t fault_cycles = 5;
+  double retreat_s = 0.3, reflex_s = 0.3;  ///< the drives' reaction durations (joint_reaction.hpp)
 };
 
 struct DriveReport {

@@ -33,6 +33,14 @@ class Estimator {
   [[nodiscard]] virtual bool communication_fault() const { return false; }
   /// A drive reports an input fault (a sample it could not use, e.g. NaN): the arm holds.
   [[nodiscard]] virtual bool input_fault() const { return false; }
+  /// Drives that run the reaction themselves (distributed runs): the master commands it
+  /// (node/joint_reaction.hpp; sent before the next cycle's sync) and returns true; false
+  /// for estimators without drives (the evaluation loop computes the reaction itself).
+  virtual bool command_reaction(Reaction /*reaction*/, JointMask /*collided*/, const sim::JointVector& /*retreat_target*/) {
+    return false;
+  }
+  /// The drives' reaction torques [N·m] (the last each sent); false until every drive has.
+  [[nodiscard]] virtual bool reaction_torque(sim::JointVector& /*torque*/) const { return false; }
 };
 
 struct ReferenceEstimatorConfig {

@@ -4,10 +4,13 @@
 #include <stdexcept>
 
 #include "identification/lugre_batch.hpp"
+#include "jointguard/node/joint_reaction.hpp"
 
 namespace jg::eval {
 namespace {
 constexpr double kHeldSignatureFraction = 0.6;
+/// Cycles the master waits for the drives' first reaction torques before holding the arm itself.
+constexpr int kReactionAnswerCycles = 5;
 // One cycle of the estimator on a measurement; the first measurement also starts it.
 void estimate(Estimator& estimator, const sim::Measurement& m, JointMask holding, bool& started, sim::JointVector& mu) {
   const EstimatorInput in{m.q, m.dq, m.tau_m, holding};
@@ -81,8 +84,15 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
   std::vector<sim::JointVector> path;
   const std::size_t path_capacity = static_cast<std::size_t>(3.0 * setup.control_rate_hz) + 1;
   sim::JointVector retreat_to;
-  double t_reaction = 0.0;
   JointMask collided = 0;
+  // The reaction law is the drives' own (node/joint_reaction.hpp), here in double: with
+  // drives on a bus the master commands it and applies the torques they send back.
+  ReactionGains<double> gains = reaction_gains<double>(dt, d.retreat_s, d.reflex_s);
+  gains.reflex_gain = d.reflex_gain;
+  std::vector<JointReactionState<double>> reaction(n);
+  bool drives_react = false;
+  int unanswered_cycles = 0;
+  sim::JointVector friction_now = sim::JointVector::Zero(static_cast<Eigen::Index>(n));
   sim::JointVector mu;
   JointMask mask = 0;
   JointMask window_signature = 0;  // joints taking part in the signature since the detection
@@ -103,6 +113,12 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
     if (!reacting && d.reaction == Reaction::retreat) {
       if (path.size() == path_capacity) path.erase(path.begin());
       path.push_back(m.q);
+    }
+    // Zero gravity: the friction prediction every cycle from the start, as the drives'
+    // estimators run it (their reaction uses that prediction).
+    for (std::size_t j = 0; d.reaction == Reaction::zero_gravity && j < friction.size() && j < n; ++j) {
+      const auto i = static_cast<Eigen::Index>(j);
+      friction_now(i) = lugre_step(friction[j], friction_state[j], m.dq(i));
     }
     if (!out.t_comm_fault && estimator.communication_fault()) {
       // A drive lost its neighbours: its estimate is no longer trustworthy, so the arm
@@ -202,12 +218,18 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       collided = window_signature;
       if (!reacting) {
         hold = m.q;
-        t_reaction = ctx.t;
         retreat_to = m.q;
         double back = 0.0;  // walk back along the recorded path by retreat_rad
         for (std::size_t k = path.size(); k-- > 1 && back < d.retreat_rad;) {
           back += (path[k] - path[k - 1]).norm();
           retreat_to = path[k - 1];
+        }
+        if (d.reaction != Reaction::none) {
+          drives_react = estimator.command_reaction(d.reaction, collided, retreat_to);
+          for (std::size_t j = 0; j < n && !drives_react; ++j) {
+            const auto i = static_cast<Eigen::Index>(j);
+            start_reaction(reaction[j], ReactionCommand<double>{d.reaction, ((collided >> j) & 1U) != 0U, retreat_to(i)}, m.q(i));
+          }
         }
       }
       reacting = reacting || d.reaction != Reaction::none;
@@ -223,35 +245,33 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
     }
     if (!reacting) return std::nullopt;
     sim::JointVector demand = nominal.gravity_torque(m.q);
-    const double since = ctx.t - t_reaction;
-    if (!comm_stop && d.reaction == Reaction::retreat) {
-      // Back along the path to retreat_to over retreat_s (linear in joint space), then hold.
-      const double s_path = std::clamp(since / d.retreat_s, 0.0, 1.0);
-      const sim::JointVector ref = hold + s_path * (retreat_to - hold);
+    if (comm_stop) {
+      // The master's own safe hold: the drives may be unable to run or report anything.
       for (std::size_t j = 0; j < n; ++j) {
         const auto i = static_cast<Eigen::Index>(j);
-        demand(i) += 2.0 * (ref(i) - m.q(i)) * 1000.0 - 60.0 * m.dq(i);
+        demand(i) += gains.hold_stiffness * (hold(i) - m.q(i)) - gains.hold_damping * m.dq(i);
       }
-    } else if (!comm_stop && d.reaction == Reaction::reflex) {
-      // The collided joints push along the estimated contact torque for reflex_s (the arm
-      // moves away from the contact), the others hold; then everything holds where it is.
-      for (std::size_t j = 0; j < n; ++j) {
-        const auto i = static_cast<Eigen::Index>(j);
-        if (since <= d.reflex_s && (collided & (1U << j)) != 0U) {
-          demand(i) += d.reflex_gain * mu(i) - 5.0 * m.dq(i);
-          hold(i) = m.q(i);  // hold where the reflex ends
-        } else {
-          demand(i) += 2.0 * (hold(i) - m.q(i)) * 1000.0 - 60.0 * m.dq(i);
+    } else if (drives_react) {
+      // The drives run the reaction; until their first torques are in (the cycle after the
+      // detection) the trajectory's controller keeps the arm.
+      sim::JointVector tau;
+      if (!estimator.reaction_torque(tau)) {
+        // Drives that do not answer the command within a few cycles (lost, or firmware
+        // without reactions): the master holds the arm itself.
+        if (++unanswered_cycles <= kReactionAnswerCycles) return std::nullopt;
+        comm_stop = true;
+        for (std::size_t j = 0; j < n; ++j) {
+          const auto i = static_cast<Eigen::Index>(j);
+          demand(i) += gains.hold_stiffness * (hold(i) - m.q(i)) - gains.hold_damping * m.dq(i);
         }
+        return demand;
       }
-    } else if (comm_stop || d.reaction == Reaction::stop) {
+      demand += tau;
+    } else {
       for (std::size_t j = 0; j < n; ++j) {
         const auto i = static_cast<Eigen::Index>(j);
-        demand(i) += 2.0 * (hold(i) - m.q(i)) * 1000.0 - 60.0 * m.dq(i);
-      }
-    } else if (d.reaction == Reaction::zero_gravity) {
-      for (std::size_t j = 0; j < friction.size() && j < n; ++j) {
-        demand(static_cast<Eigen::Index>(j)) += lugre_step(friction[j], friction_state[j], m.dq(static_cast<Eigen::Index>(j)));
+        demand(i) += reaction_torque(gains, reaction[j], m.q(i), m.dq(i), mu(i), friction_now(i));
+        if (reaction[j].kind == Reaction::reflex) hold(i) = reaction[j].hold;  // a later comm fault holds there
       }
     }
     return demand;

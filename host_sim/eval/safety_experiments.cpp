@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "eval/distributed_estimator.hpp"
 #include "eval/parallel.hpp"
 
 namespace jg::eval {
@@ -22,7 +23,28 @@ const char* to_string(Reaction r) {
   return "unknown";
 }
 
-SafetyResult run_safety_case(const ExperimentConfig& c, const SafetyCase& sc) {
+namespace {
+/// The drives on the simulated bus, with their own detector bands (the paper's constant
+/// threshold plus the standstill allowance) and the configured estimator.
+std::unique_ptr<Estimator> bus_estimator(const ExperimentConfig& c, const DetectionConfig& d) {
+  DistributedConfig dc;
+  dc.estimator.model = c.model;
+  dc.estimator.dt = 1.0 / c.rate_hz;
+  dc.estimator.observer = c.gains;
+  dc.estimator.compensate_friction = !c.friction.empty();
+  dc.estimator.friction = c.friction;
+  if (c.hold_calibration_s > 0.0 || !c.hold_threshold.empty()) dc.estimator.holding_velocity_deadband = holding_deadband(c.model, c.rate_hz);
+  for (std::size_t j = 0; j < d.threshold.size(); ++j) {
+    dc.node_thresholds.push_back({d.threshold[j], 0.0, d.low_speed_extra.empty() ? 0.0 : d.low_speed_extra[j], 1.0 / d.low_speed_width});
+  }
+  dc.debounce_cycles = d.debounce_cycles;
+  dc.retreat_s = d.retreat_s;
+  dc.reflex_s = d.reflex_s;
+  return make_distributed_estimator(dc, c.scalar);
+}
+}  // namespace
+
+SafetyResult run_safety_case(const ExperimentConfig& c, const SafetyCase& sc, bool keep_force) {
   const safety::BodyRegion& region = safety::body_region(sc.region);
   if (!(sc.joint_speed_rad_s > 0.0)) throw std::invalid_argument("safety case: joint speed must be > 0");
   const int n = static_cast<int>(c.model.joints.size());
@@ -64,8 +86,8 @@ SafetyResult run_safety_case(const ExperimentConfig& c, const SafetyCase& sc) {
   e.rise_s = 0.0;
   setup.collisions = {e};
   setup.duration_s = t_contact + 2.0;
-  auto est = estimator_for(cc);
   const DetectionConfig d = detection_for(cc);
+  auto est = sc.on_bus ? bus_estimator(cc, d) : estimator_for(cc);
   SafetyResult r;
   r.c = sc;
   r.contact_speed_m_s = v.norm();
@@ -74,13 +96,15 @@ SafetyResult run_safety_case(const ExperimentConfig& c, const SafetyCase& sc) {
   // The force from the onset on (the first cycle with a force), per control cycle.
   const auto& f = r.run.contact_force_n;
   const auto onset = std::find_if(f.begin(), f.end(), [](double x) { return x > 0.0; });
-  r.outcome = safety::assess(region, std::vector<double>(onset, f.end()), 1.0 / c.rate_hz);
+  r.outcome = safety::assess(region, std::vector<double>(onset, f.end()), 1.0 / c.rate_hz, sc.contact_area_cm2);
+  if (keep_force) r.contact_force_n.assign(onset, f.end());
   r.run.contact_force_n.clear();
   return r;
 }
 
 std::vector<AllowedSpeed> allowed_speeds(const ExperimentConfig& c, const std::vector<std::string>& regions,
-                                         const std::vector<Reaction>& reactions, const std::vector<double>& speeds, int jobs) {
+                                         const std::vector<Reaction>& reactions, const std::vector<double>& speeds, int jobs,
+                                         double contact_area_cm2) {
   struct Task {
     std::size_t pair;
     double speed;
@@ -96,7 +120,7 @@ std::vector<AllowedSpeed> allowed_speeds(const ExperimentConfig& c, const std::v
   std::vector<SafetyResult> results(tasks.size());
   parallel_for(tasks.size(), jobs, [&](std::size_t i) {
     const Task& t = tasks[i];
-    SafetyCase sc{regions[t.pair / reactions.size()], t.kind, reactions[t.pair % reactions.size()], t.speed};
+    SafetyCase sc{regions[t.pair / reactions.size()], t.kind, reactions[t.pair % reactions.size()], t.speed, false, contact_area_cm2};
     results[i] = run_safety_case(c, sc);
   });
   std::vector<AllowedSpeed> out;

@@ -20,6 +20,12 @@ struct SafetyCase {
   sim::CollisionProfile kind = sim::CollisionProfile::free;  ///< free (transient) or clamp
   Reaction reaction = Reaction::stop;
   double joint_speed_rad_s = 0.8;  ///< peak waist speed of the swing
+  /// false: the estimator and the reaction in-process (the evaluation loop); true: the
+  /// joint drives' firmware on the simulated CAN FD bus, which run the reaction the
+  /// master commands (node/joint_reaction.hpp), in the configured scalar.
+  bool on_bus = false;
+  /// The arm's contact face [cm^2] for the pressures (ISO/TS 15066 Table A.2); 0: forces only.
+  double contact_area_cm2 = 0.0;
 };
 
 struct SafetyResult {
@@ -28,9 +34,10 @@ struct SafetyResult {
   std::optional<double> detection_delay_s;
   safety::ContactOutcome outcome;
   RunResult run;
+  std::vector<double> contact_force_n;  ///< per control cycle from the onset (kept with keep_force)
 };
 
-SafetyResult run_safety_case(const ExperimentConfig& c, const SafetyCase& sc);
+SafetyResult run_safety_case(const ExperimentConfig& c, const SafetyCase& sc, bool keep_force = false);
 
 [[nodiscard]] const char* to_string(Reaction r);
 
@@ -43,6 +50,7 @@ struct AllowedSpeed {
   std::optional<double> joint_speed_rad_s, contact_speed_m_s;
 };
 std::vector<AllowedSpeed> allowed_speeds(const ExperimentConfig& c, const std::vector<std::string>& regions,
-                                         const std::vector<Reaction>& reactions, const std::vector<double>& speeds, int jobs);
+                                         const std::vector<Reaction>& reactions, const std::vector<double>& speeds, int jobs,
+                                         double contact_area_cm2 = 0.0);
 
 }  // namespace jg::eval

@@ -13,6 +13,7 @@
 #include "jointguard/detection/detector.hpp"
 #include "jointguard/hal/can.hpp"
 #include "jointguard/protocol/frames.hpp"
+#include "jointguard/protocol/reaction_frames.hpp"
 #include "jointguard/protocol/sensor_validity.hpp"
 
 namespace jg::hil {
@@ -31,6 +32,7 @@ struct MasterCounters {
   std::uint64_t frames_received = 0;
   std::uint64_t restarts = 0;          ///< drives that announced themselves again mid-run (rebooted)
   std::uint64_t invalid_samples = 0;   ///< sensor frames sent marked invalid (the plant's value was not finite)
+  std::uint64_t reaction_frames = 0;   ///< reaction status frames (status + reaction torque) received
 };
 
 template <class Port>
@@ -40,12 +42,40 @@ class BusMaster {
  public:
   BusMaster(Port& port, std::size_t joints)
       : port_(port), torque_(joints, 0.0), flags_(joints, 0), have_(joints, false), announced_(joints, false),
-        rejoining_(joints, false), answered_once_(joints, false), first_comm_fault_(joints, -1) {
+        rejoining_(joints, false), answered_once_(joints, false), first_comm_fault_(joints, -1), reaction_torque_(joints, 0.0),
+        have_reaction_(joints, false) {
     const hal::CanFilter filters[] = {
         {protocol::frame_id(protocol::MessageKind::status, 0), 0x7F0U},
         {protocol::frame_id(protocol::MessageKind::collision_event, 0), 0x7F0U},
+        {protocol::frame_id(protocol::MessageKind::joint_state, 0), 0x7F0U},  // the drives' reaction torques
     };
-    port_.set_filters(static_cast<const hal::CanFilter*>(filters), 2);
+    port_.set_filters(static_cast<const hal::CanFilter*>(filters), 3);
+  }
+
+  /// The arm reacts: from the next send_cycle on, every cycle carries the reaction command
+  /// (joint_reaction.hpp) before its sync. `retreat_target`: one position per joint [rad].
+  void command_reaction(Reaction reaction, JointMask collided, const double* retreat_target) {
+    command_ = protocol::ReactionCommandMessage<q16>{};
+    command_.reaction = reaction;
+    command_.collided = collided;
+    for (std::size_t j = 0; j < torque_.size() && j < protocol::kReactionJoints; ++j) {
+      command_.retreat_target[j] = q16::from_double(retreat_target[j]);
+    }
+    commanding_ = reaction != Reaction::none;
+  }
+  /// Every drive has sent a reaction torque (it runs the commanded reaction).
+  [[nodiscard]] bool all_reacting() const {
+    for (const bool h : have_reaction_) {
+      if (!h) return false;
+    }
+    return true;
+  }
+  /// The drives' reaction torques [N·m] (the last each drive sent); false until every
+  /// drive has sent one.
+  [[nodiscard]] bool reaction_torques(std::vector<double>& out) const {
+    if (!all_reacting()) return false;
+    out = reaction_torque_;
+    return true;
   }
 
   /// Sensor samples (link side, SI) of every joint, then the sync of `cycle`. `holding`:
@@ -53,6 +83,15 @@ class BusMaster {
   void send_cycle(std::uint32_t cycle, const double* position, const double* velocity, const double* motor_torque,
                   JointMask holding = 0) {
     const auto seq = static_cast<std::uint8_t>(cycle & 0xFFU);
+    // Repeated until every drive has answered with its reaction torque (a lost command is
+    // sent again); then the bus carries only the drives' torque frames on top of the cycle.
+    if (commanding_ && !all_reacting()) {
+      hal::CanFrame c{};
+      c.fd = true;
+      c.id = protocol::kReactionCommandId;
+      c.length = protocol::encode_reaction_command(command_, seq, static_cast<std::uint8_t*>(c.data));
+      send(c);
+    }
     for (std::size_t j = 0; j < torque_.size(); ++j) {
       hal::CanFrame f{};
       f.fd = true;
@@ -91,14 +130,28 @@ class BusMaster {
       const protocol::MessageKind kind = protocol::kind_of(f.id);
       const std::size_t joint = protocol::joint_of(f.id);
       const bool ours = !f.extended && joint >= 1 && joint <= torque_.size() &&
-                        (kind == protocol::MessageKind::status || kind == protocol::MessageKind::collision_event);
+                        (kind == protocol::MessageKind::status || kind == protocol::MessageKind::collision_event ||
+                         kind == protocol::MessageKind::joint_state);
       if (!ours) {
         ++counters_.foreign;
         continue;
       }
       protocol::StatusMessage<q16> m{};
       std::uint8_t seq = 0;
-      if (protocol::decode_status(static_cast<const std::uint8_t*>(f.data), f.length, m, seq) != protocol::FrameError::ok) {
+      if (kind == protocol::MessageKind::joint_state) {
+        // A reacting drive's status, with its reaction torque.
+        protocol::ReactionStatusMessage<q16> r{};
+        if (protocol::decode_reaction_status(static_cast<const std::uint8_t*>(f.data), f.length, r, seq) != protocol::FrameError::ok) {
+          ++counters_.rejected;
+          continue;
+        }
+        m = r.status;
+        if (seq == static_cast<std::uint8_t>(cycle_ & 0xFFU)) {
+          reaction_torque_[joint - 1] = r.torque.to_double();
+          have_reaction_[joint - 1] = true;
+          ++counters_.reaction_frames;
+        }
+      } else if (protocol::decode_status(static_cast<const std::uint8_t*>(f.data), f.length, m, seq) != protocol::FrameError::ok) {
         ++counters_.rejected;
         continue;
       }
@@ -217,6 +270,10 @@ class BusMaster {
   std::vector<std::int64_t> first_comm_fault_;
   bool started_ = false, sync_sent_ = false;
   std::vector<NodeEvent> events_;
+  std::vector<double> reaction_torque_;
+  std::vector<bool> have_reaction_;
+  protocol::ReactionCommandMessage<q16> command_{};
+  bool commanding_ = false;
   MasterCounters counters_{};
   unsigned missing_run_ = 0;
   static constexpr unsigned kMissingCyclesForFault = 5;

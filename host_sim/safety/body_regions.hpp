@@ -18,6 +18,10 @@ struct BodyRegion {
   double spring_n_per_m;         ///< effective spring constant, Table A.3 (N/mm x 1000)
   double max_quasi_static_n;     ///< Table A.2
   double transient_factor;       ///< transient limit = factor x quasi-static (0: no transient contact allowed)
+  /// Table A.2, maximum permissible quasi-static pressure [N/cm^2] of the region's most
+  /// sensitive body area (named below); transient pressure: the same factor as the force.
+  double max_pressure_n_per_cm2;
+  const char* pressure_area;     ///< the Table A.2 body area the pressure limit is from
 };
 
 /// Every region of the table.
@@ -35,8 +39,14 @@ struct ContactOutcome {
   double limit_transient_n = 0.0;     ///< 0 when no transient contact is allowed
   double limit_quasi_static_n = 0.0;
   bool within_limits = false;         ///< transient <= its limit (or <= the quasi-static one when
-                                      ///< no transient contact is allowed) and quasi-static <= its limit
+                                      ///< no transient contact is allowed) and quasi-static <= its limit,
+                                      ///< for the force and, with a contact area, the pressure
+  double contact_area_cm2 = 0.0;      ///< 0: no area given, no pressures
+  double peak_transient_pressure = 0.0, peak_quasi_static_pressure = 0.0;  ///< [N/cm^2]
+  double limit_transient_pressure = 0.0, limit_quasi_static_pressure = 0.0;  ///< [N/cm^2] (transient 0: not allowed)
+  bool force_within = false, pressure_within = true;  ///< the two parts of the verdict
 };
-ContactOutcome assess(const BodyRegion& region, const std::vector<double>& force_n, double dt_s);
+/// `contact_area_cm2` > 0: the pressures (force / area) too, and the verdict includes them.
+ContactOutcome assess(const BodyRegion& region, const std::vector<double>& force_n, double dt_s, double contact_area_cm2 = 0.0);
 
 }  // namespace jg::safety

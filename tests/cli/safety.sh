@@ -30,6 +30,13 @@ for s in ["hand_clamp", "lower_arm_free", "chest_clamp", "abdomen_free"]:
         assert stop["peak_transient_n"] <= none["peak_transient_n"] + 1e-9, (s, stop, none)
         assert not none["within_limits"], (s, none)  # without a reaction the clamp exceeds its limit
         assert none["peak_quasi_static_n"] > 5 * stop["peak_quasi_static_n"] + 1, (s, none, stop)
+    # Pressures on the default 1 cm^2 contact face, against the region's Table A.2 pressure.
+    assert stop["contact_area_cm2"] == 1.0, stop
+    assert abs(stop["peak_transient_pressure_n_per_cm2"] - stop["peak_transient_n"]) < 1e-9, stop
+    assert stop["pressure_within_limits"] and stop["force_within_limits"], stop
+    expected = {"hand_clamp": 190, "lower_arm_free": 180, "chest_clamp": 120, "abdomen_free": 140}[s]
+    assert stop["limit_quasi_static_pressure_n_per_cm2"] == expected, stop
+    assert stop["limit_transient_pressure_n_per_cm2"] == 2 * expected, stop
     print(s, "stop: transient %.1f N, quasi-static %.1f N" % (stop["peak_transient_n"], stop["peak_quasi_static_n"]))
 PY
 "${J}" evaluate --scenario safety --calibration 60 --no-hold --json "${T}/table.json" > /dev/null

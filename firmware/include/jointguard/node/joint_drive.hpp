@@ -20,7 +20,9 @@
 
 #include "jointguard/hal/can.hpp"
 #include "jointguard/node/joint_node.hpp"
+#include "jointguard/node/joint_reaction.hpp"
 #include "jointguard/protocol/frames.hpp"
+#include "jointguard/protocol/reaction_frames.hpp"
 #include "jointguard/protocol/sensor_validity.hpp"
 
 namespace jg {
@@ -83,6 +85,7 @@ struct DriveCounters {
   std::uint32_t inbox_overruns = 0;     ///< neighbour frames lost (inbox full); 0 since frames are delivered as they arrive
   std::uint32_t foreign = 0;            ///< identifiers not for this drive (never decoded)
   std::uint32_t send_failures = 0;      ///< status or event frames the port refused
+  std::uint32_t command_rejected = 0;   ///< reaction commands with wrong length, CRC or values
 };
 
 template <class S, class Port>
@@ -102,6 +105,7 @@ class JointDrive {
         {protocol::frame_id(protocol::MessageKind::sensor, j), 0x7FFU},
         {protocol::frame_id(protocol::MessageKind::outward, static_cast<std::uint8_t>(j - 1U)), 0x7FFU},
         {protocol::frame_id(protocol::MessageKind::inward, static_cast<std::uint8_t>(j + 1U)), 0x7FFU},
+        {protocol::kReactionCommandId, 0x7FFU},
     };
     port_.set_filters(static_cast<const hal::CanFilter*>(filters), sizeof filters / sizeof filters[0]);
   }
@@ -151,6 +155,12 @@ class JointDrive {
     return ran;
   }
 
+  /// The reaction's gains (joint_reaction.hpp; defaults: 1 kHz). Set before the first cycle.
+  void set_reaction_gains(const ReactionGains<S>& gains) noexcept { reaction_gains_ = gains; }
+  /// The reaction under way (kind none: not reacting) and this cycle's reaction torque.
+  [[nodiscard]] const JointReactionState<S>& reaction() const noexcept { return reaction_; }
+  [[nodiscard]] S reaction_torque() const noexcept { return reaction_torque_; }
+
   /// The drive's node: its port only sends (frames are delivered), a one-frame inbox.
   using Node = JointNode<S, RelayPort<Port, 1>>;
   [[nodiscard]] const Node& node() const noexcept { return node_; }
@@ -188,6 +198,8 @@ class JointDrive {
     } else if (!f.extended && (f.id == protocol::frame_id(protocol::MessageKind::outward, static_cast<std::uint8_t>(j - 1U)) ||
                                f.id == protocol::frame_id(protocol::MessageKind::inward, static_cast<std::uint8_t>(j + 1U)))) {
       node_.deliver(f);  // checked and read in place, no copy into an inbox
+    } else if (f.id == protocol::kReactionCommandId && !f.extended) {
+      take_command(f);
     } else {
       ++counters_.foreign;
     }
@@ -234,7 +246,39 @@ class JointDrive {
       publish(protocol::MessageKind::collision_event, seq, status_);
       event_sent_ = true;
     }
+    if (react_) {  // the only cost of the reaction while no collision is raised: this test
+      react(seq);
+      return;
+    }
     publish(protocol::MessageKind::status, seq, status_);
+  }
+
+  /// The master's reaction command: latched once, run from this drive's next cycle. Out of
+  /// line and cold (as react): the routing and the cycle of a drive that is not reacting
+  /// keep their code and registers.
+  [[gnu::noinline, gnu::cold]] void take_command(const hal::CanFrame& f) noexcept {
+    if (protocol::decode_reaction_command(static_cast<const std::uint8_t*>(f.data), f.length, config_.node.joint,
+                                          command_.kind, command_.collided, command_.retreat_target) != protocol::FrameError::ok) {
+      ++counters_.command_rejected;
+    } else {
+      react_ = true;
+    }
+  }
+
+  /// The reaction's cycle: started on the first command; its torque term goes to the
+  /// master with the status (on the MCU it is also the drive's own motor torque term).
+  [[gnu::noinline, gnu::cold]] void react(std::uint8_t seq) noexcept {
+    start_reaction(reaction_, command_, sample_.position);
+    const JointEstimatorState<S>& st = node_.state();
+    reaction_torque_ = jg::reaction_torque(reaction_gains_, reaction_, sample_.position, sample_.velocity,
+                                           st.external_torque, st.friction_torque);
+    tx_.fd = true;
+    tx_.id = protocol::frame_id(protocol::MessageKind::joint_state, config_.node.joint);
+    tx_.length = protocol::encode_reaction_status(protocol::ReactionStatusMessage<S>{status_, reaction_torque_}, seq,
+                                                  static_cast<std::uint8_t*>(tx_.data));
+    if (port_.send(tx_) != hal::CanStatus::ok) {
+      ++counters_.send_failures;
+    }
   }
 
   void publish(protocol::MessageKind kind, std::uint8_t seq, const protocol::StatusMessage<S>& status) noexcept {
@@ -258,6 +302,12 @@ class JointDrive {
   bool has_sample_ = false, sync_pending_ = false, synced_ = false, event_sent_ = false, sample_valid_ = true;
   DriveCounters counters_{};
   hal::CanFrame rx_{}, tx_{};  ///< frame buffers kept across cycles: no per-frame zeroing
+  // The reaction last: the members the cycle uses keep their offsets (cheaper addressing).
+  bool react_ = false;  ///< a reaction command has arrived
+  ReactionGains<S> reaction_gains_{};
+  ReactionCommand<S> command_{};
+  JointReactionState<S> reaction_{};
+  S reaction_torque_{};
 };
 
 }  // namespace jg
