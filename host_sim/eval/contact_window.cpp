@@ -7,7 +7,10 @@ namespace jg::eval {
 
 ContactWindow::ContactWindow(ContactWindowConfig config, double dt)
     : config_(std::move(config)), dt_(dt),
-      keep_(static_cast<std::size_t>(std::ceil(std::max(config_.before_s, config_.fit_s) / dt - 1e-9)) + 1) {}
+      keep_(static_cast<std::size_t>(std::ceil(std::max(config_.before_s, config_.fit_s) / dt - 1e-9)) + 1) {
+  // No link segments (a DetectionConfig left at its defaults): no contact estimate.
+  if (config_.estimator.segments.empty()) config_.enabled = false;
+}
 
 detection::TorqueObservation ContactWindow::observe() const {
   const double from = samples_.back().t - config_.fit_s - 1e-9;

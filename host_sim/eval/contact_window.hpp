@@ -19,7 +19,7 @@
 namespace jg::eval {
 
 struct ContactWindowConfig {
-  bool enabled = true;
+  bool enabled = true;  ///< false, or no estimator segments: no contact estimate
   double before_s = 0.005;      ///< samples kept from before the detection [s]
   double fit_s = 0.010;         ///< sliding window each cycle's force observation is fitted over [s]
   double settle_s = 0.008;      ///< cycles this soon after the detection are left out [s]

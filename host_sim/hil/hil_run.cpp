@@ -4,6 +4,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "detection/contact_estimate.hpp"
 #include "eval/distributed_estimator.hpp"
 #include "hil/socketcan_master.hpp"
 
@@ -28,6 +29,9 @@ HilResult run_hil(const sim::Scenario& scenario, const HilConfig& c) {
   d.hold_reference_s = c.thresholds.hold_reference_s;
   d.reaction = c.reaction;
   d.friction = c.friction;
+  // The master's contact estimate from the drives' torques (as in evaluate).
+  d.contact.observer_gain_per_s = c.gains.kind == ObserverKind::first_order ? c.gains.k1 : 0.0;
+  d.contact.estimator = detection::default_contact_params(c.model.reaches());
   HilResult out;
   const std::string name = setup.meta.scenario.empty() ? scenario.file : setup.meta.scenario;
   if (c.interface.empty()) {

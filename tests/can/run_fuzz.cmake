@@ -2,8 +2,12 @@ if(NOT CLANGXX)
   message("SKIP: clang++ not found (apt-get install clang)")
   cmake_language(EXIT 77)
 endif()
+set(INCLUDE_FLAGS)
+foreach(dir IN LISTS INC)
+  list(APPEND INCLUDE_FLAGS -I${dir})
+endforeach()
 file(MAKE_DIRECTORY ${WORK})
-execute_process(COMMAND ${CLANGXX} -std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -I${INC} ${SRC} -o ${WORK}/fuzz_frames
+execute_process(COMMAND ${CLANGXX} -std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined ${INCLUDE_FLAGS} ${SRC} -o ${WORK}/fuzz_frames
   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)
   message("SKIP: clang cannot build a libFuzzer target here (libclang-rt missing?):\n${err}")

@@ -143,7 +143,7 @@ static void drive_on_a_c_bus(void) {
   const jg_joint_config c = held_joint();
   const double g[3] = {0.0, 0.0, -9.81};
   CHECK(jg_drive_init(&drive, &dc, &c, g, &port) == JG_OK);
-  CHECK(b.filters_set == 4);
+  CHECK(b.filters_set == 5); /* sync, own sensor, both neighbours, the reaction command */
   const jg_drive_config bad = {3, 2, 0, 0, false};
   CHECK(jg_drive_init(&drive, &bad, &c, g, &port) == JG_BAD_CONFIG);
   CHECK(jg_drive_init(&drive, &dc, &c, g, &port) == JG_OK);
