@@ -16,6 +16,7 @@
 #include "eval/evaluate.hpp"
 #include "eval/joint_params.hpp"
 #include "eval/pipeline.hpp"
+#include "eval/safety_experiments.hpp"
 #include "hil/drive_fault_port.hpp"
 #include "io/atomic_write.hpp"
 #include "io/yaml_fields.hpp"
@@ -130,6 +131,11 @@ int run_node(const NodeOptions& o) {
                                     {"wrong_length", nc.wrong_length}, {"bad_crc", nc.bad_crc}, {"stale", nc.stale}, {"late", nc.late}}},
                       {"foreign", c.foreign}, {"missed_cycles", nc.missed_cycles}, {"communication_fault", drive.node().communication_fault()},
                       {"send_failures", c.send_failures},
+                      // The reaction the master commanded (none: never commanded) and this drive's torque term.
+                      {"reaction", {{"kind", eval::to_string(drive.reaction().kind)},
+                                    {"cycles", drive.reaction().cycles},
+                                    {"torque_nm", to_double(drive.reaction_torque())},
+                                    {"commands_rejected", c.command_rejected}}},
                       {"faults", {{"frames_delayed", fault_counts.frames_delayed}, {"bus_off_entries", fault_counts.bus_off_entries},
                                   {"bus_off_recoveries", fault_counts.bus_off_recoveries}, {"refused_bus_off", fault_counts.refused_bus_off},
                                   {"bus_off_at_end", port.error_state() == hal::CanErrorState::bus_off}}}};

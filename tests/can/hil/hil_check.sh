@@ -35,6 +35,8 @@ for j in (1, 2, 3):
     # plus the start-up announcements; a reacting drive's status is REACTION_STATUS_Jj
     assert cycles <= m[f"STATUS_J{j}"] + m.get(f"REACTION_STATUS_J{j}", 0) <= cycles + 100, m
     assert m[f"SENSOR_J{j}"] >= cycles, m
+    # The detection's reaction (stop) commanded by the master and run by every drive on SocketCAN.
+    assert m.get(f"REACTION_STATUS_J{j}", 0) > 0, f"drive {j} never sent a reaction status: {m}"
 per = t["product_frames_per_cycle"]
 # Wire time of the captured product traffic at 1/5 Mbit/s: the simulated bus model's figure
 # for 3 joints (tests/can/test_sim_bus.cpp, docs/can.md), one-off frames aside.
@@ -45,7 +47,7 @@ print(f"hil_check: capture {t['frames']} frames, {per:.3f} product frames and {t
 PY
 for j in 1 2 3; do
   # A stale sync or two: the master repeats cycle 0 until every node has answered.
-  /usr/bin/python3 -c "import json,sys; n=json.load(open(sys.argv[1])); r=n['rejected']; s=r.pop('stale_sync'); assert sum(r.values())==0 and s<=5 and not n['communication_fault'], n" \
+  /usr/bin/python3 -c "import json,sys; n=json.load(open(sys.argv[1])); r=n['rejected']; s=r.pop('stale_sync'); assert sum(r.values())==0 and s<=5 and not n['communication_fault'], n; x=n['reaction']; assert x['kind']=='stop' and x['cycles']>0 and x['commands_rejected']==0, x" \
     "$out/node$j.json" || fail "node $j counters"
 done
 "$jg" plant "$payload/hil_shoulder.yaml" --bus sim --friction "$payload/friction.json" --threshold "$payload/threshold.json" \
