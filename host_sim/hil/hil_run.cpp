@@ -4,6 +4,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "detection/contact_estimate.hpp"
 #include "eval/distributed_estimator.hpp"
 #include "hil/socketcan_master.hpp"
 
@@ -28,6 +29,10 @@ HilResult run_hil(const sim::Scenario& scenario, const HilConfig& c) {
   d.hold_reference_s = c.thresholds.hold_reference_s;
   d.reaction = c.reaction;
   d.friction = c.friction;
+  // The contact estimate after a detection, as in every other run (eval/experiments.cpp):
+  // without its segments the first detection would throw.
+  d.contact.observer_gain_per_s = c.gains.kind == ObserverKind::first_order ? c.gains.k1 : 0.0;
+  d.contact.estimator = detection::default_contact_params(c.model.reaches());
   HilResult out;
   const std::string name = setup.meta.scenario.empty() ? scenario.file : setup.meta.scenario;
   if (c.interface.empty()) {
@@ -59,6 +64,7 @@ HilResult run_hil(const sim::Scenario& scenario, const HilConfig& c) {
     out.incomplete_cycles = s.incomplete_cycles;
     out.drives = s.drives;
     out.first_comm_fault_cycle = s.first_comm_fault_cycle;
+    out.fault_episodes = s.fault_episodes;
     out.master_comm_fault_end = est->communication_fault();
     out.master_input_fault_end = est->input_fault();
     char bus[64];
@@ -79,6 +85,7 @@ HilResult run_hil(const sim::Scenario& scenario, const HilConfig& c) {
     out.events = est->events();
     out.master = est->counters();
     out.first_comm_fault_cycle = est->first_comm_fault_cycle();
+    out.fault_episodes = est->fault_episodes();
     out.bus = "SocketCAN " + c.interface;
   }
   return out;
