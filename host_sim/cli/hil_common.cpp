@@ -100,6 +100,12 @@ int run_hil_command(const HilOptions& o) {
   if (run.t_comm_fault) std::printf("communication fault at %.3f s: the arm holds\n", *run.t_comm_fault);
   if (run.t_input_fault) std::printf("input fault at %.3f s: the arm holds\n", *run.t_input_fault);
   if (r.master.restarts > 0) std::printf("drives restarted mid-run: %llu\n", static_cast<unsigned long long>(r.master.restarts));
+  for (const hil::FaultEpisode& e : r.fault_episodes) {
+    const char* kind = e.kind == hil::FaultEpisode::Kind::input ? "input" : "communication";
+    const std::string who = e.joint == 0 ? std::string("master") : "drive " + std::to_string(e.joint);
+    const std::string to = e.to_cycle < 0 ? std::string("the end") : "cycle " + std::to_string(e.to_cycle);
+    std::printf("%s fault (%s) from cycle %u to %s\n", kind, who.c_str(), e.from_cycle, to.c_str());
+  }
   for (std::size_t j = 0; j < r.drives.size(); ++j) {
     const eval::DriveReport& d = r.drives[j];
     std::printf("drive %zu at the end: %s, %s; rejected: crc %u, sequence %u, late %u, sensor %u, sync %u\n", j + 1,
@@ -140,6 +146,14 @@ int run_hil_command(const HilOptions& o) {
                 {"communication_fault_at_end", r.master_comm_fault_end}, {"input_fault_at_end", r.master_input_fault_end},
                 {"first_comm_fault_cycle", r.first_comm_fault_cycle}};
     j["faults"] = o.faults;
+    // Each span a fault was raised: joint 0 the master's view (what the arm reacts to), j
+    // drive j's own status flag; to_cycle: first cycle clear again (null: raised at the end).
+    j["fault_episodes"] = nlohmann::json::array();
+    for (const hil::FaultEpisode& e : r.fault_episodes) {
+      j["fault_episodes"].push_back({{"fault", e.kind == hil::FaultEpisode::Kind::input ? "input" : "communication"},
+                                     {"joint", e.joint}, {"from_cycle", e.from_cycle},
+                                     {"to_cycle", e.to_cycle < 0 ? nlohmann::json(nullptr) : nlohmann::json(e.to_cycle)}});
+    }
     j["drives_end"] = nlohmann::json::array();
     for (std::size_t k = 0; k < r.drives.size(); ++k) {
       j["drives_end"].push_back({{"joint", k + 1}, {"communication_fault", r.drives[k].communication_fault}, {"ready", r.drives[k].ready}});

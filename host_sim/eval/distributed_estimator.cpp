@@ -82,7 +82,7 @@ class BusEstimator final : public DistributedEstimator {
     return true;
   }
   [[nodiscard]] BusStatistics statistics() const override {
-    BusStatistics s{bus_.frames_sent(), bus_.busy_time(), time_, master_.counters(), incomplete_, master_.events(), {}, {}};
+    BusStatistics s{bus_.frames_sent(), bus_.busy_time(), time_, master_.counters(), incomplete_, master_.events(), {}, {}, {}};
     for (const auto& d : drives_) {
       if (d) {
         s.drives.push_back({d->counters(), d->node().counters(), d->node().communication_fault(), d->node().ready()});
@@ -91,6 +91,7 @@ class BusEstimator final : public DistributedEstimator {
       }
     }
     s.first_comm_fault_cycle = master_.first_comm_fault_cycle();
+    s.fault_episodes = master_.fault_episodes();
     return s;
   }
 
@@ -146,15 +147,15 @@ class BusEstimator final : public DistributedEstimator {
       if (f.kind == hil::FaultKind::bus_off) {
         if (f.active(time_)) {
           ports_[j]->go_bus_off();
-        } else if (time_ >= f.end_s() && ports_[j]->error_state() == hal::CanErrorState::bus_off) {
+        } else if (f.ended(time_) && ports_[j]->error_state() == hal::CanErrorState::bus_off) {
           ports_[j]->recover();
         }
-      } else if (f.kind == hil::FaultKind::restart && time_ >= f.start_s && !restarted_[&f - config_.fault_specs.data()]) {
+      } else if (f.kind == hil::FaultKind::restart && f.started(time_) && !restarted_[&f - config_.fault_specs.data()]) {
         if (drives_[j]) {
           drives_[j].reset();
           ports_[j]->power_off();
         }
-        if (time_ >= f.end_s()) {
+        if (f.ended(time_)) {
           ports_[j]->power_on();
           drives_[j] = make_drive(j);
           drives_[j]->announce();

@@ -49,6 +49,7 @@ struct BusStatistics {
   std::vector<hil::NodeEvent> events;
   std::vector<DriveReport> drives;
   std::vector<std::int64_t> first_comm_fault_cycle;  ///< per drive, as its status reported it (-1: never)
+  std::vector<hil::FaultEpisode> fault_episodes;     ///< the master's and each drive's fault spans
 };
 
 class DistributedEstimator : public Estimator {

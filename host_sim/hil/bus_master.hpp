@@ -35,6 +35,16 @@ struct MasterCounters {
   std::uint64_t reaction_frames = 0;   ///< reaction status frames (status + reaction torque) received
 };
 
+/// A span of cycles in which a fault was raised: in the master's view (joint 0: what the
+/// arm reacts to) or in one drive's own status flag (as its last status reported it).
+struct FaultEpisode {
+  enum class Kind : std::uint8_t { communication, input };
+  Kind kind = Kind::communication;
+  int joint = 0;                 ///< 0: the master's view; j: drive j's status flag
+  std::uint32_t from_cycle = 0;  ///< first cycle it was raised (at the cycle's end)
+  std::int64_t to_cycle = -1;    ///< first cycle it was clear again; -1: still raised at the end
+};
+
 template <class Port>
 class BusMaster {
   static_assert(hal::is_can_port_v<Port>, "the master needs a CAN port satisfying the HAL contract");
@@ -43,7 +53,7 @@ class BusMaster {
   BusMaster(Port& port, std::size_t joints)
       : port_(port), torque_(joints, 0.0), flags_(joints, 0), have_(joints, false), announced_(joints, false),
         rejoining_(joints, false), answered_once_(joints, false), first_comm_fault_(joints, -1), reaction_torque_(joints, 0.0),
-        have_reaction_(joints, false) {
+        have_reaction_(joints, false), open_episode_(2 * (joints + 1), -1) {
     const hal::CanFilter filters[] = {
         {protocol::frame_id(protocol::MessageKind::status, 0), 0x7F0U},
         {protocol::frame_id(protocol::MessageKind::collision_event, 0), 0x7F0U},
@@ -227,7 +237,10 @@ class BusMaster {
   }
   /// Closes the cycle's bookkeeping: a run of cycles without every drive's status is a
   /// communication fault on the master's side (the drives may be unable to report it).
-  void end_cycle() { missing_run_ = complete() ? 0U : missing_run_ + 1U; }
+  void end_cycle() {
+    missing_run_ = complete() ? 0U : missing_run_ + 1U;
+    note_episodes();
+  }
   [[nodiscard]] bool any_comm_fault() const {
     if (missing_run_ >= kMissingCyclesForFault) return true;
     for (const auto f : flags_) {
@@ -255,8 +268,28 @@ class BusMaster {
   [[nodiscard]] unsigned missing_run() const { return missing_run_; }
   [[nodiscard]] const std::vector<NodeEvent>& events() const { return events_; }
   [[nodiscard]] const MasterCounters& counters() const { return counters_; }
+  /// Every span a fault was raised, in the order they began (the first kMaxEpisodes).
+  [[nodiscard]] const std::vector<FaultEpisode>& fault_episodes() const { return episodes_; }
 
  private:
+  /// Opens or closes the episodes of this cycle's fault states (the master's, each drive's).
+  void note_episodes() {
+    for (std::size_t j = 0; j <= flags_.size(); ++j) {
+      const std::uint8_t f = j == 0 ? 0U : flags_[j - 1];
+      note_episode(FaultEpisode::Kind::communication, j, j == 0 ? any_comm_fault() : (f & protocol::kStatusCommFault) != 0U);
+      note_episode(FaultEpisode::Kind::input, j, j == 0 ? any_input_fault() : (f & protocol::kStatusInputFault) != 0U);
+    }
+  }
+  void note_episode(FaultEpisode::Kind kind, std::size_t joint, bool raised) {
+    std::int64_t& open = open_episode_[2 * joint + (kind == FaultEpisode::Kind::input ? 1U : 0U)];
+    if (raised && open < 0 && episodes_.size() < kMaxEpisodes) {
+      open = static_cast<std::int64_t>(episodes_.size());
+      episodes_.push_back({kind, static_cast<int>(joint), cycle_, -1});
+    } else if (!raised && open >= 0) {
+      episodes_[static_cast<std::size_t>(open)].to_cycle = cycle_;
+      open = -1;
+    }
+  }
   bool send(const hal::CanFrame& f) {
     if (port_.send(f) == hal::CanStatus::ok) return true;
     ++counters_.send_failures;
@@ -276,7 +309,10 @@ class BusMaster {
   bool commanding_ = false;
   MasterCounters counters_{};
   unsigned missing_run_ = 0;
+  std::vector<FaultEpisode> episodes_;
+  std::vector<std::int64_t> open_episode_;  ///< per (joint 0..n, kind): index of its open episode, -1: none
   static constexpr unsigned kMissingCyclesForFault = 5;
+  static constexpr std::size_t kMaxEpisodes = 1024;  ///< a flapping fault cannot grow the list without bound
 };
 
 }  // namespace jg::hil

@@ -21,7 +21,14 @@ struct FaultSpec {
   double duration_s = std::numeric_limits<double>::infinity();  ///< [s]; infinity: until the end of the run
   std::string text;              ///< as given on the command line
   [[nodiscard]] double end_s() const { return start_s + duration_s; }
-  [[nodiscard]] bool active(double t) const { return t >= start_s && t < end_s(); }
+  /// Plant times compared to within kTimeToleranceS, so a window covers the same cycles
+  /// whether the cycle's time is counted (SocketCAN: 1100 x 0.001 = 1.1) or summed period by
+  /// period (the simulated bus: 1.0999999999999897), and whatever the rounding of
+  /// START + DURATION (0.8 + 0.05 = 0.8500000000000001 still ends before cycle 850).
+  [[nodiscard]] bool started(double t) const { return t + kTimeToleranceS >= start_s; }
+  [[nodiscard]] bool ended(double t) const { return t + kTimeToleranceS >= end_s(); }
+  [[nodiscard]] bool active(double t) const { return started(t) && !ended(t); }
+  static constexpr double kTimeToleranceS = 1e-9;  ///< far below any plant period, far above the rounding
 };
 
 /// Extra latency of a `late` frame [s] (5 cycles at 1 kHz beyond the max_age_cycles of 2).

@@ -63,6 +63,7 @@ HilResult run_hil(const sim::Scenario& scenario, const HilConfig& c) {
     out.incomplete_cycles = s.incomplete_cycles;
     out.drives = s.drives;
     out.first_comm_fault_cycle = s.first_comm_fault_cycle;
+    out.fault_episodes = s.fault_episodes;
     out.master_comm_fault_end = est->communication_fault();
     out.master_input_fault_end = est->input_fault();
     char bus[64];
@@ -83,6 +84,7 @@ HilResult run_hil(const sim::Scenario& scenario, const HilConfig& c) {
     out.events = est->events();
     out.master = est->counters();
     out.first_comm_fault_cycle = est->first_comm_fault_cycle();
+    out.fault_episodes = est->fault_episodes();
     out.bus = "SocketCAN " + c.interface;
   }
   return out;

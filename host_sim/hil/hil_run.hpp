@@ -44,6 +44,7 @@ struct HilResult {
   bool master_comm_fault_end = false;         ///< the master's view at the end of the run
   bool master_input_fault_end = false;
   std::vector<std::int64_t> first_comm_fault_cycle;  ///< in-process: per drive, first cycle its status carried the fault
+  std::vector<FaultEpisode> fault_episodes;          ///< spans a fault was raised (master's view, each drive's flags)
 };
 
 HilResult run_hil(const sim::Scenario& scenario, const HilConfig& c);

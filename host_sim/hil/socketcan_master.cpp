@@ -274,6 +274,7 @@ class SocketCanMasterImpl final : public SocketCanMaster {
   [[nodiscard]] const std::vector<NodeEvent>& events() const override { return master_.events(); }
   [[nodiscard]] MasterCounters counters() const override { return master_.counters(); }
   [[nodiscard]] std::vector<std::int64_t> first_comm_fault_cycle() const override { return master_.first_comm_fault_cycle(); }
+  [[nodiscard]] std::vector<FaultEpisode> fault_episodes() const override { return master_.fault_episodes(); }
 
  private:
   SocketCanMasterConfig config_;

@@ -40,6 +40,7 @@ class SocketCanMaster : public eval::Estimator {
   [[nodiscard]] virtual MasterCounters counters() const = 0;
   /// Per drive, the first cycle its status carried the communication fault (-1: never).
   [[nodiscard]] virtual std::vector<std::int64_t> first_comm_fault_cycle() const = 0;
+  [[nodiscard]] virtual std::vector<FaultEpisode> fault_episodes() const = 0;
 };
 
 /// Throws std::runtime_error naming the interface when it cannot be opened.

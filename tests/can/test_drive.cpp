@@ -167,6 +167,7 @@ TEST(DrivesInTheLoop, DetectAsTheCentralisedChainOnThePaperCollisions) {
       eval::DetectionConfig d;
       d.threshold = c.thresholds.threshold;
       d.low_speed_extra = c.thresholds.low_speed_extra;
+      d.contact.enabled = false;  // the detection is compared here, not the contact estimate
       const eval::RunResult ref = eval::run_detection(scenario.setup, *central, d, name, false);
       ASSERT_TRUE(ref.t_detected && bus.run.t_detected) << name << ' ' << scalar;
       const double cycles = (*bus.run.t_detected - *ref.t_detected) * scenario.setup.control_rate_hz;
@@ -222,6 +223,7 @@ TEST(DrivesInTheLoop, EveryBusFaultEndsInItsDocumentedState) {
     eval::DetectionConfig d;
     d.threshold = c.thresholds.threshold;
     d.low_speed_extra = c.thresholds.low_speed_extra;
+    d.contact.enabled = false;  // the detection and the faults are tested here, not the contact estimate
     const eval::RunResult r = eval::run_detection(scenario.setup, *est, d, fc.name, true);
     const eval::BusStatistics s = est->statistics();
     const eval::DriveReport& j3 = s.drives[2];
@@ -272,6 +274,7 @@ TEST(DrivesInTheLoop, BusOffAndBabblingNodeRaiseTheCommunicationFault) {
     eval::DetectionConfig d;
     d.threshold = c.thresholds.threshold;
     d.low_speed_extra = c.thresholds.low_speed_extra;
+    d.contact.enabled = false;  // the detection and the faults are tested here, not the contact estimate
     const eval::RunResult r = eval::run_detection(scenario.setup, *est, d, fault, false);
     const eval::BusStatistics s = est->statistics();
     std::printf("%s: comm fault at %s s, incomplete cycles %zu\n", fault, r.t_comm_fault ? std::to_string(*r.t_comm_fault).c_str() : "never",

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "hil/fault_spec.hpp"
 #include "jointguard/protocol/sensor_validity.hpp"
@@ -167,6 +168,53 @@ TEST(FaultsMidRun, FaultsOutsideTheirWindowLeaveTheRunUnchanged) {
   c.faults.push_back(hil::parse_fault("drop@3.0:0.1"));
   const hil::HilResult later = hil::run_hil(s.scenario, c);
   EXPECT_EQ(later.run.trace.mu, clean.run.trace.mu);
+}
+
+TEST(FaultsMidRun, TheMastersFrameFaultsInFourWindowsOfOneRun) {
+  // The run of can.hil_socketcan's "frames" step (the specs the SocketCAN master injects,
+  // tests/can/hil/hil_payload.sh), on the simulated bus: each window's fault spans, as the
+  // VM test expects them on SocketCAN (it compares the two runs' spans and estimates).
+  const ShoulderRun s;
+  for (const char* scalar : {"float", "q"}) {
+    SCOPED_TRACE(scalar);
+    const hil::HilResult r = s.run(scalar, {"duplicate:0x010@0.3:0.05", "duplicate:0x062@0.3:0.05", "drop:0x062@0.5:0.05",
+                                            "corrupt:0x062@0.8:0.05", "nan-sensor:2@1.1:0.05"});
+    using Kind = hil::FaultEpisode::Kind;
+    std::vector<std::string> spans;
+    for (const auto& e : r.fault_episodes) {
+      spans.push_back(std::string(e.kind == Kind::input ? "input" : "comm") + " " + std::to_string(e.joint) + " " +
+                      std::to_string(e.from_cycle) + "-" + std::to_string(e.to_cycle));
+    }
+    // Duplicates absorbed (no span before 500); drive 2 without samples (drop, corrupt): the
+    // master in the 5th cycle, drives 1 and 3 in the 6th, clear 2 cycles after the window;
+    // NaN samples: an input fault in the window's cycles only, no communication fault.
+    const std::vector<std::string> expected = {"comm 0 504-551", "comm 1 505-551", "comm 3 505-551", "comm 0 804-851",
+                                               "comm 1 805-851", "comm 3 805-851", "input 0 1100-1150", "input 2 1100-1150"};
+    EXPECT_EQ(spans, expected);
+    ASSERT_EQ(r.drives.size(), 3U);
+    EXPECT_EQ(r.drives[1].drive.sensor_rejected, 50U) << "every corrupted sample rejected";
+    EXPECT_EQ(r.drives[0].drive.cycles, 2201U);
+    EXPECT_EQ(r.drives[1].drive.cycles, 2101U) << "no cycle without a sample";
+    EXPECT_EQ(r.master.invalid_samples, 50U);
+    EXPECT_FALSE(r.master_comm_fault_end || r.master_input_fault_end);
+  }
+}
+
+TEST(FaultSpec, AWindowCoversTheSameCyclesWhetherTimeIsCountedOrSummed) {
+  // The simulated bus sums the period (1100 cycles: 1.0999999999999897 s), the SocketCAN
+  // master and drives count cycles (1100 x 0.001 = 1.1); 0.8 + 0.05 rounds up to
+  // 0.8500000000000001. Either way a 0.05 s window at 1 kHz is cycles START..START+49.
+  for (const char* text : {"nan-sensor:2@1.1:0.05", "corrupt:0x062@0.8:0.05", "drop@0.5:0.05", "bus-off:2@1.45:0.2"}) {
+    const hil::FaultSpec f = hil::parse_fault(text);
+    const auto first = static_cast<int>(std::lround(f.start_s / 0.001));
+    const auto last = static_cast<int>(std::lround(f.end_s() / 0.001)) - 1;
+    double summed = 0.0;
+    for (int k = 0; k < 2200; ++k, summed += 0.001) {
+      const bool in = k >= first && k <= last;
+      EXPECT_EQ(f.active(static_cast<double>(k) * 0.001), in) << text << " counted, cycle " << k;
+      EXPECT_EQ(f.active(summed), in) << text << " summed, cycle " << k;
+    }
+  }
 }
 
 TEST(FaultSpec, ParsesTheDocumentedSyntaxAndRefusesTheRest) {

@@ -51,7 +51,7 @@ for j in 1 2 3; do
     "$out/node$j.json" || fail "node $j counters"
 done
 "$jg" plant "$payload/hil_shoulder.yaml" --bus sim --friction "$payload/friction.json" --threshold "$payload/threshold.json" \
-  --trace "$out/trace_sim.csv" >"$out/plant_sim.txt" || fail "in-process run"
+  --trace "$out/trace_sim.csv" --out "$out/rec_sim.csv" >"$out/plant_sim.txt" || fail "in-process run"
 cmp "$out/trace.csv" "$out/trace_sim.csv" || fail "SocketCAN and in-process simulated-bus estimates differ"
 echo "hil_check: SocketCAN run and in-process run identical over $(($(wc -l <"$out/trace.csv") - 1)) cycles"
 
@@ -85,7 +85,7 @@ echo "hil_check: 7 joints: SocketCAN run and in-process run identical"
 /usr/bin/python3 - "$out" <<'PY' || fail "faults mid-run on SocketCAN"
 import json, re, sys
 out = sys.argv[1]
-for fault in ("restart", "linkdown", "late", "busoff", "babble"):
+for fault in ("restart", "linkdown", "late", "busoff", "babble", "frames"):
     p = json.load(open(f"{out}/plant_{fault}.json"))
     text = open(f"{out}/plant_{fault}.txt").read()
     r, bus = p["runs"][0], p["bus"]
@@ -103,9 +103,9 @@ for fault in ("restart", "linkdown", "late", "busoff", "babble"):
         assert not n["communication_fault"], f"{fault}: drive {j} still has a communication fault"
     fc = bus["first_comm_fault_cycle"]
     extra = ""
-    if fault in ("late", "busoff", "babble"):
+    if fault in ("late", "busoff", "babble", "frames"):
         assert 500 <= k0 <= 505, f"{fault}: injected from cycle 500, first cycle without a drive {k0}"
-    if fault in ("late", "busoff"):
+    if fault in ("late", "busoff", "frames"):
         # Drive 2's neighbours hear no fresh frame from it: their own fault by the 6th cycle.
         assert k0 <= fc[0] <= k0 + 6 and k0 <= fc[2] <= k0 + 6, f"{fault}: neighbours' fault at cycles {fc}, drive 2 silent from {k0}"
         assert fc[1] == -1, f"{fault}: drive 2 itself heard its neighbours all along: {fc}"
@@ -136,4 +136,77 @@ for fault in ("restart", "linkdown", "late", "busoff", "babble"):
         assert fc[0] >= k0 and fc[2] >= k0, f"neighbours did not report drive 2 silent: {fc}"
     print(f"hil_check: {fault}: drive(s) silent from cycle {k0}, communication fault {detect} cycles later, "
           f"arm held, all drives back at the end (restarts {bus['restarts']}, drives' own fault at cycles {fc}){extra}")
+PY
+
+# The master's frame faults in four windows of one run (hil_payload.sh, docs/can.md "On
+# SocketCAN"), each in its documented state, and the run the same as the same specs on the
+# simulated bus in-process: identical estimates cycle for cycle and identical fault spans.
+specs=()
+while IFS= read -r spec; do specs+=(--fault "$spec"); done < <(/usr/bin/python3 -c \
+  'import json,sys; print("\n".join(json.load(open(sys.argv[1]))["faults"]))' "$out/plant_frames.json")
+[ "${#specs[@]}" = 10 ] || fail "frames: the SocketCAN run's JSON lists ${#specs[@]} / 2 fault specs, 5 expected"
+"$jg" plant "$payload/hil_shoulder.yaml" --bus sim --friction "$payload/friction.json" --threshold "$payload/threshold.json" \
+  "${specs[@]}" --trace "$out/trace_frames_sim.csv" --json "$out/plant_frames_sim.json" >"$out/plant_frames_sim.txt" ||
+  fail "in-process run with the frame faults"
+cmp "$out/trace_frames.csv" "$out/trace_frames_sim.csv" || fail "frames: SocketCAN and in-process estimates differ"
+/usr/bin/python3 - "$out" <<'PY' || fail "frame faults mid-run on SocketCAN"
+import csv, json, sys
+out = sys.argv[1]
+p, sim = json.load(open(f"{out}/plant_frames.json")), json.load(open(f"{out}/plant_frames_sim.json"))
+nodes = {j: json.load(open(f"{out}/frames_node{j}.json")) for j in (1, 2, 3)}
+r, bus = p["runs"][0], p["bus"]
+eps = [(e["fault"], e["joint"], e["from_cycle"], e["to_cycle"]) for e in p["fault_episodes"]]
+assert eps == [(e["fault"], e["joint"], e["from_cycle"], e["to_cycle"]) for e in sim["fault_episodes"]], \
+    f"fault spans differ from the simulated bus: {eps} vs {sim['fault_episodes']}"
+assert all(to is not None for *_, to in eps), f"a fault still raised at the end: {eps}"
+assert not bus["input_fault_at_end"] and not bus["communication_fault_at_end"], bus
+def spans(fault, start, end):  # (joint, from, to) of the spans of `fault` beginning in [start, end)
+    return [(j, a, b) for f, j, a, b in eps if f == fault and start <= a < end]
+def master_raised(fault, start, within):
+    s = [(a, b) for j, a, b in spans(fault, start, start + 200) if j == 0]
+    assert s and s[0][0] - start <= within, f"{fault} fault of the window from cycle {start}: master spans {s}"
+    return s[0]
+lines = []
+# duplicate (sync and drive 2's samples, cycles 300-349): absorbed, no fault, the estimates
+# those of the fault-free run; every duplicated sync recognised as stale by every drive.
+assert not [e for e in eps if e[2] < 500], f"duplicates raised a fault: {eps}"
+with open(f"{out}/trace_frames.csv") as a, open(f"{out}/trace.csv") as b:
+    assert [next(a) for _ in range(501)] == [next(b) for _ in range(501)], "duplicates changed an estimate before cycle 500"
+stale = [nodes[j]["rejected"]["stale_sync"] for j in (1, 2, 3)]
+assert all(50 <= s <= 55 for s in stale), f"duplicate: stale syncs {stale} (50 duplicated, a few at start-up)"
+lines.append(f"duplicate: no fault, estimates identical to the fault-free run, stale syncs per drive {stale}")
+# drop (drive 2's samples, cycles 500-549) and corrupt (800-849): no cycle runs on them,
+# drive 2 silent: the master in the 5th cycle, drives 1 and 3 by the 6th; all clear again
+# after the window. Drive 2 rejected exactly the corrupted samples.
+for kind, k in (("drop", 500), ("corrupt", 800)):
+    a, b = master_raised("communication", k, 4)
+    near = spans("communication", k, k + 50)
+    for j in (1, 3):
+        assert any(jj == j and aa - k <= 5 for jj, aa, _ in near), f"{kind}: drive {j} did not report drive 2: {near}"
+    assert not any(jj == 2 for jj, *_ in near), f"{kind}: drive 2 heard its neighbours all along: {near}"
+    assert all(bb <= k + 60 for _, _, bb in near), f"{kind}: not clear again within 10 cycles of the window's end: {near}"
+    lines.append(f"{kind}: communication fault (master) cycles {a}-{b}, drives 1 and 3 from "
+                 f"{[aa for jj, aa, _ in near if jj in (1, 3)]}")
+assert nodes[2]["rejected"]["sensor"] == 50, f"corrupt: drive 2 rejected {nodes[2]['rejected']['sensor']} samples, 50 corrupted"
+cycles = [nodes[j]["cycles"] for j in (1, 2, 3)]
+assert cycles[0] == cycles[2] == 2201 and cycles[1] == 2101, f"cycles run per drive {cycles}: 100 without a sample on drive 2"
+# nan-sensor (drive 2, 1100-1149): input fault in the same cycle, no communication fault
+# (the neighbours run on its repeated messages), clear after the window.
+a, b = master_raised("input", 1100, 0)
+assert sorted(spans("input", 1100, 1300)) == [(0, 1100, b), (2, 1100, b)], f"nan-sensor: input fault spans {eps}"
+assert not spans("communication", 1100, 1300), f"nan-sensor raised a communication fault: {eps}"
+assert bus["invalid_samples_sent"] == 50, bus
+assert round(r["t_comm_fault"] * 1000) == 504 and round(r["t_input_fault"] * 1000) == 1100, r
+lines.append(f"nan-sensor: input fault (master, drive 2) cycles {a}-{b}, {bus['invalid_samples_sent']} samples sent marked invalid")
+# The arm holds from 0.1 s after the first fault to the end (push at 1.5 s included), where
+# the fault-free arm moves on.
+def drift(path, t0):
+    rows = [row for row in csv.DictReader(open(path)) if float(row["t"]) >= t0 - 1e-9]
+    return max(abs(float(row[q]) - float(rows[0][q])) for row in rows for q in ("q1", "q2", "q3"))
+held, free = drift(f"{out}/rec_frames.csv", 0.604), drift(f"{out}/rec_sim.csv", 0.604)
+assert held < 0.01 < 0.1 < free, f"drift after the hold {held} rad (fault-free {free} rad)"
+for line in lines:
+    print(f"hil_check: frames: {line}")
+print(f"hil_check: frames: arm held ({held:.4f} rad drift from 0.604 s; fault-free {free:.2f} rad); events {p['events']}; "
+      f"identical to the simulated bus (estimates and fault spans); {bus['cycles']} cycles")
 PY

@@ -43,9 +43,12 @@ cat out/plant7.txt
 # killed (SIGKILL) and restarted 0.3 s later, once with vcan0 down for 0.5 s, each after the
 # master has sent 500 syncs; then with faults injected by spec from 0.5 s of plant time
 # (cycle 500) for 0.2 s: drive 2's frames late (`node --fault late`), drive 2's controller
-# bus-off (`node --fault bus-off:2`), a babbling node (`plant --fault babble`). The master
-# waits 100 ms for a drive that answered the previous cycle, 10 ms for one already silent
-# (--timeout-ms 100). hil_check.sh checks the end states.
+# bus-off (`node --fault bus-off:2`), a babbling node (`plant --fault babble`); then one run
+# with the master's frame faults in four windows of 50 cycles: the sync and drive 2's
+# samples duplicated from 0.3 s, drive 2's samples dropped from 0.5 s, corrupted from 0.8 s,
+# NaN from 1.1 s (hil_check.sh runs the same specs in-process on the simulated bus). The
+# master waits 100 ms for a drive that answered the previous cycle, 10 ms for one already
+# silent (--timeout-ms 100). hil_check.sh checks the end states.
 wait_syncs() {  # CAPTURE COUNT: until candump has logged COUNT cycle syncs (60 s at most)
   n=0
   while [ "$(grep -c ' 010##' "$1" 2>/dev/null || true)" -lt "$2" ]; do
@@ -60,7 +63,7 @@ node() {  # JOINT TAG [--fault SPEC]; $idle: exit after that long without a sync
   exec ./jointguard node --joint "$j" --iface vcan0 --model ref3.yaml --friction friction.json --threshold threshold.json \
     --idle-exit "$idle" --startup-timeout 60 --json "out/${tag}_node$j.json" "$@" >"out/${tag}_node$j.txt" 2>&1
 }
-for fault in restart linkdown late busoff babble; do
+for fault in restart linkdown late busoff babble frames; do
   drive2="" plant_fault="" idle=3  # a loaded host may stall the VM for a second
   case $fault in
     late) drive2="--fault late@0.5:0.2" ;;
@@ -68,6 +71,11 @@ for fault in restart linkdown late busoff babble; do
     # No sync for the babble's 200 cycles, each closed after 10 ms (no drive answers): 2 s
     # and more of wall time, which the drives must not take for the end of the run.
     babble) plant_fault="--fault babble@0.5:0.2" idle=6 ;;
+    frames)
+      plant_fault="--fault duplicate:0x010@0.3:0.05 --fault duplicate:0x062@0.3:0.05 --fault drop:0x062@0.5:0.05"
+      plant_fault="$plant_fault --fault corrupt:0x062@0.8:0.05 --fault nan-sensor:2@1.1:0.05"
+      plant_fault="$plant_fault --trace out/trace_frames.csv --out out/rec_frames.csv"
+      ;;
   esac
   dump=""
   if [ "$fault" = restart ] || [ "$fault" = linkdown ]; then
