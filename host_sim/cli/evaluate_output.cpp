@@ -212,8 +212,8 @@ void print_figures(const EvaluateFigures& f) {
   std::printf("isolable (the true torques name the link: the highest joint over its moving threshold): %d/%d; "
               "isolated of those %d/%d; detections first seen by the holding detector %d\n",
               sum.isolable, sum.runs, sum.isolated_of_isolable, sum.isolable, sum.detected_by_hold);
-  if (sum.touched < sum.runs) {
-    std::printf("touched (the contact exerted any force; a clamp obstacle the arm moves away from never does): %d/%d, "
+  if (sum.runs > 0) {
+    std::printf("touched (the contact exerted any force): %d/%d, "
                 "detected %d/%d; touched with a true torque below the moving threshold on every joint: %d\n",
                 sum.touched, sum.runs, sum.touched_detected, sum.touched, sum.touched_below_moving);
   }

@@ -48,6 +48,8 @@ void CollisionSchedule::reset() {
   last_t_.assign(events_.size(), 0.0);
   direction_.clear();
   for (const auto& e : events_) direction_.push_back(e.direction_base);
+  onset_t_.assign(events_.size(), 0.0);
+  approach_.assign(events_.size(), 0.0);
 }
 
 namespace {
@@ -65,13 +67,30 @@ CollisionSchedule::ContactMotion CollisionSchedule::contact_motion(std::size_t k
   const LinkPoses P = arm.poses(q);
   const Eigen::Vector3d x = P.origin[i] + P.rotation[i] * e.point_in_link;
   const Eigen::Vector3d v = arm.point_jacobian(q, i, e.point_in_link) * qd;
-  if (!anchored_[k]) {  // the onset: where the contact is, and (against_motion) its direction
+  if (!anchored_[k]) {  // the onset: where the contact is, and (against_motion, into_motion) its direction
     anchor_[k] = x;
     anchored_[k] = true;
+    onset_t_[k] = t;
     if (e.against_motion && v.norm() > 1e-9) direction_[k] = -v.normalized();
+    if (e.into_motion) resolve_into_motion(k, v);
   }
   last_t_[k] = t;
-  return {-(x - anchor_[k]).dot(direction_[k]), -v.dot(direction_[k])};
+  // The body part's own approach (into_motion at a standing arm) adds to the arm's travel.
+  const double own = approach_[k];
+  return {-(x - anchor_[k]).dot(direction_[k]) + own * (t - onset_t_[k]), -v.dot(direction_[k]) + own};
+}
+
+void CollisionSchedule::resolve_into_motion(std::size_t k, const Eigen::Vector3d& v) {
+  const CollisionEvent& e = events_[k];
+  if (v.norm() < e.standstill_speed_m_per_s || v.norm() <= 0.0) {
+    // The arm stands: the obstacle of a clamp closes in (a free body part has no support).
+    approach_[k] = e.profile == CollisionProfile::clamp ? e.approach_speed_m_per_s : 0.0;
+    return;
+  }
+  // The arm's travel against d compresses the body part: the arm must move along -d.
+  const Eigen::Vector3d u = v.normalized();
+  const double along = direction_[k].dot(u);
+  if (along > 0.0) direction_[k] -= 2.0 * along * u;
 }
 
 ContactForce CollisionSchedule::operator()(double t, const ArmDynamics& arm, const JointVector& q,
@@ -145,6 +164,11 @@ std::vector<CollisionEvent> draw_campaign(const CampaignSpec& spec, const std::v
     e.duration_s = e.profile == CollisionProfile::impact ? 0.03 + 0.07 * unit(rng) : 0.5 + unit(rng);
     e.rise_s = 0.05 + 0.25 * unit(rng);
     e.t_start = t + 0.5 * spec.spacing_s * unit(rng);
+    if (e.profile == CollisionProfile::clamp && spec.clamps_into_motion) {  // no draw: the others stay as they were
+      e.into_motion = true;
+      e.standstill_speed_m_per_s = spec.clamp_standstill_speed_m_per_s;
+      e.approach_speed_m_per_s = spec.clamp_approach_speed_m_per_s;
+    }
     t = e.t_start + spec.spacing_s;
     if (e.t_start > spec.t_max) {
       break;

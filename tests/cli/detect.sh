@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Campaign detection figures (issue 15): the other firmware scalar on the same measurements
 # (--compare-scalar) counted per run and in the summary, the physical ceiling (collisions
-# whose contact exerted any force), the residual detector calibrated or switched off; the
+# whose contact exerted any force: all of them since clamps are drawn against the motion), the residual detector calibrated or switched off; the
 # same JSON whether the campaign runs whole or in two merged shards.
 # Usage: detect.sh JOINTGUARD SOURCE_DIR
 set -euo pipefail
@@ -31,6 +31,8 @@ o = s["same_cycle_other_scalar"]
 assert (o["runs"], o["detected_by_either"], o["same_cycle"]) == (6, len(either), len(same)), o
 touched = [r for r in runs if r["force_true"] > 0]
 assert s["touched"]["collisions"] == len(touched)
+# Every drawn collision is a contact (clamps are placed against the motion, docs/results.md).
+assert len(touched) == len(runs), [r["name"] for r in runs if r["force_true"] <= 0]
 assert s["touched"]["detected"] == sum(r["t_detected"] is not None for r in touched)
 assert s["compare_scalar"] == "q"
 assert len(s["residual_change_threshold"]) == 3 and all(h > 0.2 for h in s["residual_change_threshold"])
