@@ -98,9 +98,13 @@ void ArmDynamics::link_transform(int i, double q, Eigen::Matrix3d& R, Eigen::Vec
   p << l.a_prev, -sa * l.d, ca * l.d;
 }
 
-void ArmDynamics::transforms(const JointVector& q, Transforms& t) const {
-  for (int i = 0; i < joints(); ++i) link_transform(i, q(i), t.R[i], t.p[i]);
+template <int J>
+void ArmDynamics::transforms(const double* q, Transforms& t) const {
+  const int n = J > 0 ? J : joints();
+  for (int i = 0; i < n; ++i) link_transform(i, q[i], t.R[i], t.p[i]);
 }
+
+void ArmDynamics::transforms(const JointVector& q, Transforms& t) const { transforms<0>(q.data(), t); }
 
 JointVector ArmDynamics::inverse_dynamics(const JointVector& q, const JointVector& qd, const JointVector& qdd,
                                           bool with_gravity) const {
@@ -149,9 +153,13 @@ JointVector ArmDynamics::rnea(const Transforms& t, const JointVector& qd, const 
 JointMatrix ArmDynamics::mass_matrix(const JointVector& q) const {
   Transforms t;
   transforms(q, t);
+  return mass_matrix_from(t);
+}
+
+JointMatrix ArmDynamics::mass_matrix_from(const Transforms& t) const {
   const int n = joints();
   double M[kPlantMaxJoints][kPlantMaxJoints];
-  crba_into(t, M);
+  crba_into<0>(t, M);
   JointMatrix out(n, n);
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) out(i, j) = M[i][j];
@@ -160,11 +168,22 @@ JointMatrix ArmDynamics::mass_matrix(const JointVector& q) const {
 }
 
 JointVector ArmDynamics::gravity_torque(const JointVector& q) const {
+  Transforms t;
+  transforms(q, t);
+  return gravity_from(t);
+}
+
+void ArmDynamics::gravity_and_mass_matrix(const JointVector& q, JointVector& gravity, JointMatrix& mass) const {
+  Transforms t;
+  transforms(q, t);
+  gravity = gravity_from(t);
+  mass = mass_matrix_from(t);
+}
+
+JointVector ArmDynamics::gravity_from(const Transforms& t) const {
   // rnea() at rest (qd = qdd = 0): no angular velocity or acceleration anywhere, each
   // link's CoM accelerates with its frame's fictitious upward acceleration -g, and the
   // terms that are zero are not computed (the controller calls this every cycle).
-  Transforms t;
-  transforms(q, t);
   const int n = joints();
   Eigen::Vector3d F[kPlantMaxJoints];
   Eigen::Vector3d vd = -gravity_;
@@ -190,29 +209,39 @@ JointVector ArmDynamics::gravity_torque(const JointVector& q) const {
 }
 
 JointVector ArmDynamics::forward_dynamics(const JointVector& q, const JointVector& qd, const JointVector& tau) const {
-  Transforms t;
-  transforms(q, t);
-  const int n = joints();
-  double b[kPlantMaxJoints];
-  bias_torque(t, qd, b);
-  double L[kPlantMaxJoints][kPlantMaxJoints];
-  crba_into(t, L);
-  double rhs[kPlantMaxJoints];
-  for (int i = 0; i < n; ++i) rhs[i] = tau(i) - b[i];
-  JointVector qdd(n);
-  // The joint count as a compile-time constant for the common arms (loops unrolled); the
-  // same operations in the same order for any count.
-  switch (n) {
-    case 3: cholesky_solve<3>(3, L, rhs, qdd.data()); break;
-    case 6: cholesky_solve<6>(6, L, rhs, qdd.data()); break;
-    default: cholesky_solve<0>(n, L, rhs, qdd.data()); break;
-  }
+  JointVector qdd(joints());
+  forward_dynamics(q.data(), qd.data(), tau.data(), qdd.data());
   return qdd;
 }
 
-void ArmDynamics::bias_torque(const Transforms& t, const JointVector& qd, double* bias) const {
+void ArmDynamics::forward_dynamics(const double* q, const double* qd, const double* tau, double* qdd) const {
+  // The joint count as a compile-time constant for the common arms (loops unrolled, the
+  // small arrays in registers); the same operations in the same order for any count.
+  switch (joints()) {
+    case 3: forward_dynamics_n<3>(q, qd, tau, qdd); break;
+    case 6: forward_dynamics_n<6>(q, qd, tau, qdd); break;
+    default: forward_dynamics_n<0>(q, qd, tau, qdd); break;
+  }
+}
+
+template <int J>
+void ArmDynamics::forward_dynamics_n(const double* q, const double* qd, const double* tau, double* qdd) const {
+  Transforms t;
+  transforms<J>(q, t);
+  const int n = J > 0 ? J : joints();
+  double b[kPlantMaxJoints];
+  bias_torque<J>(t, qd, b);
+  double L[kPlantMaxJoints][kPlantMaxJoints];
+  crba_into<J>(t, L);
+  double rhs[kPlantMaxJoints];
+  for (int i = 0; i < n; ++i) rhs[i] = tau[i] - b[i];
+  cholesky_solve<J>(n, L, rhs, qdd);
+}
+
+template <int J>
+void ArmDynamics::bias_torque(const Transforms& t, const double* qd, double* bias) const {
   // rnea() with qdd = 0 and gravity: C(q,qd) qd + g(q).
-  const int n = joints();
+  const int n = J > 0 ? J : joints();
   const Eigen::Matrix3d* R = t.R;
   const Eigen::Vector3d* p = t.p;
   Eigen::Vector3d F[kPlantMaxJoints], N[kPlantMaxJoints];
@@ -221,7 +250,7 @@ void ArmDynamics::bias_torque(const Transforms& t, const JointVector& qd, double
   for (int i = 0; i < n; ++i) {
     const Eigen::Vector3d a = R[i].transpose() * w;  // parent's angular velocity in frame i
     vd = R[i].transpose() * (wd.cross(p[i]) + w.cross(w.cross(p[i])) + vd);
-    const double s = qd(i);
+    const double s = qd[i];
     w = Eigen::Vector3d(a.x(), a.y(), a.z() + s);
     // (R^T wd) + a x (s z) = R^T wd + (a_y s, -a_x s, 0)
     wd = R[i].transpose() * wd;
@@ -248,11 +277,12 @@ void ArmDynamics::bias_torque(const Transforms& t, const JointVector& qd, double
   }
 }
 
+template <int J>
 void ArmDynamics::crba_into(const Transforms& t, double (*M)[kPlantMaxJoints]) const {
   // Composite-rigid-body algorithm on Sym3: the composite of links i..n-1 in frame i, mass m, first moment h,
   // rotational inertia I about the origin of frame i. R[i+1] = RotX(alpha_i) RotZ(theta_{i+1}),
   // so R I R^T is two plane rotations of a symmetric matrix.
-  const int n = joints();
+  const int n = J > 0 ? J : joints();
   const Eigen::Matrix3d* R = t.R;
   const Eigen::Vector3d* p = t.p;
   double m = 0.0;

@@ -54,15 +54,19 @@ SimulationResult run_simulation(const SimulationSetup& setup, const ControlOverr
   JointVector current_cmd = JointVector::Zero(n);
   JointVector external = JointVector::Zero(n);
   int contact_link = 0;
+  JointMatrix mass;
   const long progress_every = std::max(1L, cycles / 200);
   for (long k = 0; k < cycles; ++k) {
     const double t = static_cast<double>(k) * dt;
     const auto& s = plant.state();
     const Measurement m = sensors.sample(s.q, s.theta, current_cmd, dt);
     const TrajectorySample ref = setup.trajectory->at(t);
-    JointVector demand = nominal.gravity_torque(m.q);
+    JointVector demand;
     if (setup.controller.inertia_feedforward) {
-      demand += nominal.mass_matrix(m.q) * ref.ddq;
+      nominal.gravity_and_mass_matrix(m.q, demand, mass);  // one set of link transforms for both
+      demand += mass * ref.ddq;
+    } else {
+      demand = nominal.gravity_torque(m.q);
     }
     for (int j = 0; j < n; ++j) {
       const auto u = static_cast<std::size_t>(j);
