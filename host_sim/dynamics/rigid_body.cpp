@@ -101,6 +101,7 @@ void ArmDynamics::link_transform(int i, double q, Eigen::Matrix3d& R, Eigen::Vec
 template <int J>
 void ArmDynamics::transforms(const double* q, Transforms& t) const {
   const int n = J > 0 ? J : joints();
+  #pragma GCC unroll 7
   for (int i = 0; i < n; ++i) link_transform(i, q[i], t.R[i], t.p[i]);
 }
 
@@ -159,7 +160,11 @@ JointMatrix ArmDynamics::mass_matrix(const JointVector& q) const {
 JointMatrix ArmDynamics::mass_matrix_from(const Transforms& t) const {
   const int n = joints();
   double M[kPlantMaxJoints][kPlantMaxJoints];
-  crba_into<0>(t, M);
+  switch (n) {  // the controller's every cycle: unrolled for the common arms, as forward_dynamics
+    case 3: crba_into<3>(t, M); break;
+    case 6: crba_into<6>(t, M); break;
+    default: crba_into<0>(t, M); break;
+  }
   JointMatrix out(n, n);
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) out(i, j) = M[i][j];
@@ -247,6 +252,7 @@ void ArmDynamics::bias_torque(const Transforms& t, const double* qd, double* bia
   Eigen::Vector3d F[kPlantMaxJoints], N[kPlantMaxJoints];
   Eigen::Vector3d w = Eigen::Vector3d::Zero(), wd = Eigen::Vector3d::Zero();
   Eigen::Vector3d vd = -gravity_;
+  #pragma GCC unroll 7
   for (int i = 0; i < n; ++i) {
     const Eigen::Vector3d a = R[i].transpose() * w;  // parent's angular velocity in frame i
     vd = R[i].transpose() * (wd.cross(p[i]) + w.cross(w.cross(p[i])) + vd);
@@ -262,6 +268,7 @@ void ArmDynamics::bias_torque(const Transforms& t, const double* qd, double* bia
     N[i] = l.inertia_com * wd + w.cross(l.inertia_com * w);
   }
   Eigen::Vector3d f = Eigen::Vector3d::Zero(), nm = Eigen::Vector3d::Zero();
+  #pragma GCC unroll 7
   for (int i = n - 1; i >= 0; --i) {
     const PlantLink& l = links_[static_cast<std::size_t>(i)];
     if (i + 1 < n) {
@@ -288,6 +295,7 @@ void ArmDynamics::crba_into(const Transforms& t, double (*M)[kPlantMaxJoints]) c
   double m = 0.0;
   Eigen::Vector3d h = Eigen::Vector3d::Zero();
   Sym3 I;
+  #pragma GCC unroll 7
   for (int i = n - 1; i >= 0; --i) {
     if (i + 1 < n) {  // move the composite of i+1.. into frame i
       // Parallel-axis shift by p of a body with first moment Rh and mass m, with
@@ -325,6 +333,7 @@ void ArmDynamics::crba_into(const Transforms& t, double (*M)[kPlantMaxJoints]) c
     Eigen::Vector3d f(-h.y(), h.x(), 0.0);  // z x h
     Eigen::Vector3d nmom(I.xz, I.yz, I.zz);  // I z
     M[i][i] = I.zz + l.rotor_inertia;
+    #pragma GCC unroll 7
     for (int j = i - 1; j >= 0; --j) {  // carry it down to frame j
       const Eigen::Vector3d f_j = R[j + 1] * f;
       nmom = R[j + 1] * nmom + p[j + 1].cross(f_j);

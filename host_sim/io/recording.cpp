@@ -210,14 +210,21 @@ void Recording::resize(std::size_t n_joints, std::size_t n_samples, bool with_cu
     joint_ids[k] = static_cast<int>(k + 1);
   }
   t.assign(n_samples, 0.0);
-  const std::vector<std::vector<double>> zeros(n_joints, std::vector<double>(n_samples, 0.0));
-  q = zeros;
-  dq = zeros;
-  current = with_current ? zeros : std::vector<std::vector<double>>{};
-  tau_m = with_tau_m ? zeros : std::vector<std::vector<double>>{};
+  // Each signal zero-filled in place (copying one zero block into each cost as much again).
+  auto zeros = [&](std::vector<std::vector<double>>& sig, bool wanted) {
+    sig.clear();
+    if (wanted) {
+      sig.resize(n_joints);
+      for (auto& v : sig) v.assign(n_samples, 0.0);
+    }
+  };
+  zeros(q, true);
+  zeros(dq, true);
+  zeros(current, with_current);
+  zeros(tau_m, with_tau_m);
   tau_j.clear();
   torque_kind = with_tau_m || !with_current ? TorqueKind::tau_m : TorqueKind::current;
-  tau_ext = with_tau_ext ? zeros : std::vector<std::vector<double>>{};
+  zeros(tau_ext, with_tau_ext);
   collision = with_collision ? std::vector<int>(n_samples, 0) : std::vector<int>{};
 }
 
