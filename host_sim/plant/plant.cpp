@@ -115,12 +115,15 @@ void Plant::step(double h, const JointVector& motor_torque, const ContactModel& 
   const JointVector& w = elastic() ? state_.theta_dot : state_.qd;
   // The gear carries the motor torque less the friction: that load drives load-dependent
   // friction (previous step's friction: the load is not known before the step).
-  const JointVector transmitted = motor_torque - (friction_.size() == n ? friction_ : JointVector::Zero(n));
-  friction_ = JointVector::Zero(n);
-  for (Eigen::Index i = 0; i < n && !config_.friction.empty(); ++i) {
+  // Joint by joint, the load read before the joint's friction is replaced.
+  const bool previous = friction_.size() == n;
+  friction_.conservativeResize(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double transmitted = motor_torque(i) - (previous ? friction_(i) : 0.0);
     const auto k = static_cast<std::size_t>(i);
-    friction_(i) = friction_truth_step(config_.friction[k], state_.bristles[k], w(i), state_.q(i),
-                                       transmitted(i), state_.time, h);
+    friction_(i) = config_.friction.empty() ? 0.0
+                                            : friction_truth_step(config_.friction[k], state_.bristles[k], w(i),
+                                                                  state_.q(i), transmitted, state_.time, h);
   }
   if (!elastic()) {
     // Classical RK4 on plain arrays (four forward dynamics per step, the plant's hot path):

@@ -27,8 +27,14 @@ SimulationResult run_simulation(const SimulationSetup& setup, const ControlOverr
                             setup.plant.gravity);
   JointSensors sensors(setup.sensors, n);
   CollisionSchedule schedule(setup.collisions);
-  const ContactModel contact = [&schedule](double t, const ArmDynamics& arm, const JointVector& q,
-                                           const JointVector& qd) { return schedule(t, arm, q, qd); };
+  // No collisions scheduled: no contact model at all (the schedule would return "no
+  // contact" each plant step through a std::function call).
+  const ContactModel contact =
+      setup.collisions.empty()
+          ? ContactModel{}
+          : ContactModel([&schedule](double t, const ArmDynamics& arm, const JointVector& q, const JointVector& qd) {
+              return schedule(t, arm, q, qd);
+            });
 
   const double dt = 1.0 / setup.control_rate_hz;
   const double duration = setup.duration_s > 0.0 ? setup.duration_s : setup.trajectory->duration();
