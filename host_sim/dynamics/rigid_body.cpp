@@ -234,10 +234,12 @@ void ArmDynamics::forward_dynamics_n(const double* q, const double* qd, const do
   Transforms t;
   transforms<J>(q, t);
   const int n = J > 0 ? J : joints();
-  double b[kPlantMaxJoints];
-  bias_torque<J>(t, qd, b);
+  // The mass matrix first: it needs q alone, so it overlaps with the end of the previous
+  // RK4 stage's solution, on which qd (and the bias torque) waits.
   double L[kPlantMaxJoints][kPlantMaxJoints];
   crba_into<J>(t, L);
+  double b[kPlantMaxJoints];
+  bias_torque<J>(t, qd, b);
   double rhs[kPlantMaxJoints];
   for (int i = 0; i < n; ++i) rhs[i] = tau[i] - b[i];
   cholesky_solve<J>(n, L, rhs, qdd);
