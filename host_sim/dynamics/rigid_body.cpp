@@ -98,9 +98,14 @@ void ArmDynamics::link_transform(int i, double q, Eigen::Matrix3d& R, Eigen::Vec
   p << l.a_prev, -sa * l.d, ca * l.d;
 }
 
-void ArmDynamics::transforms(const JointVector& q, Transforms& t) const {
-  for (int i = 0; i < joints(); ++i) link_transform(i, q(i), t.R[i], t.p[i]);
+template <int J>
+void ArmDynamics::transforms(const double* q, Transforms& t) const {
+  const int n = J > 0 ? J : joints();
+  #pragma GCC unroll 7
+  for (int i = 0; i < n; ++i) link_transform(i, q[i], t.R[i], t.p[i]);
 }
+
+void ArmDynamics::transforms(const JointVector& q, Transforms& t) const { transforms<0>(q.data(), t); }
 
 JointVector ArmDynamics::inverse_dynamics(const JointVector& q, const JointVector& qd, const JointVector& qdd,
                                           bool with_gravity) const {
@@ -149,9 +154,17 @@ JointVector ArmDynamics::rnea(const Transforms& t, const JointVector& qd, const 
 JointMatrix ArmDynamics::mass_matrix(const JointVector& q) const {
   Transforms t;
   transforms(q, t);
+  return mass_matrix_from(t);
+}
+
+JointMatrix ArmDynamics::mass_matrix_from(const Transforms& t) const {
   const int n = joints();
   double M[kPlantMaxJoints][kPlantMaxJoints];
-  crba_into(t, M);
+  switch (n) {  // the controller's every cycle: unrolled for the common arms, as forward_dynamics
+    case 3: crba_into<3>(t, M); break;
+    case 6: crba_into<6>(t, M); break;
+    default: crba_into<0>(t, M); break;
+  }
   JointMatrix out(n, n);
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) out(i, j) = M[i][j];
@@ -160,11 +173,22 @@ JointMatrix ArmDynamics::mass_matrix(const JointVector& q) const {
 }
 
 JointVector ArmDynamics::gravity_torque(const JointVector& q) const {
+  Transforms t;
+  transforms(q, t);
+  return gravity_from(t);
+}
+
+void ArmDynamics::gravity_and_mass_matrix(const JointVector& q, JointVector& gravity, JointMatrix& mass) const {
+  Transforms t;
+  transforms(q, t);
+  gravity = gravity_from(t);
+  mass = mass_matrix_from(t);
+}
+
+JointVector ArmDynamics::gravity_from(const Transforms& t) const {
   // rnea() at rest (qd = qdd = 0): no angular velocity or acceleration anywhere, each
   // link's CoM accelerates with its frame's fictitious upward acceleration -g, and the
   // terms that are zero are not computed (the controller calls this every cycle).
-  Transforms t;
-  transforms(q, t);
   const int n = joints();
   Eigen::Vector3d F[kPlantMaxJoints];
   Eigen::Vector3d vd = -gravity_;
@@ -190,38 +214,51 @@ JointVector ArmDynamics::gravity_torque(const JointVector& q) const {
 }
 
 JointVector ArmDynamics::forward_dynamics(const JointVector& q, const JointVector& qd, const JointVector& tau) const {
-  Transforms t;
-  transforms(q, t);
-  const int n = joints();
-  double b[kPlantMaxJoints];
-  bias_torque(t, qd, b);
-  double L[kPlantMaxJoints][kPlantMaxJoints];
-  crba_into(t, L);
-  double rhs[kPlantMaxJoints];
-  for (int i = 0; i < n; ++i) rhs[i] = tau(i) - b[i];
-  JointVector qdd(n);
-  // The joint count as a compile-time constant for the common arms (loops unrolled); the
-  // same operations in the same order for any count.
-  switch (n) {
-    case 3: cholesky_solve<3>(3, L, rhs, qdd.data()); break;
-    case 6: cholesky_solve<6>(6, L, rhs, qdd.data()); break;
-    default: cholesky_solve<0>(n, L, rhs, qdd.data()); break;
-  }
+  JointVector qdd(joints());
+  forward_dynamics(q.data(), qd.data(), tau.data(), qdd.data());
   return qdd;
 }
 
-void ArmDynamics::bias_torque(const Transforms& t, const JointVector& qd, double* bias) const {
+void ArmDynamics::forward_dynamics(const double* q, const double* qd, const double* tau, double* qdd) const {
+  // The joint count as a compile-time constant for the common arms (loops unrolled, the
+  // small arrays in registers); the same operations in the same order for any count.
+  switch (joints()) {
+    case 3: forward_dynamics_n<3>(q, qd, tau, qdd); break;
+    case 6: forward_dynamics_n<6>(q, qd, tau, qdd); break;
+    default: forward_dynamics_n<0>(q, qd, tau, qdd); break;
+  }
+}
+
+template <int J>
+void ArmDynamics::forward_dynamics_n(const double* q, const double* qd, const double* tau, double* qdd) const {
+  Transforms t;
+  transforms<J>(q, t);
+  const int n = J > 0 ? J : joints();
+  // The mass matrix first: it needs q alone, so it overlaps with the end of the previous
+  // RK4 stage's solution, on which qd (and the bias torque) waits.
+  double L[kPlantMaxJoints][kPlantMaxJoints];
+  crba_into<J>(t, L);
+  double b[kPlantMaxJoints];
+  bias_torque<J>(t, qd, b);
+  double rhs[kPlantMaxJoints];
+  for (int i = 0; i < n; ++i) rhs[i] = tau[i] - b[i];
+  cholesky_solve<J>(n, L, rhs, qdd);
+}
+
+template <int J>
+void ArmDynamics::bias_torque(const Transforms& t, const double* qd, double* bias) const {
   // rnea() with qdd = 0 and gravity: C(q,qd) qd + g(q).
-  const int n = joints();
+  const int n = J > 0 ? J : joints();
   const Eigen::Matrix3d* R = t.R;
   const Eigen::Vector3d* p = t.p;
   Eigen::Vector3d F[kPlantMaxJoints], N[kPlantMaxJoints];
   Eigen::Vector3d w = Eigen::Vector3d::Zero(), wd = Eigen::Vector3d::Zero();
   Eigen::Vector3d vd = -gravity_;
+  #pragma GCC unroll 7
   for (int i = 0; i < n; ++i) {
     const Eigen::Vector3d a = R[i].transpose() * w;  // parent's angular velocity in frame i
     vd = R[i].transpose() * (wd.cross(p[i]) + w.cross(w.cross(p[i])) + vd);
-    const double s = qd(i);
+    const double s = qd[i];
     w = Eigen::Vector3d(a.x(), a.y(), a.z() + s);
     // (R^T wd) + a x (s z) = R^T wd + (a_y s, -a_x s, 0)
     wd = R[i].transpose() * wd;
@@ -233,6 +270,7 @@ void ArmDynamics::bias_torque(const Transforms& t, const JointVector& qd, double
     N[i] = l.inertia_com * wd + w.cross(l.inertia_com * w);
   }
   Eigen::Vector3d f = Eigen::Vector3d::Zero(), nm = Eigen::Vector3d::Zero();
+  #pragma GCC unroll 7
   for (int i = n - 1; i >= 0; --i) {
     const PlantLink& l = links_[static_cast<std::size_t>(i)];
     if (i + 1 < n) {
@@ -248,16 +286,18 @@ void ArmDynamics::bias_torque(const Transforms& t, const JointVector& qd, double
   }
 }
 
+template <int J>
 void ArmDynamics::crba_into(const Transforms& t, double (*M)[kPlantMaxJoints]) const {
   // Composite-rigid-body algorithm on Sym3: the composite of links i..n-1 in frame i, mass m, first moment h,
   // rotational inertia I about the origin of frame i. R[i+1] = RotX(alpha_i) RotZ(theta_{i+1}),
   // so R I R^T is two plane rotations of a symmetric matrix.
-  const int n = joints();
+  const int n = J > 0 ? J : joints();
   const Eigen::Matrix3d* R = t.R;
   const Eigen::Vector3d* p = t.p;
   double m = 0.0;
   Eigen::Vector3d h = Eigen::Vector3d::Zero();
   Sym3 I;
+  #pragma GCC unroll 7
   for (int i = n - 1; i >= 0; --i) {
     if (i + 1 < n) {  // move the composite of i+1.. into frame i
       // Parallel-axis shift by p of a body with first moment Rh and mass m, with
@@ -295,6 +335,7 @@ void ArmDynamics::crba_into(const Transforms& t, double (*M)[kPlantMaxJoints]) c
     Eigen::Vector3d f(-h.y(), h.x(), 0.0);  // z x h
     Eigen::Vector3d nmom(I.xz, I.yz, I.zz);  // I z
     M[i][i] = I.zz + l.rotor_inertia;
+    #pragma GCC unroll 7
     for (int j = i - 1; j >= 0; --j) {  // carry it down to frame j
       const Eigen::Vector3d f_j = R[j + 1] * f;
       nmom = R[j + 1] * nmom + p[j + 1].cross(f_j);

@@ -50,6 +50,12 @@ class ArmDynamics {
   /// qdd = M^-1 (tau - C qd - g).
   [[nodiscard]] JointVector forward_dynamics(const JointVector& q, const JointVector& qd,
                                              const JointVector& tau) const;
+  /// The same on plain arrays of joints() values (the plant's RK4 stages): the same
+  /// operations in the same order, so the same doubles.
+  void forward_dynamics(const double* q, const double* qd, const double* tau, double* qdd) const;
+  /// gravity_torque(q) and mass_matrix(q) from one set of link transforms (the controller
+  /// needs both every cycle): the same doubles as the two calls.
+  void gravity_and_mass_matrix(const JointVector& q, JointVector& gravity, JointMatrix& mass) const;
 
   [[nodiscard]] LinkPoses poses(const JointVector& q) const;
   /// Geometric Jacobian rows 0-2 (linear velocity) of a point fixed on link `link`
@@ -65,15 +71,25 @@ class ArmDynamics {
     Eigen::Matrix3d R[kPlantMaxJoints];
     Eigen::Vector3d p[kPlantMaxJoints];
   };
+  template <int N>
+  void transforms(const double* q, Transforms& t) const;
   void transforms(const JointVector& q, Transforms& t) const;
+  JointVector gravity_from(const Transforms& t) const;
+  JointMatrix mass_matrix_from(const Transforms& t) const;
   JointVector rnea(const Transforms& t, const JointVector& qd, const JointVector& qdd, bool with_gravity) const;
   /// The forward dynamics' hot path (the plant calls it four times per RK4 step) on plain
   /// fixed-capacity arrays, no Eigen dynamic-size temporaries: the bias torque (RNEA at
   /// qdd = 0) and the mass matrix (composite-rigid-body algorithm on symmetric 3x3
   /// inertias rotated by the joint's RotZ then the twist's RotX, 6 unique entries; also
   /// mass_matrix()). Same algorithm as rnea() for the bias, results equal up to rounding.
-  void bias_torque(const Transforms& t, const JointVector& qd, double* bias) const;
+  /// N > 0: the joint count known at compile time (N == joints(), loops unrolled for the
+  /// common arms); N == 0: joints() at run time; the same operations in the same order.
+  template <int N>
+  void bias_torque(const Transforms& t, const double* qd, double* bias) const;
+  template <int N>
   void crba_into(const Transforms& t, double (*M)[kPlantMaxJoints]) const;
+  template <int N>
+  void forward_dynamics_n(const double* q, const double* qd, const double* tau, double* qdd) const;
   void link_transform(int i, double q, Eigen::Matrix3d& parent_R_i, Eigen::Vector3d& parent_p_i) const;
   std::vector<PlantLink> links_;
   Eigen::Vector3d gravity_;

@@ -210,14 +210,21 @@ void Recording::resize(std::size_t n_joints, std::size_t n_samples, bool with_cu
     joint_ids[k] = static_cast<int>(k + 1);
   }
   t.assign(n_samples, 0.0);
-  const std::vector<std::vector<double>> zeros(n_joints, std::vector<double>(n_samples, 0.0));
-  q = zeros;
-  dq = zeros;
-  current = with_current ? zeros : std::vector<std::vector<double>>{};
-  tau_m = with_tau_m ? zeros : std::vector<std::vector<double>>{};
+  // Each signal zero-filled in place (copying one zero block into each cost as much again).
+  auto zeros = [&](std::vector<std::vector<double>>& sig, bool wanted) {
+    sig.clear();
+    if (wanted) {
+      sig.resize(n_joints);
+      for (auto& v : sig) v.assign(n_samples, 0.0);
+    }
+  };
+  zeros(q, true);
+  zeros(dq, true);
+  zeros(current, with_current);
+  zeros(tau_m, with_tau_m);
   tau_j.clear();
   torque_kind = with_tau_m || !with_current ? TorqueKind::tau_m : TorqueKind::current;
-  tau_ext = with_tau_ext ? zeros : std::vector<std::vector<double>>{};
+  zeros(tau_ext, with_tau_ext);
   collision = with_collision ? std::vector<int>(n_samples, 0) : std::vector<int>{};
 }
 
@@ -449,14 +456,26 @@ void write_recording(const std::string& path, const Recording& rec) {
     if (!rec.collision.empty()) out << ",collision";
     for (const auto& [name, values] : rec.extra) out << ',' << name;
     out << '\n';
-    // Shortest representation that reads back to the same double: exact round trip.
-    char buf[32];
+    // Shortest representation that reads back to the same double: exact round trip. The
+    // rows are formatted into a block of memory and written a block at a time (a stream
+    // write per number cost as much as the formatting).
+    std::vector<char> block(std::size_t{1} << 16);
+    std::size_t used = 0;
+    constexpr std::size_t kNumberMax = 32;  // the longest double to_chars writes is 24 characters
+    auto flush = [&] {
+      out.write(block.data(), static_cast<std::streamsize>(used));
+      used = 0;
+    };
     auto put_plain = [&](double v) {
-      const auto res = std::to_chars(buf, buf + sizeof buf, v);
-      out.write(buf, res.ptr - buf);
+      if (block.size() - used < kNumberMax + 1) flush();
+      used = static_cast<std::size_t>(std::to_chars(block.data() + used, block.data() + block.size(), v).ptr - block.data());
+    };
+    auto put_char = [&](char c) {
+      if (used == block.size()) flush();
+      block[used++] = c;
     };
     auto put = [&](double v) {
-      out << ',';
+      put_char(',');
       put_plain(v);
     };
     for (std::size_t k = 0; k < m; ++k) {
@@ -464,10 +483,16 @@ void write_recording(const std::string& path, const Recording& rec) {
       for (const auto* sig : {&rec.q, &rec.dq, &rec.current, &rec.tau_m, &rec.tau_j, &rec.tau_ext}) {
         for (const auto& v : *sig) put(v[k]);
       }
-      if (!rec.collision.empty()) out << ',' << rec.collision[k];
+      if (!rec.collision.empty()) {
+        put_char(',');
+        if (block.size() - used < kNumberMax) flush();
+        used = static_cast<std::size_t>(std::to_chars(block.data() + used, block.data() + block.size(), rec.collision[k]).ptr -
+                                        block.data());
+      }
       for (const auto& [name, values] : rec.extra) put(values.at(k));
-      out << '\n';
+      put_char('\n');
     }
+    flush();
     if (!out) {
       throw std::runtime_error(path + ": write failed");
     }

@@ -30,40 +30,44 @@ TrajectorySample ExcitationTrajectory::at(double t) const {
 
 WaypointTrajectory::WaypointTrajectory(JointVector start, std::vector<Waypoint> waypoints)
     : start_(std::move(start)), waypoints_(std::move(waypoints)) {
+  double t0 = 0.0;
   for (const auto& w : waypoints_) {
     if (w.q.size() != start_.size() || !(w.move_s > 0.0) || w.dwell_s < 0.0) {
       throw std::invalid_argument("WaypointTrajectory: waypoint size or timing invalid");
     }
     duration_ += w.move_s + w.dwell_s;
+    t0 += w.move_s;
+    move_end_.push_back(t0);
+    t0 += w.dwell_s;
+    dwell_end_.push_back(t0);
   }
 }
 
 TrajectorySample WaypointTrajectory::at(double t) const {
   const Eigen::Index n = start_.size();
-  JointVector from = start_;
-  double t0 = 0.0;
-  for (const auto& w : waypoints_) {
-    if (t < t0 + w.move_s) {
-      TrajectorySample s{JointVector(n), JointVector(n), JointVector(n)};
-      // Rest-to-rest quintic: s(u) = 10u^3 - 15u^4 + 6u^5.
-      const double u = std::clamp((t - t0) / w.move_s, 0.0, 1.0);
-      const double pos = u * u * u * (10.0 - 15.0 * u + 6.0 * u * u);
-      const double vel = 30.0 * u * u * (1.0 - u) * (1.0 - u) / w.move_s;
-      const double acc = 60.0 * u * (1.0 - u) * (1.0 - 2.0 * u) / (w.move_s * w.move_s);
-      const JointVector delta = w.q - from;
-      s.q = from + pos * delta;
-      s.dq = vel * delta;
-      s.ddq = acc * delta;
-      return s;
-    }
-    t0 += w.move_s;
-    from = w.q;
-    if (t < t0 + w.dwell_s) {
-      break;
-    }
-    t0 += w.dwell_s;
+  // The first waypoint whose dwell ends after t (the ends never decrease): t is in its
+  // move or its dwell; none: past the last waypoint.
+  const auto k = static_cast<std::size_t>(std::upper_bound(dwell_end_.begin(), dwell_end_.end(), t) - dwell_end_.begin());
+  if (k == waypoints_.size()) {
+    return {waypoints_.empty() ? start_ : waypoints_.back().q, JointVector::Zero(n), JointVector::Zero(n)};
   }
-  return {from, JointVector::Zero(n), JointVector::Zero(n)};
+  const Waypoint& w = waypoints_[k];
+  const JointVector& from = k == 0 ? start_ : waypoints_[k - 1].q;
+  if (!(t < move_end_[k])) {
+    return {w.q, JointVector::Zero(n), JointVector::Zero(n)};  // dwelling at it
+  }
+  const double t0 = k == 0 ? 0.0 : dwell_end_[k - 1];
+  TrajectorySample s{JointVector(n), JointVector(n), JointVector(n)};
+  // Rest-to-rest quintic: s(u) = 10u^3 - 15u^4 + 6u^5.
+  const double u = std::clamp((t - t0) / w.move_s, 0.0, 1.0);
+  const double pos = u * u * u * (10.0 - 15.0 * u + 6.0 * u * u);
+  const double vel = 30.0 * u * u * (1.0 - u) * (1.0 - u) / w.move_s;
+  const double acc = 60.0 * u * (1.0 - u) * (1.0 - 2.0 * u) / (w.move_s * w.move_s);
+  const JointVector delta = w.q - from;
+  s.q = from + pos * delta;
+  s.dq = vel * delta;
+  s.ddq = acc * delta;
+  return s;
 }
 
 std::unique_ptr<Trajectory> make_pick_task(const JointVector& home, const JointVector& workpiece, int repetitions) {

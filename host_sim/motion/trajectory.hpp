@@ -67,6 +67,10 @@ class WaypointTrajectory final : public Trajectory {
  private:
   JointVector start_;
   std::vector<Waypoint> waypoints_;
+  /// Waypoint k's move ends at move_end_[k] and its dwell at dwell_end_[k] [s], summed in
+  /// the order the linear scan summed them (the same doubles): at(t) finds its waypoint by
+  /// binary search instead of a scan from the start, which made a long run quadratic.
+  std::vector<double> move_end_, dwell_end_;
   double duration_ = 0.0;
 };
 

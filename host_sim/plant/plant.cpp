@@ -115,26 +115,51 @@ void Plant::step(double h, const JointVector& motor_torque, const ContactModel& 
   const JointVector& w = elastic() ? state_.theta_dot : state_.qd;
   // The gear carries the motor torque less the friction: that load drives load-dependent
   // friction (previous step's friction: the load is not known before the step).
-  const JointVector transmitted = motor_torque - (friction_.size() == n ? friction_ : JointVector::Zero(n));
-  friction_ = JointVector::Zero(n);
-  for (Eigen::Index i = 0; i < n && !config_.friction.empty(); ++i) {
+  // Joint by joint, the load read before the joint's friction is replaced.
+  const bool previous = friction_.size() == n;
+  friction_.conservativeResize(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double transmitted = motor_torque(i) - (previous ? friction_(i) : 0.0);
     const auto k = static_cast<std::size_t>(i);
-    friction_(i) = friction_truth_step(config_.friction[k], state_.bristles[k], w(i), state_.q(i),
-                                       transmitted(i), state_.time, h);
+    friction_(i) = config_.friction.empty() ? 0.0
+                                            : friction_truth_step(config_.friction[k], state_.bristles[k], w(i),
+                                                                  state_.q(i), transmitted, state_.time, h);
   }
   if (!elastic()) {
-    const JointVector drive = motor_torque - friction_ + external_;
-    auto f = [&](const JointVector& q, const JointVector& qd) { return arm_.forward_dynamics(q, qd, drive); };
-    const JointVector q0 = state_.q, v0 = state_.qd;
-    const JointVector a1 = f(q0, v0);
-    const JointVector v1 = v0 + 0.5 * h * a1;
-    const JointVector a2 = f(q0 + 0.5 * h * v0, v1);
-    const JointVector v2 = v0 + 0.5 * h * a2;
-    const JointVector a3 = f(q0 + 0.5 * h * v1, v2);
-    const JointVector v3 = v0 + h * a3;
-    const JointVector a4 = f(q0 + h * v2, v3);
-    state_.q = q0 + h / 6.0 * (v0 + 2.0 * v1 + 2.0 * v2 + v3);
-    state_.qd = v0 + h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
+    // Classical RK4 on plain arrays (four forward dynamics per step, the plant's hot path):
+    // element for element the operations of the vector form
+    //   a1 = f(q0, v0), v1 = v0 + h/2 a1, a2 = f(q0 + h/2 v0, v1), v2 = v0 + h/2 a2,
+    //   a3 = f(q0 + h/2 v1, v2), v3 = v0 + h a3, a4 = f(q0 + h v2, v3),
+    //   q = q0 + h/6 (v0 + 2 v1 + 2 v2 + v3), qd = v0 + h/6 (a1 + 2 a2 + 2 a3 + a4)
+    // in the same order, so the same doubles, without temporaries of run-time size.
+    constexpr int kMax = kPlantMaxJoints;
+    double drive[kMax], q0[kMax], v0[kMax], qs[kMax];
+    double a1[kMax], a2[kMax], a3[kMax], a4[kMax], v1[kMax], v2[kMax], v3[kMax];
+    for (Eigen::Index i = 0; i < n; ++i) {
+      drive[i] = motor_torque(i) - friction_(i) + external_(i);
+      q0[i] = state_.q(i);
+      v0[i] = state_.qd(i);
+    }
+    arm_.forward_dynamics(q0, v0, drive, a1);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      v1[i] = v0[i] + 0.5 * h * a1[i];
+      qs[i] = q0[i] + 0.5 * h * v0[i];
+    }
+    arm_.forward_dynamics(qs, v1, drive, a2);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      v2[i] = v0[i] + 0.5 * h * a2[i];
+      qs[i] = q0[i] + 0.5 * h * v1[i];
+    }
+    arm_.forward_dynamics(qs, v2, drive, a3);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      v3[i] = v0[i] + h * a3[i];
+      qs[i] = q0[i] + h * v2[i];
+    }
+    arm_.forward_dynamics(qs, v3, drive, a4);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      state_.q(i) = q0[i] + h / 6.0 * (v0[i] + 2.0 * v1[i] + 2.0 * v2[i] + v3[i]);
+      state_.qd(i) = v0[i] + h / 6.0 * (a1[i] + 2.0 * a2[i] + 2.0 * a3[i] + a4[i]);
+    }
     state_.theta = state_.q;
     state_.theta_dot = state_.qd;
   } else {

@@ -27,8 +27,14 @@ SimulationResult run_simulation(const SimulationSetup& setup, const ControlOverr
                             setup.plant.gravity);
   JointSensors sensors(setup.sensors, n);
   CollisionSchedule schedule(setup.collisions);
-  const ContactModel contact = [&schedule](double t, const ArmDynamics& arm, const JointVector& q,
-                                           const JointVector& qd) { return schedule(t, arm, q, qd); };
+  // No collisions scheduled: no contact model at all (the schedule would return "no
+  // contact" each plant step through a std::function call).
+  const ContactModel contact =
+      setup.collisions.empty()
+          ? ContactModel{}
+          : ContactModel([&schedule](double t, const ArmDynamics& arm, const JointVector& q, const JointVector& qd) {
+              return schedule(t, arm, q, qd);
+            });
 
   const double dt = 1.0 / setup.control_rate_hz;
   const double duration = setup.duration_s > 0.0 ? setup.duration_s : setup.trajectory->duration();
@@ -54,15 +60,19 @@ SimulationResult run_simulation(const SimulationSetup& setup, const ControlOverr
   JointVector current_cmd = JointVector::Zero(n);
   JointVector external = JointVector::Zero(n);
   int contact_link = 0;
+  JointMatrix mass;
   const long progress_every = std::max(1L, cycles / 200);
   for (long k = 0; k < cycles; ++k) {
     const double t = static_cast<double>(k) * dt;
     const auto& s = plant.state();
     const Measurement m = sensors.sample(s.q, s.theta, current_cmd, dt);
     const TrajectorySample ref = setup.trajectory->at(t);
-    JointVector demand = nominal.gravity_torque(m.q);
+    JointVector demand;
     if (setup.controller.inertia_feedforward) {
-      demand += nominal.mass_matrix(m.q) * ref.ddq;
+      nominal.gravity_and_mass_matrix(m.q, demand, mass);  // one set of link transforms for both
+      demand += mass * ref.ddq;
+    } else {
+      demand = nominal.gravity_torque(m.q);
     }
     for (int j = 0; j < n; ++j) {
       const auto u = static_cast<std::size_t>(j);
