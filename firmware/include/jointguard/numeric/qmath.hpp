@@ -199,7 +199,9 @@ constexpr std::int64_t add_products(std::int64_t acc, A a, B b, Rest... rest) no
 /// c 2^F plus the rounding constant: the addend of mac and mac_bounded (below 2^(31+F)).
 template <int F, class C>
 constexpr std::int64_t addend(C c) noexcept {
-  return std::int64_t{c.raw()} * (std::int64_t{1} << F) + rounding_constant<F>();
+  const auto lo = (static_cast<std::uint32_t>(c.raw()) << F) | (std::uint32_t{1} << (F - 1));
+  const auto hi = static_cast<std::uint32_t>(c.raw() >> (32 - F));
+  return static_cast<std::int64_t>((std::uint64_t{hi} << 32U) | lo);
 }
 /// The rounding constant plus the products: sums of at most two products, exact.
 template <int F, class... T>
