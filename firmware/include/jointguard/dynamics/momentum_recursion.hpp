@@ -104,10 +104,8 @@ constexpr void outward_step(const LinkConstants<S>& c, S q, S dq, const OutwardM
   jg::sincos(add_term(q, c.theta_offset), s_t, ct);  // the reduction takes any raw angle
   const S ca = c.cos_alpha_prev;
   const S sa = c.sin_alpha_prev;
-  st.rotation = {ct, s_t, ca, sa, negated(sa, c.neg_sin_alpha_prev)};
-  st.parent_angular_velocity = to_link(st.rotation, parent.angular_velocity);
-  Vec3<S> angular_velocity = st.parent_angular_velocity;
-  st.gravity = to_link(st.rotation, parent.gravity);
+  const S neg_sa = negated(sa, c.neg_sin_alpha_prev);
+  st.rotation = {ct, s_t, ca, sa};
   // Velocity of the parent's point at O_i, u = v + w x o (o = O_i in frame i-1), first
   // rotated by RotX(alpha)^T; with o = (a, -sa d, ca d) the products of constants fold to
   //   u'_x = v_x + ca d w_y + sa d w_z
@@ -122,11 +120,13 @@ constexpr void outward_step(const LinkConstants<S>& c, S q, S dq, const OutwardM
       dot_bounded_term(ca, v.y, sa, v.z, negated(c.d, c.neg_d), w.x,
                        negated(c.a_sin_alpha_prev, c.neg_a_sin_alpha_prev), w.y, c.a_cos_alpha_prev, w.z);
   const S uz =
-      dot_bounded(negated(sa, c.neg_sin_alpha_prev), v.y, ca, v.z, negated(c.a_cos_alpha_prev, c.neg_a_cos_alpha_prev),
+      dot_bounded(neg_sa, v.y, ca, v.z, negated(c.a_cos_alpha_prev, c.neg_a_cos_alpha_prev),
                   w.y, negated(c.a_sin_alpha_prev, c.neg_a_sin_alpha_prev), w.z);
   st.parent_point_velocity = {sum_of_products(ct, ux, s_t, uy), sum_of_products(-s_t, ux, ct, uy), uz};
-  angular_velocity.z = angular_velocity.z + dq;
-  st.angular_velocity = angular_velocity;
+  st.parent_angular_velocity = to_link(st.rotation, neg_sa, parent.angular_velocity);
+  st.gravity = to_link(st.rotation, neg_sa, parent.gravity);
+  st.angular_velocity = st.parent_angular_velocity;
+  st.angular_velocity.z = st.angular_velocity.z + dq;
   to_child = {st.angular_velocity, st.parent_point_velocity, st.gravity};
 }
 
@@ -158,21 +158,22 @@ constexpr void inward_step(const LinkConstants<S>& c, S dq, const OutwardState<S
   const S m = c.mass + child.mass;
   out.momentum = mac_bounded(n.z, c.rotor_inertia, dq);
   // g_i = -z . (h x g); beta = g_i - (C^T dq)_i with (C^T dq)_i = -z . (w_par x n + v_par x L)
-  out.gravity = sum_of_products(h.y, st.gravity.x, h.x, -st.gravity.y);
-  // w_par x n: only its z component, which needs w_par's x and y, the same as w's.
-  out.beta = out.gravity + sum_of_products_term(w.x, n.y, -w.y, n.x, v.x, l.y, -v.y, l.x);
+  out.gravity = sum_of_products(h.y, st.gravity.x, h.x, -st.gravity.y);  // -g.y: h is a term
+  const Vec3<S>& wp = st.parent_angular_velocity;
+  out.beta = out.gravity + sum_of_products_term(wp.x, n.y, -wp.y, n.x, v.x, l.y, -v.y, l.x);
   // Re-express the subtree about O_{i-1} in frame i-1 for the parent:
   //   L' = R L,  N' = R n + o x L',  H' = R h + m o,  R = RotX(alpha) RotZ(theta).
   const DhRotation<S>& r = st.rotation;
   const Vec3<S>& o = c.origin_in_parent;
   const Vec3<S>& no = c.neg_origin_in_parent;
-  const Vec3<S> lp = to_parent(r, l);
+  const S neg_sa = negated(r.sa, c.neg_sin_alpha_prev);
+  const Vec3<S> lp = to_parent(r, neg_sa, l);
   const T ny1 = sum_of_products_term(r.st, n.x, r.ct, n.y);
   parent_message.angular_momentum = {dot_bounded(r.ct, n.x, -r.st, n.y, o.y, lp.z, negated(o.z, no.z), lp.y),
-                                     dot_bounded(r.ca, ny1, r.neg_sa, n.z, o.z, lp.x, negated(o.x, no.x), lp.z),
+                                     dot_bounded(r.ca, ny1, neg_sa, n.z, o.z, lp.x, negated(o.x, no.x), lp.z),
                                      dot_bounded(r.sa, ny1, r.ca, n.z, o.x, lp.y, negated(o.y, no.y), lp.x)};
   const T hy1 = sum_of_products_term(r.st, h.x, r.ct, h.y);
-  parent_message.first_moment = {dot_bounded(r.ct, h.x, -r.st, h.y, m, o.x), dot_bounded(r.ca, hy1, r.neg_sa, h.z, m, o.y),
+  parent_message.first_moment = {dot_bounded(r.ct, h.x, -r.st, h.y, m, o.x), dot_bounded(r.ca, hy1, neg_sa, h.z, m, o.y),
                                  dot_bounded(r.sa, hy1, r.ca, h.z, m, o.z)};
   parent_message.linear_momentum = lp;
   parent_message.mass = m;
