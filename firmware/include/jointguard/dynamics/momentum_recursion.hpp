@@ -21,8 +21,13 @@
 // raw, whatever a neighbour sends) times either sin/cos entries (<= 2^16 raw) or link
 // constants (< 2^28 raw, enforced by convert_link), at most 7 products and one signal
 // addend per sum: below 7 * 2^59 + 2^47 < 2^63. Where two signals multiply (gravity and
-// Coriolis terms) the checked sum_of_products is used. Error against double:
-// tests/dynamics.
+// Coriolis terms) the checked sum_of_products is used. Values that are only multiplied or
+// added further (the parent's point velocity before its rotation, the rotations' middle
+// products, the subtree's momenta and first moment before re-expression) are intermediate
+// terms (term_t<S>, QTerm in fixed point: INT32_MIN allowed, |raw| <= 2^31, which keeps the
+// bounds above); every output (messages, state, p_i, beta_i) is a symmetric Q16.16 value.
+// Constants that are subtracted come pre-negated in fixed point (LinkConstants::neg_*,
+// negated()). Error against double: tests/dynamics.
 #pragma once
 
 #include "jointguard/dynamics/link.hpp"

@@ -14,6 +14,8 @@
 // - Mixed formats are never implicit: use q_cast<Q<G>>(x) or mul<G>(a, b).
 // - Right shifts of negative values are arithmetic (GCC and Clang define this; C++20
 //   requires it).
+// - QTerm<F> (below) is the one exception to the symmetric range: an intermediate value
+//   that may be INT32_MIN, with no operators, only multiplied, added or turned into a Q<F>.
 #pragma once
 
 #include <cstdint>
