@@ -599,8 +599,11 @@ constexpr std::int64_t diff_scaled_sum(A a, B b, Q<F> c, Q<F> d, Q<F> scale) noe
   // Two products of magnitude < 2^62: the difference cannot overflow int64. -c is exact
   // (c is a Q<F>): the difference is one SMLAL chain.
   const std::int64_t diff_2f = add_products<F>(rounding_constant<F - kExtra>(), a, b, -c, d);
-  const std::int32_t diff = round_presum_term<F + kExtra, F - kExtra>(diff_2f).raw();  // Q(F+8), saturated
-  return std::int64_t{diff} * scale.raw() + rounding_constant<F + kExtra>();
+  constexpr int kDiffFrac = F + kExtra;
+  constexpr int kDiffShift = F - kExtra;
+  const std::int32_t diff = round_presum_term<kDiffFrac, kDiffShift>(diff_2f).raw();  // Q(F+8), saturated
+  const std::int64_t scaled = std::int64_t{diff} * scale.raw();
+  return scaled + rounding_constant<kDiffFrac>();
 }
 }  // namespace detail
 
