@@ -1,5 +1,7 @@
 #include "golden.hpp"
 
+#include <limits>
+
 #include "golden_io.hpp"
 #include "jointguard/detection/detector.hpp"
 #include "jointguard/detection/hold_detector.hpp"
@@ -75,6 +77,28 @@ void run_math(Cursor& out) {
   for (double x = 0.0; x < 100.0; x += 0.77) put(out, jg::sqrt(q16::from_double(x)));
   for (double a = -50.0; a < 50.0; a += 7.3) {
     for (double b = -3.0; b < 3.0; b += 0.41) put(out, jg::div(q16::from_double(a), q16::from_double(b)));
+  }
+  // Intermediate terms (QTerm): QADD/QSUB saturation in the full int32 range on the MCU
+  // against the overflow builtins on the host, the rounding that keeps INT32_MIN, the
+  // mapping of from_term, products with an INT32_MIN factor.
+  const std::int32_t edges[] = {0, 1, -1, 65536, -65536, 2147483647, -2147483647, std::numeric_limits<std::int32_t>::min(),
+                                1073741824, -1073741825, 123456789, -987654321};
+  for (const std::int32_t a : edges) {
+    const auto ta = QTerm<16>::from_raw(a);
+    put(out, jg::square(ta));
+    put(out, jg::from_term(ta));
+    for (const std::int32_t b : edges) {
+      const q16 qb = q16::from_raw(b);
+      out.put32(static_cast<std::uint32_t>(jg::add_term(ta, qb).raw()));
+      out.put32(static_cast<std::uint32_t>(jg::sub_term(ta, qb).raw()));
+      out.put32(static_cast<std::uint32_t>(jg::sub_term(qb, ta).raw()));
+      out.put32(static_cast<std::uint32_t>(jg::mul_term(ta, qb).raw()));
+      out.put32(static_cast<std::uint32_t>(jg::sum_of_products_term(ta, qb, qb, ta).raw()));
+      put(out, qb + ta);
+      put(out, qb - ta);
+      put(out, jg::mac(ta, qb, ta));
+      put(out, jg::sum_of_products(ta, qb, qb, ta, ta, qb, qb, ta));
+    }
   }
 }
 }  // namespace

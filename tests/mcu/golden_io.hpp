@@ -98,6 +98,12 @@ void visit(LinkConstants<S>& l, Fn&& fn) {
   fn(l.rotor_inertia);
   fn(l.torque_constant);
   fn(l.current_limit);
+  fn(l.neg_sin_alpha_prev);
+  fn(l.neg_d);
+  fn(l.neg_a_cos_alpha_prev);
+  fn(l.neg_a_sin_alpha_prev);
+  visit(l.neg_first_moment, fn);
+  visit(l.neg_origin_in_parent, fn);
 }
 
 }  // namespace jg::golden

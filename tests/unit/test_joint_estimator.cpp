@@ -70,6 +70,19 @@ TEST(LinkConstants, FoldedOnTheHostAndBounded) {
   EXPECT_NEAR(c.origin_in_parent.z, 0.0, 1e-15);
   EXPECT_NEAR(c.a_sin_alpha_prev, 0.3, 1e-15);
   EXPECT_NEAR(c.d_sin_alpha_prev, 0.1, 1e-15);
+  // The negated copies the fixed-point steps multiply by are exact negations, bit for bit.
+  jg::LinkConstants<jg::q16> cq{};
+  ASSERT_EQ(jg::convert_link(d, cq), jg::Error::ok);
+  EXPECT_EQ(cq.neg_sin_alpha_prev.raw(), -cq.sin_alpha_prev.raw());
+  EXPECT_EQ(cq.neg_d.raw(), -cq.d.raw());
+  EXPECT_EQ(cq.neg_a_cos_alpha_prev.raw(), -cq.a_cos_alpha_prev.raw());
+  EXPECT_EQ(cq.neg_a_sin_alpha_prev.raw(), -cq.a_sin_alpha_prev.raw());
+  EXPECT_EQ(cq.neg_first_moment.x.raw(), -cq.first_moment.x.raw());
+  EXPECT_EQ(cq.neg_first_moment.z.raw(), -cq.first_moment.z.raw());
+  EXPECT_EQ(cq.neg_origin_in_parent.y.raw(), -cq.origin_in_parent.y.raw());
+  EXPECT_EQ(cq.neg_origin_in_parent.z.raw(), -cq.origin_in_parent.z.raw());
+  EXPECT_EQ(cq.neg_origin_in_parent.x.raw(), -cq.origin_in_parent.x.raw());
+  EXPECT_EQ(c.neg_d, -c.d);
   // Beyond kMaxLinkConstant the fused 64-bit sums of the Q16.16 recursion could overflow:
   // refused for every scalar, `out` untouched.
   d.mass = 5000.0;

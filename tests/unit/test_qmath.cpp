@@ -172,6 +172,62 @@ TEST(QMath, FusedSumsRoundOnceAndSaturateSymmetrically) {
   EXPECT_EQ(jg::mac(q16::from_double(-32767.0), q16::from_double(-1.0), q16::from_double(1.0)).raw(), -2147483647);
 }
 
+// Intermediate terms (QTerm): the same rounding and saturation as Q<F>, but a result of
+// exactly -2^31 raw stays INT32_MIN (no mapping), and the sums saturate like QADD/QSUB.
+std::int32_t reference_round_term(__int128 sum_q2f) {
+  const __int128 r = (sum_q2f + (__int128{1} << 15)) >> 16;
+  if (r > 2147483647) {
+    return 2147483647;
+  }
+  if (r < -__int128{2147483648}) {
+    return -2147483647;  // saturated by the sign, as every Q<F> result
+  }
+  return static_cast<std::int32_t>(r);
+}
+std::int32_t saturate_full(__int128 v) {
+  return v > 2147483647 ? 2147483647 : (v < -__int128{2147483648} ? std::numeric_limits<std::int32_t>::min() : static_cast<std::int32_t>(v));
+}
+constexpr std::int32_t kInt32Min = std::numeric_limits<std::int32_t>::min();
+// Compile time (constexpr branch) and run time (QADD/QSUB or the overflow builtins) agree.
+static_assert(jg::add_term(q16::from_raw(-2147483647), q16::from_raw(-1)).raw() == kInt32Min);
+static_assert(jg::sub_term(jg::QTerm<16>::from_raw(kInt32Min), q16::from_raw(1)).raw() == kInt32Min);
+static_assert(jg::sub_term(q16{}, jg::QTerm<16>::from_raw(kInt32Min)).raw() == 2147483647, "0 - (-2^31) saturates up");
+static_assert(jg::from_term(jg::QTerm<16>::from_raw(kInt32Min)).raw() == -2147483647);
+static_assert(jg::dot_bounded_term(q16::from_double(-16384.0), q16::from_double(2.0)).raw() == kInt32Min);
+
+TEST(QMath, TermsRoundLikeQAndKeepInt32Min) {
+  const std::int32_t edges[] = {0, 1, -1, 32767, -32768, 65536, -65536, 2147483647, -2147483647, kInt32Min,
+                                1073741824, -1073741825, 123456789, -987654321, 1900000000, -1900000000};
+  for (const std::int32_t a : edges) {
+    const auto ta = jg::QTerm<16>::from_raw(a);
+    EXPECT_EQ(jg::from_term(ta).raw(), a == kInt32Min ? -2147483647 : a);
+    ASSERT_EQ(jg::square(ta).raw(), reference_round(static_cast<__int128>(a) * a)) << a;
+    for (const std::int32_t b : edges) {
+      const q16 qb = q16::from_raw(b);  // a Q value: INT32_MIN maps to -2147483647
+      const std::int32_t rb = qb.raw();
+      const __int128 ab = static_cast<__int128>(a) * rb;
+      ASSERT_EQ(jg::add_term(ta, qb).raw(), saturate_full(static_cast<__int128>(a) + rb)) << a << " " << b;
+      ASSERT_EQ(jg::sub_term(ta, qb).raw(), saturate_full(static_cast<__int128>(a) - rb)) << a << " " << b;
+      ASSERT_EQ(jg::sub_term(qb, ta).raw(), saturate_full(static_cast<__int128>(rb) - a)) << a << " " << b;
+      ASSERT_EQ((qb + ta).raw(), reference_round((static_cast<__int128>(rb) + a) * 65536)) << a << " " << b;
+      ASSERT_EQ((qb - ta).raw(), reference_round((static_cast<__int128>(rb) - a) * 65536)) << a << " " << b;
+      ASSERT_EQ(jg::mul_term(ta, qb).raw(), reference_round_term(ab)) << a << " " << b;
+      ASSERT_EQ(jg::mac_term(ta, ta, qb).raw(), reference_round_term(ab + static_cast<__int128>(a) * 65536));
+      ASSERT_EQ(jg::mac(ta, qb, ta).raw(), reference_round(ab + static_cast<__int128>(a) * 65536));
+      // One term per product: each product stays below 2^62, the pair is exact.
+      ASSERT_EQ(jg::sum_of_products_term(ta, qb, qb, ta).raw(), reference_round_term(2 * ab));
+      ASSERT_EQ(jg::sum_of_products(qb, ta, ta, qb).raw(), reference_round(2 * ab));
+      // Two exact pairs joined with the int64 overflow check (saturates at +/-2^63).
+      const __int128 i64_max = std::numeric_limits<std::int64_t>::max(), i64_min = std::numeric_limits<std::int64_t>::min();
+      const __int128 four = 4 * ab + (__int128{1} << 15);
+      ASSERT_EQ(jg::sum_of_products(ta, qb, qb, ta, ta, qb, qb, ta).raw(),
+                reference_round((four > i64_max ? i64_max : (four < i64_min ? i64_min : four)) - (__int128{1} << 15)));
+      ASSERT_EQ(jg::scale_sum(jg::q30::from_raw(1 << 30), ta, jg::q30::from_raw(-(1 << 29)), qb).raw(),
+                reference_round((static_cast<__int128>(a) * (1 << 30) - static_cast<__int128>(rb) * (1 << 29)) >> 14));
+    }
+  }
+}
+
 TEST(QMath, BoundedSumsMatchTheExactSum) {
   // Within the documented bound (a full-range signal times operands below 2^28).
   std::uint32_t seed = 12345U;

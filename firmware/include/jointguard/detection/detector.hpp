@@ -43,8 +43,10 @@ struct JointDetectorState {
 /// The threshold in effect at `velocity`: eps(w) above.
 template <class S>
 [[nodiscard]] constexpr S threshold_at(const JointThreshold<S>& threshold, S velocity) noexcept {
-  const S u = velocity * threshold.inv_low_speed_width;
-  return threshold.base + sum_of_products(threshold.per_speed, jg::abs(velocity), threshold.low_speed_extra, jg::exp(-(u * u)));
+  // u (only squared) and the growth terms (added to the base) are intermediate terms.
+  const term_t<S> u = mul_term(velocity, threshold.inv_low_speed_width);
+  return threshold.base +
+         sum_of_products_term(threshold.per_speed, jg::abs(velocity), threshold.low_speed_extra, jg::exp(-square(u)));
 }
 
 /// One joint, one cycle: `over` (this cycle's estimate outside every bound in effect)

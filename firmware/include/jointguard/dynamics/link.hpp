@@ -39,6 +39,10 @@ struct LinkConstants {
   S rotor_inertia{};   ///< reflected to the link side, J_m N^2 [kg m^2]
   S torque_constant{}; ///< K_I = motor torque constant x gear ratio [N·m/A]
   S current_limit{};   ///< [A]
+  /// The negated copies of the constants the steps subtract, exactly -x of the fields
+  /// above (filled by convert_link): the sums of products then need no negation per cycle.
+  S neg_sin_alpha_prev{}, neg_d{}, neg_a_cos_alpha_prev{}, neg_a_sin_alpha_prev{};
+  Vec3<S> neg_first_moment{}, neg_origin_in_parent{};
 };
 
 /// Largest magnitude accepted for a link's lengths [m], mass [kg], first moment [kg m]
@@ -101,6 +105,13 @@ template <class S>
   out_c.rotor_inertia = convert<S>(l.rotor_inertia, st);
   out_c.torque_constant = convert<S>(l.torque_constant, st);
   out_c.current_limit = convert<S>(l.current_limit, st);
+  // Negations are exact in every scalar (Q: the symmetric range).
+  out_c.neg_sin_alpha_prev = -out_c.sin_alpha_prev;
+  out_c.neg_d = -out_c.d;
+  out_c.neg_a_cos_alpha_prev = -out_c.a_cos_alpha_prev;
+  out_c.neg_a_sin_alpha_prev = -out_c.a_sin_alpha_prev;
+  out_c.neg_first_moment = {-out_c.first_moment.x, -out_c.first_moment.y, -out_c.first_moment.z};
+  out_c.neg_origin_in_parent = {-out_c.origin_in_parent.x, -out_c.origin_in_parent.y, -out_c.origin_in_parent.z};
   if (!st.ok()) {
     return Error::out_of_range;
   }

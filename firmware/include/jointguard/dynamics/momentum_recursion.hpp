@@ -21,8 +21,13 @@
 // raw, whatever a neighbour sends) times either sin/cos entries (<= 2^16 raw) or link
 // constants (< 2^28 raw, enforced by convert_link), at most 7 products and one signal
 // addend per sum: below 7 * 2^59 + 2^47 < 2^63. Where two signals multiply (gravity and
-// Coriolis terms) the checked sum_of_products is used. Error against double:
-// tests/dynamics.
+// Coriolis terms) the checked sum_of_products is used. Values that are only multiplied or
+// added further (the parent's point velocity before its rotation, the rotations' middle
+// products, the subtree's momenta and first moment before re-expression) are intermediate
+// terms (term_t<S>, QTerm in fixed point: INT32_MIN allowed, |raw| <= 2^31, which keeps the
+// bounds above); every output (messages, state, p_i, beta_i) is a symmetric Q16.16 value.
+// Constants that are subtracted come pre-negated in fixed point (LinkConstants::neg_*,
+// negated()). Error against double: tests/dynamics.
 #pragma once
 
 #include "jointguard/dynamics/link.hpp"
@@ -52,8 +57,11 @@ template <class S>
 struct OutwardState {
   DhRotation<S> rotation{};
   Vec3<S> parent_angular_velocity{}, parent_point_velocity{};  ///< in frame i, at O_i
-  Vec3<S> angular_velocity{}, gravity{};  ///< link i, frame i (O_i's velocity is parent_point_velocity:
-                                          ///< O_i lies on joint i's axis)
+  /// Link i's, frame i: the parent's rotated into frame i plus dq about z, so its x and y
+  /// are the parent's (the inward step reads them as such). O_i's velocity is
+  /// parent_point_velocity: O_i lies on joint i's axis.
+  Vec3<S> angular_velocity{};
+  Vec3<S> gravity{};  ///< frame i
 };
 
 template <class S>
@@ -77,6 +85,20 @@ template <class S>
   return InwardMessage<S>{};
 }
 
+/// -x for a link constant x: its negated copy in fixed point (LinkConstants::neg_*, no
+/// negation per cycle), the negation itself in floating point (free there: VFMS and
+/// VNMLA fold it into the multiply-add, while the copy would cost a load).
+template <class S>
+[[nodiscard]] constexpr S negated(S x, S negated_copy) noexcept {
+  if constexpr (is_q_v<S>) {
+    (void)x;
+    return negated_copy;
+  } else {
+    (void)negated_copy;
+    return -x;
+  }
+}
+
 /// Outward step of joint i: its own constants and state plus the parent's message give
 /// the message to the child (and what the inward step needs).
 template <class S>
@@ -84,12 +106,11 @@ constexpr void outward_step(const LinkConstants<S>& c, S q, S dq, const OutwardM
                             OutwardState<S>& st, OutwardMessage<S>& to_child) noexcept {
   S ct{};
   S s_t{};
-  jg::sincos(q + c.theta_offset, s_t, ct);
+  jg::sincos(add_term(q, c.theta_offset), s_t, ct);  // the reduction takes any raw angle
   const S ca = c.cos_alpha_prev;
   const S sa = c.sin_alpha_prev;
+  const S neg_sa = negated(sa, c.neg_sin_alpha_prev);
   st.rotation = {ct, s_t, ca, sa};
-  st.parent_angular_velocity = to_link(st.rotation, parent.angular_velocity);
-  st.gravity = to_link(st.rotation, parent.gravity);
   // Velocity of the parent's point at O_i, u = v + w x o (o = O_i in frame i-1), first
   // rotated by RotX(alpha)^T; with o = (a, -sa d, ca d) the products of constants fold to
   //   u'_x = v_x + ca d w_y + sa d w_z
@@ -98,10 +119,17 @@ constexpr void outward_step(const LinkConstants<S>& c, S q, S dq, const OutwardM
   // (ca^2 + sa^2 = 1 used on the host), then RotZ(theta)^T.
   const Vec3<S>& w = parent.angular_velocity;
   const Vec3<S>& v = parent.origin_velocity;
-  const S ux = mac_bounded(v.x, c.origin_in_parent.z, w.y, c.d_sin_alpha_prev, w.z);
-  const S uy = dot_bounded(ca, v.y, sa, v.z, -c.d, w.x, -c.a_sin_alpha_prev, w.y, c.a_cos_alpha_prev, w.z);
-  const S uz = dot_bounded(-sa, v.y, ca, v.z, -c.a_cos_alpha_prev, w.y, -c.a_sin_alpha_prev, w.z);
+  // ux, uy: intermediate terms (only multiplied by cos/sin theta below).
+  const term_t<S> ux = mac_bounded_term(v.x, c.origin_in_parent.z, w.y, c.d_sin_alpha_prev, w.z);
+  const term_t<S> uy =
+      dot_bounded_term(ca, v.y, sa, v.z, negated(c.d, c.neg_d), w.x,
+                       negated(c.a_sin_alpha_prev, c.neg_a_sin_alpha_prev), w.y, c.a_cos_alpha_prev, w.z);
+  const S uz =
+      dot_bounded(neg_sa, v.y, ca, v.z, negated(c.a_cos_alpha_prev, c.neg_a_cos_alpha_prev),
+                  w.y, negated(c.a_sin_alpha_prev, c.neg_a_sin_alpha_prev), w.z);
   st.parent_point_velocity = {sum_of_products(ct, ux, s_t, uy), sum_of_products(-s_t, ux, ct, uy), uz};
+  st.parent_angular_velocity = to_link(st.rotation, neg_sa, parent.angular_velocity);
+  st.gravity = to_link(st.rotation, neg_sa, parent.gravity);
   st.angular_velocity = st.parent_angular_velocity;
   st.angular_velocity.z = st.angular_velocity.z + dq;
   to_child = {st.angular_velocity, st.parent_point_velocity, st.gravity};
@@ -115,35 +143,42 @@ constexpr void inward_step(const LinkConstants<S>& c, S dq, const OutwardState<S
   const Vec3<S>& w = st.angular_velocity;
   const Vec3<S>& v = st.parent_point_velocity;  // O_i's velocity
   const Vec3<S>& fm = c.first_moment;
+  const Vec3<S>& nfm = c.neg_first_moment;
   const Sym3<S>& in = c.inertia_origin;
   // Own link about O_i, with the child's subtree added in the same sums:
   //   linear  m (v + w x c)        = m v + w x (m c)
   //   angular I_c w + c x m(v + w x c) = I_O w + (m c) x v   (I_O: parallel-axis, host)
-  const Vec3<S> l = {mac_bounded(child.linear_momentum.x, c.mass, v.x, w.y, fm.z, -w.z, fm.y),
-                     mac_bounded(child.linear_momentum.y, c.mass, v.y, w.z, fm.x, -w.x, fm.z),
-                     mac_bounded(child.linear_momentum.z, c.mass, v.z, w.x, fm.y, -w.y, fm.x)};
-  const Vec3<S> n = {
-      mac_bounded(child.angular_momentum.x, in.xx, w.x, in.xy, w.y, in.xz, w.z, fm.y, v.z, -fm.z, v.y),
-      mac_bounded(child.angular_momentum.y, in.xy, w.x, in.yy, w.y, in.yz, w.z, fm.z, v.x, -fm.x, v.z),
-      mac_bounded(child.angular_momentum.z, in.xz, w.x, in.yz, w.y, in.zz, w.z, fm.x, v.y, -fm.y, v.x)};
-  const Vec3<S> h = fm + child.first_moment;
+  // l, n, h: intermediate terms (QTerm in fixed point: only factors of the sums below, an
+  // addend, never negated).
+  using T = term_t<S>;
+  const Vec3<T> l = {mac_bounded_term(child.linear_momentum.x, c.mass, v.x, w.y, fm.z, -w.z, fm.y),
+                     mac_bounded_term(child.linear_momentum.y, c.mass, v.y, w.z, fm.x, -w.x, fm.z),
+                     mac_bounded_term(child.linear_momentum.z, c.mass, v.z, w.x, fm.y, -w.y, fm.x)};
+  const Vec3<T> n = {
+      mac_bounded_term(child.angular_momentum.x, in.xx, w.x, in.xy, w.y, in.xz, w.z, fm.y, v.z, negated(fm.z, nfm.z), v.y),
+      mac_bounded_term(child.angular_momentum.y, in.xy, w.x, in.yy, w.y, in.yz, w.z, fm.z, v.x, negated(fm.x, nfm.x), v.z),
+      mac_bounded_term(child.angular_momentum.z, in.xz, w.x, in.yz, w.y, in.zz, w.z, fm.x, v.y, negated(fm.y, nfm.y), v.x)};
+  const Vec3<T> h = {add_term(fm.x, child.first_moment.x), add_term(fm.y, child.first_moment.y),
+                     add_term(fm.z, child.first_moment.z)};
   const S m = c.mass + child.mass;
   out.momentum = mac_bounded(n.z, c.rotor_inertia, dq);
   // g_i = -z . (h x g); beta = g_i - (C^T dq)_i with (C^T dq)_i = -z . (w_par x n + v_par x L)
-  out.gravity = sum_of_products(h.y, st.gravity.x, -h.x, st.gravity.y);
+  out.gravity = sum_of_products(h.y, st.gravity.x, h.x, -st.gravity.y);  // -g.y: h is a term
   const Vec3<S>& wp = st.parent_angular_velocity;
-  out.beta = out.gravity + sum_of_products(wp.x, n.y, -wp.y, n.x, v.x, l.y, -v.y, l.x);
+  out.beta = out.gravity + sum_of_products_term(wp.x, n.y, -wp.y, n.x, v.x, l.y, -v.y, l.x);
   // Re-express the subtree about O_{i-1} in frame i-1 for the parent:
   //   L' = R L,  N' = R n + o x L',  H' = R h + m o,  R = RotX(alpha) RotZ(theta).
   const DhRotation<S>& r = st.rotation;
   const Vec3<S>& o = c.origin_in_parent;
-  const Vec3<S> lp = to_parent(r, l);
-  const S ny1 = sum_of_products(r.st, n.x, r.ct, n.y);
-  parent_message.angular_momentum = {dot_bounded(r.ct, n.x, -r.st, n.y, o.y, lp.z, -o.z, lp.y),
-                                     dot_bounded(r.ca, ny1, -r.sa, n.z, o.z, lp.x, -o.x, lp.z),
-                                     dot_bounded(r.sa, ny1, r.ca, n.z, o.x, lp.y, -o.y, lp.x)};
-  const S hy1 = sum_of_products(r.st, h.x, r.ct, h.y);
-  parent_message.first_moment = {dot_bounded(r.ct, h.x, -r.st, h.y, m, o.x), dot_bounded(r.ca, hy1, -r.sa, h.z, m, o.y),
+  const Vec3<S>& no = c.neg_origin_in_parent;
+  const S neg_sa = negated(r.sa, c.neg_sin_alpha_prev);
+  const Vec3<S> lp = to_parent(r, neg_sa, l);
+  const T ny1 = sum_of_products_term(r.st, n.x, r.ct, n.y);
+  parent_message.angular_momentum = {dot_bounded(r.ct, n.x, -r.st, n.y, o.y, lp.z, negated(o.z, no.z), lp.y),
+                                     dot_bounded(r.ca, ny1, neg_sa, n.z, o.z, lp.x, negated(o.x, no.x), lp.z),
+                                     dot_bounded(r.sa, ny1, r.ca, n.z, o.x, lp.y, negated(o.y, no.y), lp.x)};
+  const T hy1 = sum_of_products_term(r.st, h.x, r.ct, h.y);
+  parent_message.first_moment = {dot_bounded(r.ct, h.x, -r.st, h.y, m, o.x), dot_bounded(r.ca, hy1, neg_sa, h.z, m, o.y),
                                  dot_bounded(r.sa, hy1, r.ca, h.z, m, o.z)};
   parent_message.linear_momentum = lp;
   parent_message.mass = m;

@@ -55,18 +55,21 @@ struct DhRotation {
   S ca{}, sa{};  ///< cos, sin of alpha_prev (constants)
 };
 
-/// parent_R_link * v
-template <class S>
-[[nodiscard]] constexpr Vec3<S> to_parent(const DhRotation<S>& r, const Vec3<S>& v) noexcept {
+/// parent_R_link * v (v's components S or intermediate terms term_t<S>; y1 is a term: it
+/// is only multiplied by cos/sin alpha). neg_sa: -r.sa (a constant the caller has, see
+/// negated() in momentum_recursion.hpp).
+template <class S, class V>
+[[nodiscard]] constexpr Vec3<S> to_parent(const DhRotation<S>& r, S neg_sa, const Vec3<V>& v) noexcept {
   const S x1 = sum_of_products(r.ct, v.x, -r.st, v.y);
-  const S y1 = sum_of_products(r.st, v.x, r.ct, v.y);
-  return {x1, sum_of_products(r.ca, y1, -r.sa, v.z), sum_of_products(r.sa, y1, r.ca, v.z)};
+  const term_t<S> y1 = sum_of_products_term(r.st, v.x, r.ct, v.y);
+  return {x1, sum_of_products(r.ca, y1, neg_sa, v.z), sum_of_products(r.sa, y1, r.ca, v.z)};
 }
-/// parent_R_link^T * v
+/// parent_R_link^T * v (y1 is an intermediate term: only multiplied by cos/sin theta);
+/// neg_sa as for to_parent.
 template <class S>
-[[nodiscard]] constexpr Vec3<S> to_link(const DhRotation<S>& r, const Vec3<S>& v) noexcept {
-  const S y1 = sum_of_products(r.ca, v.y, r.sa, v.z);
-  const S z1 = sum_of_products(-r.sa, v.y, r.ca, v.z);
+[[nodiscard]] constexpr Vec3<S> to_link(const DhRotation<S>& r, S neg_sa, const Vec3<S>& v) noexcept {
+  const term_t<S> y1 = sum_of_products_term(r.ca, v.y, r.sa, v.z);
+  const S z1 = sum_of_products(neg_sa, v.y, r.ca, v.z);
   return {sum_of_products(r.ct, v.x, r.st, y1), sum_of_products(-r.st, v.x, r.ct, y1), z1};
 }
 

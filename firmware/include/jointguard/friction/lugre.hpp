@@ -108,13 +108,15 @@ template <class S>
 template <class S>
 [[nodiscard]] constexpr S lugre_step(const LuGreDiscrete<S>& c, LuGreState<S>& state,
                                      S velocity) noexcept {
-  const S level = stribeck_level(c.curve, velocity);
+  // level, the bristle update and the torque change are intermediate terms (QTerm in
+  // fixed point): only factors and addends of the sums that follow.
+  const term_t<S> level = stribeck_level_term(c.curve, velocity);
   const S speed = jg::abs(velocity);
   const S gain = jg::div(c.bristle_gain, mac(level, c.bristle_gain, speed));
   const S previous = state.bristle_torque;
-  const S next = previous + jg::diff_of_products_scaled(velocity, level, previous, speed, gain);
+  const S next = previous + jg::diff_of_products_scaled_term(velocity, level, previous, speed, gain);
   state.bristle_torque = next;
-  return next + sum_of_products(c.bristle_damping, next - previous, c.viscous, velocity);
+  return next + sum_of_products_term(c.bristle_damping, sub_term(next, previous), c.viscous, velocity);
 }
 
 }  // namespace jg

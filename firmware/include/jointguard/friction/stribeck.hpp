@@ -18,10 +18,17 @@ struct StribeckCurve {
   S inv_stribeck_velocity{};  ///< 1 / w_s [s/rad]
 };
 
+/// s(w) as an intermediate term (term_t<S>, QTerm in fixed point: LuGre's step only
+/// multiplies it and adds it to a product). u = w / w_s is a term (only squared); u^2 >= 0,
+/// so its negation is exact.
+template <class S>
+[[nodiscard]] constexpr term_t<S> stribeck_level_term(const StribeckCurve<S>& c, S velocity) noexcept {
+  const term_t<S> u = mul_term(velocity, c.inv_stribeck_velocity);
+  return mac_term(c.coulomb, c.stribeck_drop, jg::exp(-square(u)));
+}
 template <class S>
 [[nodiscard]] constexpr S stribeck_level(const StribeckCurve<S>& c, S velocity) noexcept {
-  const S u = velocity * c.inv_stribeck_velocity;
-  return mac(c.coulomb, c.stribeck_drop, jg::exp(-(u * u)));
+  return from_term(stribeck_level_term(c, velocity));
 }
 
 template <class S>

@@ -14,6 +14,8 @@
 // - Mixed formats are never implicit: use q_cast<Q<G>>(x) or mul<G>(a, b).
 // - Right shifts of negative values are arithmetic (GCC and Clang define this; C++20
 //   requires it).
+// - QTerm<F> (below) is the one exception to the symmetric range: an intermediate value
+//   that may be INT32_MIN, with no operators, only multiplied, added or turned into a Q<F>.
 #pragma once
 
 #include <cstdint>
@@ -86,6 +88,22 @@ inline std::int32_t symmetric_raw_target(std::int32_t v) noexcept {
   return v == std::numeric_limits<std::int32_t>::min() ? kRawMin : v;
 #endif
 }
+/// Identity, opaque to the optimiser: an empty inline-assembler statement that claims to
+/// change v. Costs no instruction. Placed on a result chosen by a branch (an early exit, a
+/// saturation), it stops GCC from widening the select into a 64-bit phi when the value
+/// feeds a 32x32->64 product (which turns one SMLAL into UMULL, MLA and an add chain).
+inline std::int32_t opaque_raw_target(std::int32_t v) noexcept {
+#if defined(__GNUC__) && defined(__arm__)
+  __asm("" : "+r"(v));
+#endif
+  return v;
+}
+constexpr std::int32_t opaque_raw(std::int32_t v) noexcept {
+  if (__builtin_is_constant_evaluated()) {
+    return v;
+  }
+  return opaque_raw_target(v);
+}
 constexpr std::int32_t symmetric_raw(std::int32_t v) noexcept {
   if (__builtin_is_constant_evaluated()) {
     return v == std::numeric_limits<std::int32_t>::min() ? kRawMin : v;
@@ -146,15 +164,14 @@ constexpr std::int64_t shift_round(std::int64_t v, int shift) noexcept {
 
 template <int FracBits>
 class Q;
+template <int FracBits>
+class QTerm;
 
 namespace detail {
-/// Rounds and saturates an exact 64-bit sum of products to Q<F>: `acc` holds the result's
-/// raw value times 2^Shift **with the rounding constant 2^(Shift-1) already added**, so the
-/// rounding is one arithmetic shift. The result fits when bits 63..31+Shift all copy the
-/// sign, i.e. when the high word equals (acc >> Shift) >> (32 - Shift) taken as int32;
-/// otherwise it saturates by the sign. Shift in [1, 32] keeps the test on the high word.
-template <int F, int Shift = F>
-constexpr Q<F> round_presum(std::int64_t acc) noexcept {
+/// The rounding and range test of round_presum and round_presum_term: acc >> Shift,
+/// saturated by the sign when it does not fit int32 (INT32_MIN included: it fits).
+template <int Shift>
+constexpr std::int32_t round_presum_raw(std::int64_t acc) noexcept {
   static_assert(Shift >= 1 && Shift <= 32, "the range test looks at the high word only");
   const auto hi = static_cast<std::int32_t>(acc >> 32);
   auto v = static_cast<std::int32_t>(acc >> Shift);
@@ -163,8 +180,24 @@ constexpr Q<F> round_presum(std::int64_t acc) noexcept {
   if (__builtin_expect(static_cast<long>(hi != (v >> (32 - Shift))), 0L) != 0L) {
     v = hi < 0 ? kRawMin : kRawMax;
   }
-  // INT32_MIN passes the test above but is outside the symmetric range.
-  return Q<F>::from_symmetric_raw(symmetric_raw(v));
+  return v;
+}
+/// Rounds and saturates an exact 64-bit sum of products to Q<F>: `acc` holds the result's
+/// raw value times 2^Shift **with the rounding constant 2^(Shift-1) already added**, so the
+/// rounding is one arithmetic shift. The result fits when bits 63..31+Shift all copy the
+/// sign, i.e. when the high word equals (acc >> Shift) >> (32 - Shift) taken as int32;
+/// otherwise it saturates by the sign. Shift in [1, 32] keeps the test on the high word.
+template <int F, int Shift = F>
+constexpr Q<F> round_presum(std::int64_t acc) noexcept {
+  // INT32_MIN passes the range test but is outside the symmetric range.
+  return Q<F>::from_symmetric_raw(symmetric_raw(round_presum_raw<Shift>(acc)));
+}
+/// As round_presum, to an intermediate term (QTerm): the same rounding and saturation,
+/// without the mapping of INT32_MIN (two QSUBs on Cortex-M4); opaque_raw keeps the result
+/// a 32-bit value for the products it feeds.
+template <int F, int Shift = F>
+constexpr QTerm<F> round_presum_term(std::int64_t acc) noexcept {
+  return QTerm<F>::from_raw(opaque_raw(round_presum_raw<Shift>(acc)));
 }
 template <int Shift>
 constexpr std::int64_t rounding_constant() noexcept {
@@ -331,12 +364,130 @@ class Q {
   std::int32_t raw_ = 0;
 };
 
+/// An intermediate value of a fixed-point computation in the format of Q<F>: the same raw
+/// value, rounded and saturated like every Q<F> result, but in the **full** int32 range:
+/// INT32_MIN (-32768.0 in Q16.16), the one raw value a Q<F> never holds, is allowed. It
+/// saves the mapping of INT32_MIN into the symmetric range (two QSUBs on Cortex-M4) on
+/// values that never reach a negation, an absolute value or an output. A QTerm therefore
+/// has no negation, no comparison, no arithmetic operators of its own: it is only
+///   - a factor of an exact 64-bit product (|raw| <= 2^31, so a product with a Q<F>
+///     value, |raw| <= 2^31 - 1, stays below 2^62 in magnitude, like two Q<F> values);
+///   - the addend c of c 2^F + products (below 2^(31+F));
+///   - an operand of the saturating sums add_term/sub_term (QADD/QSUB take any int32);
+///   - turned into a Q<F> by from_term (or by adding it to a Q<F>), which maps INT32_MIN
+///     to the symmetric minimum.
+/// Produced by the *_term functions of qmath.hpp (term_t<S> is S itself for float and
+/// double, so the core's templates read the same for every scalar).
+template <int FracBits>
+class QTerm {
+ public:
+  using raw_type = std::int32_t;
+  static constexpr int frac_bits = FracBits;
+
+  constexpr QTerm() noexcept = default;
+  [[nodiscard]] static constexpr QTerm from_raw(std::int32_t r) noexcept {
+    QTerm t;
+    t.raw_ = r;
+    return t;
+  }
+  [[nodiscard]] constexpr std::int32_t raw() const noexcept { return raw_; }
+
+ private:
+  std::int32_t raw_ = 0;
+};
+
 template <class T>
 struct is_q : std::false_type {};
 template <int F>
 struct is_q<Q<F>> : std::true_type {};
 template <class T>
 inline constexpr bool is_q_v = is_q<T>::value;
+template <class T>
+struct is_q_term : std::false_type {};
+template <int F>
+struct is_q_term<QTerm<F>> : std::true_type {};
+template <class T>
+inline constexpr bool is_q_term_v = is_q_term<T>::value;
+/// Q<F> or QTerm<F>: what the fixed-point products take as operands.
+template <class T>
+inline constexpr bool is_q_operand_v = is_q_v<T> || is_q_term_v<T>;
+
+/// QTerm<F> -> Q<F>: INT32_MIN maps to the symmetric minimum (two QSUBs on Cortex-M4).
+template <int F>
+[[nodiscard]] constexpr Q<F> from_term(QTerm<F> t) noexcept {
+  return Q<F>::from_symmetric_raw(detail::symmetric_raw(t.raw()));
+}
+
+namespace detail {
+/// Saturating int32 sum and difference in the full int32 range: QADD/QSUB on Cortex-M4,
+/// elsewhere the overflow builtins saturating as QADD/QSUB do (same results everywhere).
+inline std::int32_t qadd_target(std::int32_t a, std::int32_t b) noexcept {
+#if defined(__ARM_FEATURE_DSP) && (__ARM_FEATURE_DSP == 1)
+  return __qadd(a, b);
+#else
+  std::int32_t r = 0;
+  if (__builtin_add_overflow(a, b, &r)) {
+    return a < 0 ? std::numeric_limits<std::int32_t>::min() : std::numeric_limits<std::int32_t>::max();
+  }
+  return r;
+#endif
+}
+inline std::int32_t qsub_target(std::int32_t a, std::int32_t b) noexcept {
+#if defined(__ARM_FEATURE_DSP) && (__ARM_FEATURE_DSP == 1)
+  return __qsub(a, b);
+#else
+  std::int32_t r = 0;
+  if (__builtin_sub_overflow(a, b, &r)) {
+    return a < 0 ? std::numeric_limits<std::int32_t>::min() : std::numeric_limits<std::int32_t>::max();
+  }
+  return r;
+#endif
+}
+constexpr std::int32_t qadd(std::int32_t a, std::int32_t b) noexcept {
+  if (!__builtin_is_constant_evaluated()) {
+    return qadd_target(a, b);
+  }
+  const std::int64_t r = std::int64_t{a} + b;
+  return r > std::numeric_limits<std::int32_t>::max()   ? std::numeric_limits<std::int32_t>::max()
+         : r < std::numeric_limits<std::int32_t>::min() ? std::numeric_limits<std::int32_t>::min()
+                                                        : static_cast<std::int32_t>(r);
+}
+constexpr std::int32_t qsub(std::int32_t a, std::int32_t b) noexcept {
+  if (!__builtin_is_constant_evaluated()) {
+    return qsub_target(a, b);
+  }
+  const std::int64_t r = std::int64_t{a} - b;
+  return r > std::numeric_limits<std::int32_t>::max()   ? std::numeric_limits<std::int32_t>::max()
+         : r < std::numeric_limits<std::int32_t>::min() ? std::numeric_limits<std::int32_t>::min()
+                                                        : static_cast<std::int32_t>(r);
+}
+}  // namespace detail
+
+/// a + b and a - b of Q<F> or QTerm<F> operands, as a QTerm<F>: saturated to the full int32
+/// range (QADD/QSUB), no mapping of INT32_MIN.
+template <class A, class B, std::enable_if_t<is_q_operand_v<A> && is_q_operand_v<B>, int> = 0>
+[[nodiscard]] constexpr QTerm<A::frac_bits> add_term(A a, B b) noexcept {
+  static_assert(A::frac_bits == B::frac_bits, "one format");
+  return QTerm<A::frac_bits>::from_raw(detail::qadd(a.raw(), b.raw()));
+}
+template <class A, class B, std::enable_if_t<is_q_operand_v<A> && is_q_operand_v<B>, int> = 0>
+[[nodiscard]] constexpr QTerm<A::frac_bits> sub_term(A a, B b) noexcept {
+  static_assert(A::frac_bits == B::frac_bits, "one format");
+  return QTerm<A::frac_bits>::from_raw(detail::qsub(a.raw(), b.raw()));
+}
+/// Q<F> +/- QTerm<F> -> Q<F>: saturated, INT32_MIN mapped (as Q<F>'s own + and -).
+template <int F>
+[[nodiscard]] constexpr Q<F> operator+(Q<F> a, QTerm<F> b) noexcept {
+  return from_term(add_term(a, b));
+}
+template <int F>
+[[nodiscard]] constexpr Q<F> operator+(QTerm<F> a, Q<F> b) noexcept {
+  return from_term(add_term(a, b));
+}
+template <int F>
+[[nodiscard]] constexpr Q<F> operator-(Q<F> a, QTerm<F> b) noexcept {
+  return from_term(sub_term(a, b));
+}
 
 /// Explicit format change Q<Fi> -> Q<Fo>: rounds when dropping bits, saturates when
 /// adding integer bits would overflow.

@@ -180,14 +180,44 @@ constexpr std::int64_t add_sat64(std::int64_t a, std::int64_t b) noexcept {
   return r;
 }
 
-/// Adds the exact products a*b (Q(2F), 64-bit) to `acc`.
+/// Every T is Q<F> or QTerm<F>.
+template <int F, class... T>
+inline constexpr bool all_q_operands_v = ((is_q_operand_v<T> && T::frac_bits == F) && ...);
+
+/// Adds the exact products a*b (Q(2F), 64-bit) to `acc`. Operands Q<F> or QTerm<F>, never
+/// two QTerms in one product: each product is then below 2^62 in magnitude.
 template <int F>
 constexpr std::int64_t add_products(std::int64_t acc) noexcept {
   return acc;
 }
-template <int F, class... Rest>
-constexpr std::int64_t add_products(std::int64_t acc, Q<F> a, Q<F> b, Rest... rest) noexcept {
+template <int F, class A, class B, class... Rest>
+constexpr std::int64_t add_products(std::int64_t acc, A a, B b, Rest... rest) noexcept {
+  static_assert(all_q_operands_v<F, A, B>, "one format");
+  static_assert(!(is_q_term_v<A> && is_q_term_v<B>), "a product of two QTerms could reach 2^62");
   return add_products<F>(acc + std::int64_t{a.raw()} * b.raw(), rest...);
+}
+/// c 2^F plus the rounding constant: the addend of mac and mac_bounded (below 2^(31+F)).
+template <int F, class C>
+constexpr std::int64_t addend(C c) noexcept {
+  const auto lo = (static_cast<std::uint32_t>(c.raw()) << F) | (std::uint32_t{1} << (F - 1));
+  const auto hi = static_cast<std::uint32_t>(c.raw() >> (32 - F));
+  return static_cast<std::int64_t>((std::uint64_t{hi} << 32U) | lo);
+}
+/// The rounding constant plus the products: sums of at most two products, exact.
+template <int F, class... T>
+constexpr std::int64_t products_sum(T... operands) noexcept {
+  static_assert(sizeof...(T) <= 4, "more than two full-range products can overflow int64");
+  return add_products<F>(rounding_constant<F>(), operands...);
+}
+/// c 2^F + a*b with the rounding constant, exact.
+template <int F, class C, class A, class B>
+constexpr std::int64_t mac_sum(C c, A a, B b) noexcept {
+  return add_products<F>(addend<F>(c), a, b);
+}
+/// Two exact pairs of products joined with an overflow check, with the rounding constant.
+template <int F, class A, class B, class C, class D, class E, class G, class H, class K>
+constexpr std::int64_t two_pairs_sum(A a, B b, C c, D d, E e, G f, H g, K h) noexcept {
+  return add_sat64(add_products<F>(rounding_constant<F>(), a, b, c, d), add_products<F>(0, e, f, g, h));
 }
 
 /// Angle (Q<F> rad) -> quadrant (nearest quarter turn, 0..3) and the remainder
@@ -195,8 +225,9 @@ constexpr std::int64_t add_products(std::int64_t acc, Q<F> a, Q<F> b, Rest... re
 /// The angle in turns is a uint32 fraction of a turn (round(x 2^32 / 2pi), the 64-bit
 /// product rounded once); its wrap modulo 2^32 **is** the reduction modulo 2 pi, for any x.
 /// 1/(2 pi) is precomputed (Q0.32 in kTurnsPerRadQ32): no division, no 2 pi subtraction.
-template <int F>
-constexpr void reduce_angle(Q<F> x, std::uint32_t& quadrant, std::int32_t& z_q31) noexcept {
+template <int F, class X>
+constexpr void reduce_angle(X x, std::uint32_t& quadrant, std::int32_t& z_q31) noexcept {
+  static_assert(all_q_operands_v<F, X>, "a Q<F> or QTerm<F> angle (any int32 raw value)");
   const std::int64_t turns_qf32 = std::int64_t{x.raw()} * kTurnsPerRadQ32 + rounding_constant<F>();
   const auto turns = static_cast<std::uint32_t>(static_cast<std::uint64_t>(turns_qf32) >> static_cast<unsigned>(F));
   const std::uint32_t shifted = turns + (std::uint32_t{1} << 29U);
@@ -228,11 +259,11 @@ constexpr void sincos_eighth_q30(std::int32_t z_q31, std::int32_t& s_q30, std::i
 }
 
 /// sin and cos of a Q<F> angle in Q2.30: one reduction, both polynomials, quadrant swap.
-template <int F>
-constexpr void sincos_q30(Q<F> x, std::int32_t& s_q30, std::int32_t& c_q30) noexcept {
+template <int F, class X>
+constexpr void sincos_q30(X x, std::int32_t& s_q30, std::int32_t& c_q30) noexcept {
   std::uint32_t quadrant = 0;
   std::int32_t z = 0;
-  reduce_angle(x, quadrant, z);
+  reduce_angle<F>(x, quadrant, z);
   std::int32_t s = 0;
   std::int32_t c = 0;
   sincos_eighth_q30(z, s, c);
@@ -335,6 +366,47 @@ constexpr std::uint64_t isqrt64(std::uint64_t n) noexcept {
   }
   return res;
 }
+/// exp's raw result (jg::exp below documents it), in the symmetric range.
+template <int F>
+constexpr std::int32_t exp_raw(Q<F> x) noexcept {
+  const std::int64_t y = std::int64_t{x.raw()} * kLog2eQ30;  // Q(F+30)
+  const auto n = static_cast<std::int32_t>(y >> (F + 30));
+  if (n <= -(F + 2)) {
+    return 0;
+  }
+  if (n >= 31 - F) {
+    return kRawMax;
+  }
+  const auto f_q32 = static_cast<std::uint32_t>(static_cast<std::uint64_t>(y) >> static_cast<unsigned>(F - 2));
+  const std::uint32_t p = exp2_frac_q30(f_q32);  // [2^30, 2^31)
+  // Round p 2^(n - 30 + F) to an integer: shift right by s = 30 - F - n in [0, 31];
+  // p + 2^(s-1) < 2^31 + 2^30 fits uint32.
+  const auto s = static_cast<unsigned>(30 - F - n);
+  const std::uint32_t r = (p + ((std::uint32_t{1} << s) >> 1U)) >> s;
+  return r > static_cast<std::uint32_t>(kRawMax) ? kRawMax : static_cast<std::int32_t>(r);
+}
+/// div's raw result (jg::div below documents it), in the symmetric range.
+template <int F>
+constexpr std::int32_t div_raw(Q<F> a, Q<F> b) noexcept {
+  if (b.raw() == 0) {
+    return a.raw() > 0 ? kRawMax : (a.raw() < 0 ? kRawMin : 0);
+  }
+  const bool negative = (a.raw() < 0) != (b.raw() < 0);
+  // |raw| <= 2^31 - 1 (symmetric range): the negations cannot overflow.
+  const auto den = static_cast<std::uint32_t>(b.raw() < 0 ? -b.raw() : b.raw());
+  const std::uint64_t num = (std::uint64_t{static_cast<std::uint32_t>(a.raw() < 0 ? -a.raw() : a.raw())}
+                             << static_cast<unsigned>(F)) + (den >> 1U);
+  if ((num >> 32U) >= den) {  // quotient >= 2^32: far out of range
+    return negative ? kRawMin : kRawMax;
+  }
+  const std::uint32_t quotient = udiv64_32(num, den);
+  if (quotient > static_cast<std::uint32_t>(kRawMax)) {
+    return negative ? kRawMin : kRawMax;
+  }
+  const auto q = static_cast<std::int32_t>(quotient);
+  return negative ? -q : q;  // 0 <= q <= kRawMax
+}
+
 }  // namespace detail
 
 /// |x|; exact (the symmetric range makes it overflow-free).
@@ -367,30 +439,17 @@ template <int F>
 template <int F>
 [[nodiscard]] constexpr Q<F> exp(Q<F> x) noexcept {
   static_assert(F >= 2, "exp: the fraction of x log2(e) is taken from bit F-2 of the product");
-  const std::int64_t y = std::int64_t{x.raw()} * detail::kLog2eQ30;  // Q(F+30)
-  const auto n = static_cast<std::int32_t>(y >> (F + 30));
-  if (n <= -(F + 2)) {
-    return Q<F>{};
-  }
-  if (n >= 31 - F) {
-    return std::numeric_limits<Q<F>>::max();
-  }
-  const auto f_q32 = static_cast<std::uint32_t>(static_cast<std::uint64_t>(y) >> static_cast<unsigned>(F - 2));
-  const std::uint32_t p = detail::exp2_frac_q30(f_q32);  // [2^30, 2^31)
-  // Round p 2^(n - 30 + F) to an integer: shift right by s = 30 - F - n in [0, 31];
-  // p + 2^(s-1) < 2^31 + 2^30 fits uint32.
-  const auto s = static_cast<unsigned>(30 - F - n);
-  const std::uint32_t r = (p + ((std::uint32_t{1} << s) >> 1U)) >> s;
-  return Q<F>::from_symmetric_raw(r > static_cast<std::uint32_t>(detail::kRawMax) ? detail::kRawMax
-                                                                               : static_cast<std::int32_t>(r));
+  // The result is chosen by the early exits: opaque_raw keeps GCC from widening it into a
+  // 64-bit phi where it feeds a product (stribeck_level, threshold_at).
+  return Q<F>::from_symmetric_raw(detail::opaque_raw(detail::exp_raw(x)));
 }
-/// sin and cos of one angle, Q<F> rad -> Q<F>: one exact reduction modulo 2 pi (any x)
+/// sin and cos of one angle, Q<F> (or QTerm<F>) rad -> Q<F>: one exact reduction modulo 2 pi (any x)
 /// and two short polynomials (detail::sincos_q30). Error 0.5 LSB plus < 1e-8.
-template <int F>
-constexpr void sincos(Q<F> x, Q<F>& s, Q<F>& c) noexcept {
+template <int F, class X, std::enable_if_t<detail::all_q_operands_v<F, X>, int> = 0>
+constexpr void sincos(X x, Q<F>& s, Q<F>& c) noexcept {
   std::int32_t s30 = 0;
   std::int32_t c30 = 0;
-  detail::sincos_q30(x, s30, c30);
+  detail::sincos_q30<F>(x, s30, c30);
   s = detail::from_unit_q30<F>(s30);
   c = detail::from_unit_q30<F>(c30);
 }
@@ -415,24 +474,8 @@ template <int F>
 /// of a, and 0 for 0/0.
 template <int F>
 [[nodiscard]] constexpr Q<F> div(Q<F> a, Q<F> b) noexcept {
-  if (b.raw() == 0) {
-    return a.raw() > 0 ? std::numeric_limits<Q<F>>::max()
-                       : (a.raw() < 0 ? std::numeric_limits<Q<F>>::min() : Q<F>{});
-  }
-  const bool negative = (a.raw() < 0) != (b.raw() < 0);
-  // |raw| <= 2^31 - 1 (symmetric range): the negations cannot overflow.
-  const auto den = static_cast<std::uint32_t>(b.raw() < 0 ? -b.raw() : b.raw());
-  const std::uint64_t num = (std::uint64_t{static_cast<std::uint32_t>(a.raw() < 0 ? -a.raw() : a.raw())}
-                             << static_cast<unsigned>(F)) + (den >> 1U);
-  if ((num >> 32U) >= den) {  // quotient >= 2^32: far out of range
-    return Q<F>::from_raw(negative ? detail::kRawMin : detail::kRawMax);
-  }
-  const std::uint32_t quotient = detail::udiv64_32(num, den);
-  if (quotient > static_cast<std::uint32_t>(detail::kRawMax)) {
-    return Q<F>::from_raw(negative ? detail::kRawMin : detail::kRawMax);
-  }
-  const auto q = static_cast<std::int32_t>(quotient);
-  return Q<F>::from_symmetric_raw(negative ? -q : q);  // 0 <= q <= kRawMax
+  // Chosen by branches (b == 0, saturation, sign): opaque_raw, as in exp.
+  return Q<F>::from_symmetric_raw(detail::opaque_raw(detail::div_raw(a, b)));
 }
 
 template <int F>
@@ -444,27 +487,55 @@ template <int F>
 [[nodiscard]] constexpr Q<F> scale(Q<30> coefficient, Q<F> x) noexcept {
   return detail::round_presum<F, 30>(std::int64_t{coefficient.raw()} * x.raw() + detail::rounding_constant<30>());
 }
-/// c1 * x1 + c2 * x2 with Q2.30 coefficients, Q<F> -> Q<F>: both products exact
-/// (Q(F+30), each below 2^62 in magnitude, so the pair cannot overflow int64), one
+/// c1 * x1 + c2 * x2 with Q2.30 coefficients, Q<F> (or QTerm<F>) -> Q<F>: both products
+/// exact (Q(F+30), each below 2^62 in magnitude, so the pair cannot overflow int64), one
 /// rounding, one saturation (a filter section: decay * state + gain * input).
-template <int F>
-[[nodiscard]] constexpr Q<F> scale_sum(Q<30> c1, Q<F> x1, Q<30> c2, Q<F> x2) noexcept {
-  return detail::round_presum<F, 30>(std::int64_t{c1.raw()} * x1.raw() + std::int64_t{c2.raw()} * x2.raw() +
+template <class X1, class X2, std::enable_if_t<detail::all_q_operands_v<X1::frac_bits, X1, X2>, int> = 0>
+[[nodiscard]] constexpr Q<X1::frac_bits> scale_sum(Q<30> c1, X1 x1, Q<30> c2, X2 x2) noexcept {
+  return detail::round_presum<X1::frac_bits, 30>(std::int64_t{c1.raw()} * x1.raw() + std::int64_t{c2.raw()} * x2.raw() +
                                      detail::rounding_constant<30>());
 }
 
-/// c + a*b, Q<F>: exact (one product below 2^62 plus c 2^F below 2^(31+F) cannot
-/// overflow int64), one rounding, one saturation. No precondition.
-template <int F>
-[[nodiscard]] constexpr Q<F> mac(Q<F> c, Q<F> a, Q<F> b) noexcept {
-  return detail::round_presum<F>(std::int64_t{c.raw()} * Q<F>::one_raw + detail::rounding_constant<F>() +
-                                 std::int64_t{a.raw()} * b.raw());
+// The sums below take Q<F> or QTerm<F> operands (no product of two QTerms: each product
+// then stays below 2^62 in magnitude, as for Q<F> operands, see QTerm) and come in two
+// forms: the plain name gives a Q<F> (INT32_MIN mapped), the *_term name a QTerm<F> for an
+// intermediate (same rounding and saturation, no mapping).
+
+/// c + a*b: exact (one product below 2^62 plus c 2^F below 2^(31+F) cannot overflow
+/// int64), one rounding, one saturation. No precondition.
+template <class C, class A, class B, std::enable_if_t<detail::all_q_operands_v<C::frac_bits, C, A, B>, int> = 0>
+[[nodiscard]] constexpr Q<C::frac_bits> mac(C c, A a, B b) noexcept {
+  return detail::round_presum<C::frac_bits>(detail::mac_sum<C::frac_bits>(c, a, b));
 }
-/// a*b + c*d, Q<F>: both products exact in 64 bits (each below 2^62 in magnitude, so the
-/// sum cannot overflow), one rounding, one saturation.
-template <int F>
-[[nodiscard]] constexpr Q<F> sum_of_products(Q<F> a, Q<F> b, Q<F> c, Q<F> d) noexcept {
-  return detail::round_presum<F>(detail::add_products<F>(detail::rounding_constant<F>(), a, b, c, d));
+template <class C, class A, class B, std::enable_if_t<detail::all_q_operands_v<C::frac_bits, C, A, B>, int> = 0>
+[[nodiscard]] constexpr QTerm<C::frac_bits> mac_term(C c, A a, B b) noexcept {
+  return detail::round_presum_term<C::frac_bits>(detail::mac_sum<C::frac_bits>(c, a, b));
+}
+/// a*b: exact product, one rounding, one saturation, as a QTerm<F> (Q<F>'s operator* gives
+/// the Q<F>).
+template <class A, class B, std::enable_if_t<detail::all_q_operands_v<A::frac_bits, A, B>, int> = 0>
+[[nodiscard]] constexpr QTerm<A::frac_bits> mul_term(A a, B b) noexcept {
+  return detail::round_presum_term<A::frac_bits>(detail::products_sum<A::frac_bits>(a, b));
+}
+/// x*x as a Q<F>: the sum is never negative, so the rounded result is never INT32_MIN and
+/// needs no mapping (it saturates at the maximum).
+template <class X, std::enable_if_t<is_q_operand_v<X>, int> = 0>
+[[nodiscard]] constexpr Q<X::frac_bits> square(X x) noexcept {
+  constexpr int F = X::frac_bits;
+  return Q<F>::from_symmetric_raw(detail::opaque_raw(
+      detail::round_presum_raw<F>(std::int64_t{x.raw()} * x.raw() + detail::rounding_constant<F>())));
+}
+/// a*b + c*d: both products exact in 64 bits (each below 2^62 in magnitude, so the sum
+/// cannot overflow), one rounding, one saturation.
+template <class A, class B, class C, class D,
+          std::enable_if_t<detail::all_q_operands_v<A::frac_bits, A, B, C, D>, int> = 0>
+[[nodiscard]] constexpr Q<A::frac_bits> sum_of_products(A a, B b, C c, D d) noexcept {
+  return detail::round_presum<A::frac_bits>(detail::products_sum<A::frac_bits>(a, b, c, d));
+}
+template <class A, class B, class C, class D,
+          std::enable_if_t<detail::all_q_operands_v<A::frac_bits, A, B, C, D>, int> = 0>
+[[nodiscard]] constexpr QTerm<A::frac_bits> sum_of_products_term(A a, B b, C c, D d) noexcept {
+  return detail::round_presum_term<A::frac_bits>(detail::products_sum<A::frac_bits>(a, b, c, d));
 }
 /// a*b + c*d + e*f, Q<F>: one rounding, one saturation (dot products, matrix rows). The
 /// third product is added with an overflow check (three full-range products can exceed
@@ -474,48 +545,82 @@ template <int F>
   return detail::round_presum<F>(
       detail::add_sat64(detail::add_products<F>(detail::rounding_constant<F>(), a, b, c, d), std::int64_t{e.raw()} * f.raw()));
 }
-/// a*b + c*d + e*f + g*h, Q<F>: two exact pairs joined with an overflow check, one rounding.
-template <int F>
-[[nodiscard]] constexpr Q<F> sum_of_products(Q<F> a, Q<F> b, Q<F> c, Q<F> d, Q<F> e, Q<F> f, Q<F> g,
-                                             Q<F> h) noexcept {
-  return detail::round_presum<F>(detail::add_sat64(detail::add_products<F>(detail::rounding_constant<F>(), a, b, c, d),
-                                                   detail::add_products<F>(0, e, f, g, h)));
+/// a*b + c*d + e*f + g*h: two exact pairs joined with an overflow check, one rounding.
+template <class A, class B, class C, class D, class E, class G, class H, class K,
+          std::enable_if_t<detail::all_q_operands_v<A::frac_bits, A, B, C, D, E, G, H, K>, int> = 0>
+[[nodiscard]] constexpr Q<A::frac_bits> sum_of_products(A a, B b, C c, D d, E e, G f, H g, K h) noexcept {
+  return detail::round_presum<A::frac_bits>(detail::two_pairs_sum<A::frac_bits>(a, b, c, d, e, f, g, h));
+}
+template <class A, class B, class C, class D, class E, class G, class H, class K,
+          std::enable_if_t<detail::all_q_operands_v<A::frac_bits, A, B, C, D, E, G, H, K>, int> = 0>
+[[nodiscard]] constexpr QTerm<A::frac_bits> sum_of_products_term(A a, B b, C c, D d, E e, G f, H g, K h) noexcept {
+  return detail::round_presum_term<A::frac_bits>(detail::two_pairs_sum<A::frac_bits>(a, b, c, d, e, f, g, h));
 }
 
 /// c + a0*b0 + a1*b1 + ... for operands whose magnitudes the caller has bounded, Q<F>:
 /// one exact 64-bit sum (SMLAL chain), one rounding, one saturation, **no overflow check
 /// on the 64-bit sum**. Precondition (each call site states why it holds):
 /// sum |a_i.raw * b_i.raw| + |c.raw| 2^F < 2^63 - 2^F, e.g. any number of products of a
-/// full-range signal (< 2^31) with an operand below 2^16 (|sin|, |cos| <= 1) or with a
+/// full-range signal (<= 2^31) with an operand below 2^16 (|sin|, |cos| <= 1) or with a
 /// link constant below 2^28 (4096 in Q16.16, checked by convert_link), up to 7 of them.
-template <int F, class... Rest>
-[[nodiscard]] constexpr Q<F> mac_bounded(Q<F> c, Q<F> a, Q<F> b, Rest... rest) noexcept {
-  static_assert((std::is_same_v<Rest, Q<F>> && ...), "one format");
-  return detail::round_presum<F>(
-      detail::add_products<F>(std::int64_t{c.raw()} * Q<F>::one_raw + detail::rounding_constant<F>(), a, b, rest...));
+template <class C, class A, class B, class... Rest,
+          std::enable_if_t<detail::all_q_operands_v<C::frac_bits, C, A, B, Rest...>, int> = 0>
+[[nodiscard]] constexpr Q<C::frac_bits> mac_bounded(C c, A a, B b, Rest... rest) noexcept {
+  constexpr int F = C::frac_bits;
+  return detail::round_presum<F>(detail::add_products<F>(detail::addend<F>(c), a, b, rest...));
+}
+template <class C, class A, class B, class... Rest,
+          std::enable_if_t<detail::all_q_operands_v<C::frac_bits, C, A, B, Rest...>, int> = 0>
+[[nodiscard]] constexpr QTerm<C::frac_bits> mac_bounded_term(C c, A a, B b, Rest... rest) noexcept {
+  constexpr int F = C::frac_bits;
+  return detail::round_presum_term<F>(detail::add_products<F>(detail::addend<F>(c), a, b, rest...));
 }
 /// a0*b0 + a1*b1 + ..., as mac_bounded without the addend.
-template <int F, class... Rest>
-[[nodiscard]] constexpr Q<F> dot_bounded(Q<F> a, Q<F> b, Rest... rest) noexcept {
-  static_assert((std::is_same_v<Rest, Q<F>> && ...), "one format");
+template <class A, class B, class... Rest,
+          std::enable_if_t<detail::all_q_operands_v<A::frac_bits, A, B, Rest...>, int> = 0>
+[[nodiscard]] constexpr Q<A::frac_bits> dot_bounded(A a, B b, Rest... rest) noexcept {
+  constexpr int F = A::frac_bits;
   return detail::round_presum<F>(detail::add_products<F>(detail::rounding_constant<F>(), a, b, rest...));
 }
+template <class A, class B, class... Rest,
+          std::enable_if_t<detail::all_q_operands_v<A::frac_bits, A, B, Rest...>, int> = 0>
+[[nodiscard]] constexpr QTerm<A::frac_bits> dot_bounded_term(A a, B b, Rest... rest) noexcept {
+  constexpr int F = A::frac_bits;
+  return detail::round_presum_term<F>(detail::add_products<F>(detail::rounding_constant<F>(), a, b, rest...));
+}
+
+namespace detail {
+/// (a*b - c*d) in Q(F+8) (a QTerm: it is only multiplied by the scale), then times scale,
+/// with the rounding constant of the last step added: see diff_of_products_scaled.
+template <int F, class A, class B>
+constexpr std::int64_t diff_scaled_sum(A a, B b, Q<F> c, Q<F> d, Q<F> scale) noexcept {
+  constexpr int kExtra = 8;
+  static_assert(F > kExtra, "the difference is kept in Q(F+8) within 32 bits");
+  // Two products of magnitude < 2^62: the difference cannot overflow int64. -c is exact
+  // (c is a Q<F>): the difference is one SMLAL chain.
+  const std::int64_t diff_2f = add_products<F>(rounding_constant<F - kExtra>(), a, b, -c, d);
+  constexpr int kDiffFrac = F + kExtra;
+  constexpr int kDiffShift = F - kExtra;
+  const std::int32_t diff = round_presum_term<kDiffFrac, kDiffShift>(diff_2f).raw();  // Q(F+8), saturated
+  const std::int64_t scaled = std::int64_t{diff} * scale.raw();
+  return scaled + rounding_constant<kDiffFrac>();
+}
+}  // namespace detail
 
 /// (a*b - c*d) * scale, Q<F> -> Q<F>, with one rounding instead of three: the
 /// difference of products is exact in Q(2F) (64-bit), rounded once to Q(F+8) and then
 /// multiplied by scale in 64 bits. Use where a small difference is amplified by a large
 /// scale (LuGre's implicit step: scale up to sigma0 dT / s ~ 200). Requires
 /// |a*b - c*d| < 2^(23-F+16) (128 for Q16.16) and |scale| < 2^(31-F) (the format's
-/// range); the difference saturates beyond that, the result always saturates.
-template <int F>
-[[nodiscard]] constexpr Q<F> diff_of_products_scaled(Q<F> a, Q<F> b, Q<F> c, Q<F> d, Q<F> scale) noexcept {
-  constexpr int kExtra = 8;
-  static_assert(F > kExtra, "the difference is kept in Q(F+8) within 32 bits");
-  // Two products of magnitude < 2^62: the difference cannot overflow int64.
-  const std::int64_t diff_2f = std::int64_t{a.raw()} * b.raw() - std::int64_t{c.raw()} * d.raw() +
-                               detail::rounding_constant<F - kExtra>();
-  const std::int32_t diff = detail::round_presum<F + kExtra, F - kExtra>(diff_2f).raw();  // Q(F+8), saturated
-  return detail::round_presum<F, F + kExtra>(std::int64_t{diff} * scale.raw() + detail::rounding_constant<F + kExtra>());
+/// range); the difference saturates beyond that, the result always saturates. a and b may
+/// be QTerms (not both), c and d are Q<F> (c is negated).
+template <int F, class A, class B, std::enable_if_t<detail::all_q_operands_v<F, A, B>, int> = 0>
+[[nodiscard]] constexpr Q<F> diff_of_products_scaled(A a, B b, Q<F> c, Q<F> d, Q<F> scale) noexcept {
+  return detail::round_presum<F, F + 8>(detail::diff_scaled_sum<F>(a, b, c, d, scale));
+}
+template <int F, class A, class B, std::enable_if_t<detail::all_q_operands_v<F, A, B>, int> = 0>
+[[nodiscard]] constexpr QTerm<F> diff_of_products_scaled_term(A a, B b, Q<F> c, Q<F> d, Q<F> scale) noexcept {
+  return detail::round_presum_term<F, F + 8>(detail::diff_scaled_sum<F>(a, b, c, d, scale));
 }
 
 // ---------------------------------------------------------------- fused, float / double
@@ -560,6 +665,66 @@ template <class T, class... Rest, std::enable_if_t<std::is_floating_point_v<T>, 
 template <class T, class... Rest, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
 [[nodiscard]] constexpr T dot_bounded(T a, T b, Rest... rest) noexcept {
   return detail::add_products_fp(a * b, rest...);
+}
+
+// ---------------------------------------------------------------- intermediate terms
+
+/// The type of an intermediate value (QTerm, q.hpp): QTerm<F> for Q<F>, the scalar itself
+/// for float and double, whose *_term functions below are the plain ones.
+template <class S>
+struct term_of {
+  using type = S;
+};
+template <int F>
+struct term_of<Q<F>> {
+  using type = QTerm<F>;
+};
+template <class S>
+using term_t = typename term_of<S>::type;
+
+template <class T, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
+[[nodiscard]] constexpr T from_term(T x) noexcept {
+  return x;
+}
+template <class T, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
+[[nodiscard]] constexpr T add_term(T a, T b) noexcept {
+  return a + b;
+}
+template <class T, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
+[[nodiscard]] constexpr T sub_term(T a, T b) noexcept {
+  return a - b;
+}
+template <class T, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
+[[nodiscard]] constexpr T mul_term(T a, T b) noexcept {
+  return a * b;
+}
+template <class T, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
+[[nodiscard]] constexpr T square(T x) noexcept {
+  return x * x;
+}
+template <class T, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
+[[nodiscard]] constexpr T mac_term(T c, T a, T b) noexcept {
+  return c + a * b;
+}
+template <class T, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
+[[nodiscard]] constexpr T sum_of_products_term(T a, T b, T c, T d) noexcept {
+  return a * b + c * d;
+}
+template <class T, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
+[[nodiscard]] constexpr T sum_of_products_term(T a, T b, T c, T d, T e, T f, T g, T h) noexcept {
+  return a * b + c * d + e * f + g * h;
+}
+template <class T, class... Rest, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
+[[nodiscard]] constexpr T mac_bounded_term(T c, T a, T b, Rest... rest) noexcept {
+  return detail::add_products_fp(c + a * b, rest...);
+}
+template <class T, class... Rest, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
+[[nodiscard]] constexpr T dot_bounded_term(T a, T b, Rest... rest) noexcept {
+  return detail::add_products_fp(a * b, rest...);
+}
+template <class T, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
+[[nodiscard]] constexpr T diff_of_products_scaled_term(T a, T b, T c, T d, T scale) noexcept {
+  return (a * b - c * d) * scale;
 }
 
 }  // namespace jg

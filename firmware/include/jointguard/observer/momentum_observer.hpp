@@ -144,12 +144,20 @@ template <class S>
     return st.last_output;
   }
   // One product and one rounding: (p_k - p_{k-1}) / dT enters the balance exactly.
-  const S disturbance = mac(motor_torque - beta - friction, st.last_momentum - momentum, c.inv_dt);
+  // The balance's differences and the disturbance are intermediate terms (QTerm in fixed
+  // point): an addend, factors of the filter sections' products.
+  const term_t<S> disturbance =
+      mac_term(sub_term(sub_term(motor_torque, beta), friction), sub_term(st.last_momentum, momentum), c.inv_dt);
   st.last_momentum = momentum;
-  S out{};
-  for (std::uint8_t i = 0; i < c.sections && i < 2U; ++i) {
-    st.section[i] = scale_sum(c.decay[i], st.section[i], c.input_gain[i], disturbance);
-    out = out + st.section[i];
+  if (c.sections == 0U) {  // no section: the estimate is 0
+    st.last_output = S{};
+    return st.last_output;
+  }
+  st.section[0] = scale_sum(c.decay[0], st.section[0], c.input_gain[0], disturbance);
+  S out = st.section[0];
+  if (c.sections > 1U) {
+    st.section[1] = scale_sum(c.decay[1], st.section[1], c.input_gain[1], disturbance);
+    out = out + st.section[1];
   }
   st.last_output = out;
   return out;
