@@ -10,6 +10,7 @@
 #include "cli/identify_rigid.hpp"
 #include "cli/progress.hpp"
 #include "eval/calibration_region.hpp"
+#include "eval/firmware_estimator.hpp"
 #include "eval/pipeline.hpp"
 #include "io/atomic_write.hpp"
 
@@ -261,6 +262,7 @@ Command add_replay(CLI::App& app) {
             const auto& ids = in.data.segments.front().joint_ids;
             const auto friction = eval::read_friction_json(o->friction, ids);
             const auto thresholds = eval::read_threshold_json(o->threshold, ids);
+            eval::check_friction_fits(o->friction, friction, ids, 1.0 / in.data.report.rate_hz, o->scalar);
             // Each segment runs from a fresh state; events keep the recording's time stamps.
             const auto r = about_recording(o->recording, [&] {
               return eval::replay_segments(in.data.segments, model, friction, thresholds, o->observer.to_gains(in.data.report.rate_hz),

@@ -75,4 +75,30 @@ std::unique_ptr<Estimator> make_firmware_estimator(const FirmwareEstimatorConfig
   throw std::invalid_argument("scalar must be 'float' or 'q', got '" + scalar + "'");
 }
 
+namespace {
+template <class S>
+void check_friction_fits_in(const std::string& path, const std::vector<LuGreParams<double>>& friction,
+                            const std::vector<int>& joint_ids, double dt, const char* scalar) {
+  for (std::size_t j = 0; j < friction.size(); ++j) {
+    LuGreDiscrete<S> d{};
+    if (const Error e = discretize(friction[j], dt, d); e != Error::ok) {
+      const auto& f = friction[j];
+      const int id = j < joint_ids.size() ? joint_ids[j] : static_cast<int>(j + 1);
+      throw std::invalid_argument(path + ": joint " + std::to_string(id) + ": LuGre parameters (sigma0 " + std::to_string(f.sigma0) +
+                                  ", sigma1 " + std::to_string(f.sigma1) + ", sigma2 " + std::to_string(f.sigma2) + ", tau_c " +
+                                  std::to_string(f.tau_c) + ", tau_s " + std::to_string(f.tau_s) + ", w_s " + std::to_string(f.w_s) +
+                                  ") do not fit the firmware scalar " + scalar + " at dt = " + std::to_string(dt) + " s: " +
+                                  to_string(e));
+    }
+  }
+}
+}  // namespace
+
+void check_friction_fits(const std::string& path, const std::vector<LuGreParams<double>>& friction,
+                         const std::vector<int>& joint_ids, double dt, const std::string& scalar) {
+  if (scalar == "float") return check_friction_fits_in<float>(path, friction, joint_ids, dt, "float");
+  if (scalar == "q") return check_friction_fits_in<q16>(path, friction, joint_ids, dt, "q (Q16.16)");
+  throw std::invalid_argument("scalar must be 'float' or 'q', got '" + scalar + "'");
+}
+
 }  // namespace jg::eval

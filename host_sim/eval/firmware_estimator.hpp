@@ -26,4 +26,10 @@ std::vector<double> holding_deadband(const robot::RobotModel& model, double rate
 /// scalar: "float" or "q". Throws when a parameter does not fit the scalar (range check).
 std::unique_ptr<Estimator> make_firmware_estimator(const FirmwareEstimatorConfig& c, const std::string& scalar);
 
+/// Refuses, before any run, LuGre parameters the firmware scalar cannot hold at the sample
+/// time dt [s]: std::invalid_argument naming the friction file `path`, the joint (its id)
+/// and the values, so the user fixes that entry (not the recording the run would read).
+void check_friction_fits(const std::string& path, const std::vector<LuGreParams<double>>& friction,
+                         const std::vector<int>& joint_ids, double dt, const std::string& scalar);
+
 }  // namespace jg::eval

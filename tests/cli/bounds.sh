@@ -102,4 +102,11 @@ expect 1 "not written" -- "$J" decode "$W/short_sync.log" --json "$W/never.json"
 [ ! -e "$W/never.json" ] || { echo "decode wrote its JSON for an undecodable capture"; exit 1; }
 printf '(0.000000) vcan0 010##00000000000000000\n' > "$W/sync.log"
 expect 1 "nodir/t.json" -- "$J" decode "$W/sync.log" --json "$W/nodir/t.json"
+# LuGre parameters the firmware scalar cannot hold (sigma0 1.8e14, as the GA fits on 100 Hz
+# data): refused before the run, naming the friction file and the joint, not the recording.
+sed 's/98467.9088/1.8e14/' tests/can/hil/friction.json > "$W/huge_sigma0.json"
+expect 1 "huge_sigma0.json: joint 1: LuGre parameters (sigma0 180000000000000" -- "$J" replay tests/data/recordings/constant.csv \
+  --model models/ref3.yaml --friction "$W/huge_sigma0.json" --threshold tests/data/recordings/ref3_threshold.json --scalar q \
+  --json "$W/never.json"
+[ ! -e "$W/never.json" ] || { echo "replay wrote its JSON with friction the scalar cannot hold"; exit 1; }
 echo "bounds: ok"
