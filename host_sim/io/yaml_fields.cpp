@@ -21,17 +21,25 @@ std::string where(const std::string& file, const YAML::Mark& m) {
 /// Nodes visited by check_keys before the file is refused: far above any robot or scenario
 /// file, reached only by aliases that expand exponentially (a "billion laughs" document).
 constexpr std::size_t kMaxNodes = 100000;
+/// Nesting depth refused before the recursion below can exhaust the stack: a robot or scenario
+/// file nests a few levels; an alias inside its own anchor (`&a [*a]`) nests without end.
+constexpr std::size_t kMaxDepth = 64;
 
 /// yaml-cpp keeps both entries of a key written twice and reads the first: refused, naming
 /// the second occurrence (`path` is the field path so far, e.g. "joints[1]"). Keys must be
 /// plain scalars (a `? [list]` key cannot name a field).
-void check_keys(const std::string& file, const YAML::Node& node, const std::string& path, std::size_t& visited) {
+void check_keys(const std::string& file, const YAML::Node& node, const std::string& path, std::size_t& visited,
+                std::size_t depth = 0) {
   if (++visited > kMaxNodes) {
     throw FormatError(where(file, node.Mark()) + ": more than " + std::to_string(kMaxNodes) +
                       " YAML nodes (aliases expanding?); a robot or scenario file is far smaller");
   }
+  if (depth > kMaxDepth) {
+    throw FormatError(where(file, node.Mark()) + ": nested deeper than " + std::to_string(kMaxDepth) +
+                      " levels (an alias inside its own anchor?); a robot or scenario file nests a few");
+  }
   if (node.IsSequence()) {
-    for (std::size_t i = 0; i < node.size(); ++i) check_keys(file, node[i], path + "[" + std::to_string(i) + "]", visited);
+    for (std::size_t i = 0; i < node.size(); ++i) check_keys(file, node[i], path + "[" + std::to_string(i) + "]", visited, depth + 1);
   } else if (node.IsMap()) {
     std::map<std::string, YAML::Mark> seen;
     for (const auto& kv : node) {
@@ -45,7 +53,7 @@ void check_keys(const std::string& file, const YAML::Node& node, const std::stri
         throw FormatError(where(file, kv.first.Mark()) + ": field '" + field + "': duplicate key (first given on line " +
                           std::to_string(it->second.line + 1) + ")");
       }
-      check_keys(file, kv.second, field, visited);
+      check_keys(file, kv.second, field, visited, depth + 1);
     }
   }
 }

@@ -58,6 +58,12 @@ sed 's/^    alpha_prev_rad: 0.0$/    alpha_prev_rad: 0.0\n    a_prev_m: 0.5/' mo
 expect 1 "dup_robot.yaml:13:5: field 'joints\[0\].a_prev_m': duplicate key (first given on line 11)" -- \
   "$J" replay tests/data/recordings/held_arm.csv --model "$W/dup_robot.yaml" \
   --friction tests/data/recordings/ref3_friction.json --threshold tests/data/recordings/ref3_threshold.json
+# An alias inside its own anchor nests without end (found by the robot_yaml fuzzer: a stack
+# overflow in the key check): refused naming the file, line and column.
+{ cat models/ref3.yaml; echo 'loop: &loop [*loop, 1]'; } > "$W/cyclic_robot.yaml"
+expect 1 "cyclic_robot.yaml:[0-9]*:[0-9]*: nested deeper than 64 levels" -- \
+  "$J" replay tests/data/recordings/held_arm.csv --model "$W/cyclic_robot.yaml" \
+  --friction tests/data/recordings/ref3_friction.json --threshold tests/data/recordings/ref3_threshold.json
 sed 's/^seed: 1$/seed: 1\nseed: 2/' scenarios/paper_excitation.yaml > "$W/dup_scenario.yaml"
 sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/dup_scenario.yaml"
 expect 1 "dup_scenario.yaml:7:1: field 'seed': duplicate key (first given on line 6)" -- "$J" simulate "$W/dup_scenario.yaml" --out "$W/never.csv"
