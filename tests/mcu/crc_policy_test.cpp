@@ -13,6 +13,7 @@
 #include "jointguard/hal/mcu/stm32g4_crc.hpp"
 #include "jointguard/node/joint_drive.hpp"
 #include "jointguard/protocol/frames.hpp"
+#include "jointguard/protocol/reaction_frames.hpp"
 
 namespace {
 
@@ -85,8 +86,17 @@ TEST(CrcPolicy, CodecsGiveTheSameFramesWithTheReferencePolicy) {
   }
 }
 
-// The neighbours' frames and the sync of cycle c, as the bus delivers them.
-template <class Port>
+// A CRC other than CRC-8/AUTOSAR (its complement-like variant): frames encoded with it fail
+// the table's check and the other way round, so a codec that ignored the port's policy shows.
+struct OtherCrc {
+  static std::uint8_t crc8(const std::uint8_t* data, std::uint8_t length) noexcept {
+    return static_cast<std::uint8_t>(jg::hal::crc8_autosar_bitwise(data, length) ^ 0xA5U);
+  }
+};
+static_assert(jg::hal::is_crc8_policy_v<OtherCrc>);
+
+// The neighbours' frames and the sync of cycle c, as the bus delivers them (CRC by Policy).
+template <class Policy = jg::hal::Crc8AutosarTable, class Port>
 void deliver(Port& port, std::uint32_t c) {
   namespace p = jg::protocol;
   jg::hal::CanFrame f{};
@@ -95,16 +105,16 @@ void deliver(Port& port, std::uint32_t c) {
   parent.angular_velocity.z = 0.3F;
   parent.gravity.z = -9.81F;
   f.id = p::frame_id(p::MessageKind::outward, 1U);
-  f.length = p::encode_outward(parent, static_cast<std::uint8_t>(c - 1U), static_cast<std::uint8_t*>(f.data));
+  f.length = p::encode_outward<float, Policy>(parent, static_cast<std::uint8_t>(c - 1U), static_cast<std::uint8_t*>(f.data));
   port.inbox.push_back(f);
   jg::InwardMessage<float> child{};
   child.mass = 2.0F;
   child.first_moment = {0.36F, 0.0F, 0.0F};
   f.id = p::frame_id(p::MessageKind::inward, 3U);
-  f.length = p::encode_inward(child, static_cast<std::uint8_t>(c - 1U), static_cast<std::uint8_t*>(f.data));
+  f.length = p::encode_inward<float, Policy>(child, static_cast<std::uint8_t>(c - 1U), static_cast<std::uint8_t*>(f.data));
   port.inbox.push_back(f);
   f.id = p::kSyncId;
-  f.length = p::encode_sync(c, static_cast<std::uint8_t*>(f.data));
+  f.length = p::encode_sync<Policy>(c, static_cast<std::uint8_t*>(f.data));
   port.inbox.push_back(f);
 }
 
@@ -145,6 +155,54 @@ TEST(CrcPolicy, DriveSendsIdenticalFramesWithAStandInHardwarePolicy) {
     ASSERT_EQ(with_table[i].length, with_bitwise[i].length) << "frame " << i;
     ASSERT_EQ(std::memcmp(with_table[i].data, with_bitwise[i].data, with_table[i].length), 0) << "frame " << i;
   }
+}
+
+// The reaction's frames (command in, reaction status out) use the port's policy too: a
+// drive on another CRC takes a command encoded with it, refuses one with the table's CRC,
+// and its reaction status checks with its own CRC only.
+TEST(CrcPolicy, ReactionFramesUseThePortPolicy) {
+  namespace p = jg::protocol;
+  RecordingPort<OtherCrc> port;
+  jg::JointEstimatorParams<float> params{};
+  params.observer.sections = 1;
+  params.observer.decay[0] = 0.86F;
+  params.observer.input_gain[0] = 0.14F;
+  params.observer.inv_dt = 1000.0F;
+  params.threshold = {2.0F, 0.0F, 0.0F, 1.0F};
+  params.debounce = {2};
+  jg::JointDrive<float, RecordingPort<OtherCrc>> drive(jg::DriveConfig{jg::NodeConfig{2, 3, 5, 2}, false}, params, port,
+                                                      {0.0F, 0.0F, -9.81F});
+  const auto command = [&](bool own_policy) {
+    p::ReactionCommandMessage<float> m{};
+    m.reaction = jg::Reaction::stop;
+    m.collided = 0x02U;
+    jg::hal::CanFrame f{};
+    f.fd = true;
+    f.id = p::kReactionCommandId;
+    f.length = own_policy ? p::encode_reaction_command<float, OtherCrc>(m, 7U, static_cast<std::uint8_t*>(f.data))
+                          : p::encode_reaction_command(m, 7U, static_cast<std::uint8_t*>(f.data));
+    port.inbox.push_back(f);
+  };
+  for (std::uint32_t c = 1; c <= 6; ++c) {
+    if (c == 3) command(false);  // the table's CRC: refused
+    if (c == 5) command(true);
+    deliver<OtherCrc>(port, c);
+    drive.set_sample(0.6F, 0.0F, 20.0F);
+    EXPECT_TRUE(drive.poll()) << "cycle " << c;
+  }
+  EXPECT_EQ(drive.counters().command_rejected, 1U);
+  const jg::NodeCounters& n = drive.node().counters();
+  EXPECT_EQ(n.bad_crc + drive.counters().sync_rejected, 0U) << "the neighbours' frames pass the port's policy";
+  unsigned reaction_status = 0;
+  for (const jg::hal::CanFrame& f : port.sent) {
+    if (f.id != p::frame_id(p::MessageKind::joint_state, 2U)) continue;
+    ++reaction_status;
+    p::ReactionStatusMessage<float> m{};
+    std::uint8_t seq = 0;
+    EXPECT_EQ((p::decode_reaction_status<float, OtherCrc>(f.data, f.length, m, seq)), p::FrameError::ok);
+    EXPECT_EQ(p::decode_reaction_status(f.data, f.length, m, seq), p::FrameError::bad_crc);
+  }
+  EXPECT_GE(reaction_status, 1U) << "the drive reacted to the command with its own CRC";
 }
 
 // A model of the STM32G4 CRC unit's arithmetic (RM0440): POL, INIT, CR.POLYSIZE and

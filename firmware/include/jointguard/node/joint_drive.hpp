@@ -257,7 +257,7 @@ class JointDrive {
   /// line and cold (as react): the routing and the cycle of a drive that is not reacting
   /// keep their code and registers.
   [[gnu::noinline, gnu::cold]] void take_command(const hal::CanFrame& f) noexcept {
-    if (protocol::decode_reaction_command(static_cast<const std::uint8_t*>(f.data), f.length, config_.node.joint,
+    if (protocol::decode_reaction_command<S, Crc>(static_cast<const std::uint8_t*>(f.data), f.length, config_.node.joint,
                                           command_.kind, command_.collided, command_.retreat_target) != protocol::FrameError::ok) {
       ++counters_.command_rejected;
     } else {
@@ -274,7 +274,7 @@ class JointDrive {
                                            st.external_torque, st.friction_torque);
     tx_.fd = true;
     tx_.id = protocol::frame_id(protocol::MessageKind::joint_state, config_.node.joint);
-    tx_.length = protocol::encode_reaction_status(protocol::ReactionStatusMessage<S>{status_, reaction_torque_}, seq,
+    tx_.length = protocol::encode_reaction_status<S, Crc>(protocol::ReactionStatusMessage<S>{status_, reaction_torque_}, seq,
                                                   static_cast<std::uint8_t*>(tx_.data));
     if (port_.send(tx_) != hal::CanStatus::ok) {
       ++counters_.send_failures;

@@ -12,7 +12,8 @@
 //         host-in-the-loop runs the plant stands in for the motors. Replacing the status
 //         keeps the bus load of a reacting arm that of a running one (no extra frame).
 //
-// Layout rules as frames.hpp (sequence first, CRC-8/AUTOSAR after the fields, zero padding);
+// Layout rules as frames.hpp (sequence first, CRC-8/AUTOSAR after the fields, zero padding;
+// the CRC by the port's policy Crc, as frames.hpp, so a drive with a CRC unit uses it here too);
 // an unknown reaction value (or a collided bit beyond joint 7) is refused as bad_padding (a byte
 // outside its defined values that the CRC does not make wrong). Values saturate on encoding.
 #pragma once
@@ -48,7 +49,7 @@ struct ReactionCommandMessage {
   S retreat_target[kReactionJoints]{};      ///< [rad]
 };
 
-template <class S>
+template <class S, class Crc = DefaultCrc8>
 constexpr std::uint8_t encode_reaction_command(const ReactionCommandMessage<S>& m, std::uint8_t sequence,
                                                std::uint8_t* buf) noexcept {
   buf[0] = sequence;
@@ -57,15 +58,15 @@ constexpr std::uint8_t encode_reaction_command(const ReactionCommandMessage<S>& 
   for (std::uint8_t j = 0; j < kReactionJoints; ++j) {
     detail::put_i32(buf + target_offset(j), detail::to_wire(m.retreat_target[j]));
   }
-  return detail::finish(buf, kCommandFieldBytes, kReactionCommandLength);
+  return detail::finish<Crc>(buf, kCommandFieldBytes, kReactionCommandLength);
 }
 
 /// Checks the frame and reads joint `joint`'s part (1..7): the reaction, whether the
 /// joint is collided and its retreat target.
-template <class S>
+template <class S, class Crc = DefaultCrc8>
 constexpr FrameError decode_reaction_command(const std::uint8_t* buf, std::uint8_t length, std::uint8_t joint,
                                              Reaction& reaction, bool& collided, S& retreat_target) noexcept {
-  if (const FrameError e = detail::check(buf, length, kCommandFieldBytes, kReactionCommandLength); e != FrameError::ok) {
+  if (const FrameError e = detail::check<Crc>(buf, length, kCommandFieldBytes, kReactionCommandLength); e != FrameError::ok) {
     return e;
   }
   if (!known_reaction(buf[1]) || (buf[2] & 0x80U) != 0U || joint < 1U || joint > kReactionJoints) {
@@ -78,11 +79,11 @@ constexpr FrameError decode_reaction_command(const std::uint8_t* buf, std::uint8
 }
 
 /// All joints' parts of a command frame (the master's side and the decoder's).
-template <class S>
+template <class S, class Crc = DefaultCrc8>
 constexpr FrameError decode_reaction_command(const std::uint8_t* buf, std::uint8_t length, ReactionCommandMessage<S>& m) noexcept {
   bool collided = false;
   S target{};
-  const FrameError e = decode_reaction_command(buf, length, 1U, m.reaction, collided, target);
+  const FrameError e = decode_reaction_command<S, Crc>(buf, length, 1U, m.reaction, collided, target);
   if (e == FrameError::ok) {
     m.collided = buf[2];
     for (std::uint8_t j = 0; j < kReactionJoints; ++j) {
@@ -100,20 +101,20 @@ struct ReactionStatusMessage {
   S torque{};  ///< [N·m] the reaction's term of the joint's motor torque
 };
 
-template <class S>
+template <class S, class Crc = DefaultCrc8>
 constexpr std::uint8_t encode_reaction_status(const ReactionStatusMessage<S>& m, std::uint8_t sequence, std::uint8_t* buf) noexcept {
   buf[0] = sequence;
   detail::put_i32(buf + 1, detail::to_wire(m.status.external_torque));
   buf[5] = m.status.flags;
   buf[6] = m.status.rejected;
   detail::put_i32(buf + 7, detail::to_wire(m.torque));
-  return detail::finish(buf, 11U, kReactionStatusLength);
+  return detail::finish<Crc>(buf, 11U, kReactionStatusLength);
 }
 
-template <class S>
+template <class S, class Crc = DefaultCrc8>
 constexpr FrameError decode_reaction_status(const std::uint8_t* buf, std::uint8_t length, ReactionStatusMessage<S>& m,
                                             std::uint8_t& sequence) noexcept {
-  if (const FrameError e = detail::check(buf, length, 11U, kReactionStatusLength); e != FrameError::ok) {
+  if (const FrameError e = detail::check<Crc>(buf, length, 11U, kReactionStatusLength); e != FrameError::ok) {
     return e;
   }
   detail::from_wire(detail::get_i32(buf + 1), m.status.external_torque);
