@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "eval/bus_reaction.hpp"
 #include "eval/joint_params.hpp"
 #include "jointguard/node/joint_drive.hpp"
 
@@ -72,15 +73,9 @@ class BusEstimator final : public DistributedEstimator {
   [[nodiscard]] bool communication_fault() const override { return master_.any_comm_fault(); }
   [[nodiscard]] bool input_fault() const override { return master_.any_input_fault(); }
   bool command_reaction(Reaction reaction, JointMask collided, const sim::JointVector& retreat_target) override {
-    master_.command_reaction(reaction, collided, retreat_target.data());
-    return true;
+    return command_bus_reaction(master_, reaction, collided, retreat_target);
   }
-  [[nodiscard]] bool reaction_torque(sim::JointVector& torque) const override {
-    std::vector<double> t;
-    if (!master_.reaction_torques(t)) return false;
-    torque = Eigen::Map<const Eigen::VectorXd>(t.data(), static_cast<Eigen::Index>(t.size()));
-    return true;
-  }
+  [[nodiscard]] bool reaction_torque(sim::JointVector& torque) const override { return bus_reaction_torque(master_, torque); }
   [[nodiscard]] BusStatistics statistics() const override {
     BusStatistics s{bus_.frames_sent(), bus_.busy_time(), time_, master_.counters(), incomplete_, master_.events(), {}, {}, {}};
     for (const auto& d : drives_) {

@@ -11,6 +11,7 @@
 #include <deque>
 #include <thread>
 
+#include "eval/bus_reaction.hpp"
 #include "jointguard/hal/socketcan.hpp"
 
 namespace jg::hil {
@@ -262,15 +263,9 @@ class SocketCanMasterImpl final : public SocketCanMaster {
   [[nodiscard]] bool communication_fault() const override { return master_.any_comm_fault(); }
   [[nodiscard]] bool input_fault() const override { return master_.any_input_fault(); }
   bool command_reaction(Reaction reaction, JointMask collided, const sim::JointVector& retreat_target) override {
-    master_.command_reaction(reaction, collided, retreat_target.data());
-    return true;
+    return eval::command_bus_reaction(master_, reaction, collided, retreat_target);
   }
-  [[nodiscard]] bool reaction_torque(sim::JointVector& torque) const override {
-    std::vector<double> t;
-    if (!master_.reaction_torques(t)) return false;
-    torque = Eigen::Map<const Eigen::VectorXd>(t.data(), static_cast<Eigen::Index>(t.size()));
-    return true;
-  }
+  [[nodiscard]] bool reaction_torque(sim::JointVector& torque) const override { return eval::bus_reaction_torque(master_, torque); }
   [[nodiscard]] const std::vector<NodeEvent>& events() const override { return master_.events(); }
   [[nodiscard]] MasterCounters counters() const override { return master_.counters(); }
   [[nodiscard]] std::vector<std::int64_t> first_comm_fault_cycle() const override { return master_.first_comm_fault_cycle(); }
