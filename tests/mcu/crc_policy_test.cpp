@@ -118,8 +118,8 @@ void deliver(Port& port, std::uint32_t c) {
   port.inbox.push_back(f);
 }
 
-template <class Policy>
-std::vector<jg::hal::CanFrame> run_drive(RecordingPort<Policy>& port) {
+// A one-section observer at 1 kHz and a 2 N·m threshold: enough for frames to flow.
+jg::JointEstimatorParams<float> drive_params() {
   jg::JointEstimatorParams<float> params{};
   params.observer.sections = 1;
   params.observer.decay[0] = 0.86F;
@@ -127,6 +127,12 @@ std::vector<jg::hal::CanFrame> run_drive(RecordingPort<Policy>& port) {
   params.observer.inv_dt = 1000.0F;
   params.threshold = {2.0F, 0.0F, 0.0F, 1.0F};
   params.debounce = {2};
+  return params;
+}
+
+template <class Policy>
+std::vector<jg::hal::CanFrame> run_drive(RecordingPort<Policy>& port) {
+  const jg::JointEstimatorParams<float> params = drive_params();
   jg::JointDrive<float, RecordingPort<Policy>> drive(jg::DriveConfig{jg::NodeConfig{2, 3, 5, 2}, false}, params, port,
                                                      {0.0F, 0.0F, -9.81F});
   for (std::uint32_t c = 1; c <= 12; ++c) {
@@ -163,13 +169,7 @@ TEST(CrcPolicy, DriveSendsIdenticalFramesWithAStandInHardwarePolicy) {
 TEST(CrcPolicy, ReactionFramesUseThePortPolicy) {
   namespace p = jg::protocol;
   RecordingPort<OtherCrc> port;
-  jg::JointEstimatorParams<float> params{};
-  params.observer.sections = 1;
-  params.observer.decay[0] = 0.86F;
-  params.observer.input_gain[0] = 0.14F;
-  params.observer.inv_dt = 1000.0F;
-  params.threshold = {2.0F, 0.0F, 0.0F, 1.0F};
-  params.debounce = {2};
+  const jg::JointEstimatorParams<float> params = drive_params();
   jg::JointDrive<float, RecordingPort<OtherCrc>> drive(jg::DriveConfig{jg::NodeConfig{2, 3, 5, 2}, false}, params, port,
                                                       {0.0F, 0.0F, -9.81F});
   const auto command = [&](bool own_policy) {
