@@ -7,6 +7,8 @@
 #include <map>
 #include <sstream>
 
+#include "io/utf8.hpp"
+
 namespace jg::io {
 namespace {
 std::string where(const std::string& file, const YAML::Mark& m) {
@@ -61,20 +63,8 @@ void check_keys(const std::string& file, const YAML::Node& node, const std::stri
 /// a Latin-1 name once failed only after a whole simulation, in nlohmann's dump).
 bool is_utf8(const std::string& text) {
   for (std::size_t k = 0; k < text.size();) {
-    const auto c = static_cast<unsigned char>(text[k]);
-    std::size_t len = 1;
-    if (c >= 0xF0 && c <= 0xF4) {
-      len = 4;
-    } else if (c >= 0xE0) {
-      len = c <= 0xEF ? 3 : 0;
-    } else if (c >= 0xC2) {
-      len = 2;
-    } else if (c >= 0x80) {
-      len = 0;
-    }
-    bool ok = len != 0 && k + len <= text.size();
-    for (std::size_t n = 1; ok && n < len; ++n) ok = (static_cast<unsigned char>(text[k + n]) & 0xC0U) == 0x80U;
-    if (!ok) return false;
+    const std::size_t len = utf8_sequence_length(text, k);
+    if (len == 0) return false;
     k += len;
   }
   return true;

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "io/recording.hpp"
+#include "io/utf8.hpp"
 
 namespace jg::robot {
 namespace {
@@ -97,19 +98,8 @@ void check_text(const std::string& path, const std::string& text) {
     const auto c = static_cast<unsigned char>(text[k]);
     if (c == '\n') ++line;
     if (c == 0) refuse(path, "line " + std::to_string(line) + ": a NUL byte: not a text file");
-    std::size_t len = 1;
-    if (c >= 0xF0 && c <= 0xF4) {
-      len = 4;
-    } else if (c >= 0xE0) {
-      len = c <= 0xEF ? 3 : 0;
-    } else if (c >= 0xC2) {
-      len = 2;
-    } else if (c >= 0x80) {
-      len = 0;
-    }
-    bool ok = len != 0 && k + len <= text.size();
-    for (std::size_t i = 1; ok && i < len; ++i) ok = (static_cast<unsigned char>(text[k + i]) & 0xC0U) == 0x80U;
-    if (!ok) refuse(path, "line " + std::to_string(line) + ": bytes that are not UTF-8 text (a URDF is XML in UTF-8)");
+    const std::size_t len = io::utf8_sequence_length(text, k);
+    if (len == 0) refuse(path, "line " + std::to_string(line) + ": bytes that are not UTF-8 text (a URDF is XML in UTF-8)");
     k += len;
   }
 }
