@@ -7,6 +7,7 @@
 #include <fstream>
 #include <set>
 
+#include "../common/expect_refused.hpp"
 #include "eval/calibration_region.hpp"
 #include "eval/pipeline.hpp"
 #include "motion/calibration_motion.hpp"
@@ -35,14 +36,7 @@ TEST(CalibrationRegionJson, RoundTripReorderedAndRefusals) {
   EXPECT_DOUBLE_EQ(back.ddq_max[2], 21.0);
   EXPECT_DOUBLE_EQ(back.stop_gain[0], 0.09);
   auto refuse = [&](const std::string& text, const std::string& needle) {
-    { std::ofstream(path) << text; }
-    try {
-      (void)eval::read_threshold_json(path);
-      ADD_FAILURE() << "accepted: " << text;
-    } catch (const std::exception& e) {
-      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
-      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
-    }
+    jg::test::expect_refused(path, text, needle, [](const std::string& p) { (void)eval::read_threshold_json(p); });
   };
   const std::string ok_region = R"("region": {"q_min": 0, "q_max": 1, "dq_max": 1, "ddq_max": 1})";
   refuse(R"({"joints": [{"threshold": 1, )" + ok_region + R"(}, {"threshold": 1}]})", "some joints only");

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fstream>
 
+#include "../common/expect_refused.hpp"
 #include "eval/distributed_estimator.hpp"
 #include "eval/experiments.hpp"
 #include "models/paper_friction.hpp"
@@ -81,14 +82,7 @@ TEST(HoldingThresholdJson, RoundTripAndRefusals) {
   EXPECT_DOUBLE_EQ(back.hold_settle_s, 0.2);
   EXPECT_DOUBLE_EQ(back.hold_reference_s, t.hold_reference_s);
   auto refuse = [&](const std::string& text, const std::string& needle) {
-    { std::ofstream(path) << text; }
-    try {
-      (void)eval::read_threshold_json(path);
-      ADD_FAILURE() << "accepted: " << text;
-    } catch (const std::exception& e) {
-      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
-      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
-    }
+    jg::test::expect_refused(path, text, needle, [](const std::string& p) { (void)eval::read_threshold_json(p); });
   };
   refuse(R"({"joints": [{"threshold": 1, "hold_change_threshold": -1}]})", "hold_change_threshold");
   refuse(R"({"joints": [{"threshold": 1, "hold_change_threshold": 1}, {"threshold": 1}]})", "some joints only");
