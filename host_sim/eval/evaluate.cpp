@@ -109,12 +109,28 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
   AlignedEstimate aligned(n, d.observer_gain_per_s, dt);
   const int aligned_cycles = aligned.enabled() ? std::max(0, d.isolation_aligned_cycles) : 0;
   const double decision_after_s = std::max(d.isolation_window_s, aligned_cycles * dt);
+  // A joint at standstill holds whatever friction it came to rest with (anywhere within
+  // +-tau_s): its estimate's level says nothing of a contact, its change does. Per joint:
+  // cycles at standstill in a row and a slow baseline of the estimate (50 ms).
+  constexpr double kStandstillSpeed = 0.02, kStandstillS = 0.005, kBaselineS = 0.05;
+  const bool standstill_change = d.isolation_standstill_change;
+  std::vector<int> still_cycles(n, 0);
+  std::vector<double> baseline(n, 0.0), baseline_at_detection(n, 0.0);
+  bool baseline_started = false;
+  const double baseline_gain = std::min(1.0, dt / kBaselineS);
   sim::JointVector contact_tau(static_cast<Eigen::Index>(n)), contact_threshold(static_cast<Eigen::Index>(n));
   const sim::ControlOverride hook = [&](const sim::CycleContext& ctx) -> std::optional<sim::JointVector> {
     const sim::Measurement& m = *ctx.measurement;
     const JointMask holding = sim::holding_mask(*ctx.reference);
     estimate(estimator, m, holding, started, mu);
     aligned.step(m.tau_m);
+    if (!out.t_detected) baseline_at_detection = baseline;  // the baseline before this cycle's estimate
+    for (std::size_t j = 0; j < n; ++j) {
+      const auto i = static_cast<Eigen::Index>(j);
+      still_cycles[j] = std::fabs(m.dq(i)) <= kStandstillSpeed ? still_cycles[j] + 1 : 0;
+      baseline[j] = baseline_started ? baseline[j] + baseline_gain * (mu(i) - baseline[j]) : mu(i);
+    }
+    baseline_started = true;
     if (!reacting && d.reaction == Reaction::retreat) {
       if (path.size() == path_capacity) path.erase(path.begin());
       path.push_back(m.q);
@@ -216,9 +232,10 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       // change threshold, about the largest collision-free change (1.5x it + 0.2 N·m).
       for (std::size_t j = 0; j < n; ++j) {
         const double value = mu(static_cast<Eigen::Index>(j)) + (use_aligned ? aligned.correction(j) : 0.0);
+        const bool still = standstill_change && still_cycles[j] * dt >= kStandstillS - 1e-9;
         const bool part = hold_states[j].armed
                               ? hold_deviation(hold_states[j], value) > kHeldSignatureFraction * hold_detector[j].change_threshold
-                              : std::fabs(value) > isolation_fraction * d.threshold[j];
+                              : std::fabs(still ? value - baseline_at_detection[j] : value) > isolation_fraction * d.threshold[j];
         if (part) signature |= static_cast<JointMask>(1U << j);
       }
       window_signature |= signature;

@@ -27,6 +27,10 @@ struct DetectionConfig {
   /// step is not read as a contact) joins the signature; 0: the detection cycle alone.
   int isolation_aligned_cycles = 1;
   double observer_gain_per_s = 0.0;     ///< first-order observer gain K [1/s] (0: no aligned estimate)
+  /// A joint at standstill (|dq| <= 0.02 rad/s for 5 ms) whose holding detector is not armed
+  /// takes part in the signature by its change from a 50 ms baseline of its estimate, not by
+  /// its level (the friction it came to rest with); false: by its level (the former rule).
+  bool isolation_standstill_change = true;
   int debounce_cycles = 1;
   /// Change detection while a joint's controller holds (hold_detector.hpp): threshold per
   /// joint [N·m] (empty or 0: off), settle and reference windows [s].

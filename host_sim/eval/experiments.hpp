@@ -44,6 +44,7 @@ struct ExperimentConfig {
   bool residual_detector = true;
   double isolation_window_s = 0.0;  ///< DetectionConfig::isolation_window_s
   int isolation_aligned_cycles = 1;  ///< DetectionConfig::isolation_aligned_cycles
+  bool isolation_standstill_change = true;  ///< DetectionConfig::isolation_standstill_change
   /// The false-alarm run's motion includes holds (make_random_moves_with_holds).
   bool free_run_holds = true;
   /// Campaign and paper runs: the other firmware scalar ("float" or "q"; empty: none) runs
