@@ -22,10 +22,12 @@ struct DetectionConfig {
   double low_speed_width = 0.03;        ///< [rad/s]
   double isolation_fraction = 0.3;      ///< joints above this share of their threshold join the signature
   double isolation_window_s = 0.0;      ///< the signature gathered over this long from the detection [s]
-  /// Cycles after the detection whose aligned estimate (aligned_estimate.hpp: the motor
-  /// torque paired with the momentum difference it belongs to, so the reaction's own torque
-  /// step is not read as a contact) joins the signature; 0: the detection cycle alone.
-  int isolation_aligned_cycles = 1;
+  /// The cycles up to this long after the detection [s] whose aligned estimate
+  /// (aligned_estimate.hpp: the motor torque paired with the momentum difference it belongs
+  /// to, so the reaction's own torque step is not read as a contact) joins the signature;
+  /// 0: the detection cycle alone. One cycle at 1 kHz; none at 125 Hz, whose next cycle comes
+  /// 8 ms into the stop, when the friction the stop sweeps through dominates.
+  double isolation_aligned_s = 0.001;
   double observer_gain_per_s = 0.0;     ///< first-order observer gain K [1/s] (0: no aligned estimate)
   /// A joint at standstill (|dq| <= 0.02 rad/s for 5 ms) whose holding detector is not armed
   /// takes part in the signature by its change from a 50 ms baseline of its estimate, not by

@@ -81,7 +81,7 @@ DetectionConfig detection_for(const ExperimentConfig& c) {
   d.debounce_cycles = c.debounce_cycles;
   d.hold_threshold = c.hold_threshold;
   d.isolation_window_s = c.isolation_window_s;
-  d.isolation_aligned_cycles = c.isolation_aligned_cycles;
+  d.isolation_aligned_s = c.isolation_aligned_s;
   d.isolation_standstill_change = c.isolation_standstill_change;
   d.observer_gain_per_s = c.gains.kind == ObserverKind::first_order ? c.gains.k1 : 0.0;
   d.hold_settle_s = c.hold_settle_s;

@@ -43,7 +43,7 @@ struct ExperimentConfig {
   double residual_time_constant_s = 0.05;
   bool residual_detector = true;
   double isolation_window_s = 0.0;  ///< DetectionConfig::isolation_window_s
-  int isolation_aligned_cycles = 1;  ///< DetectionConfig::isolation_aligned_cycles
+  double isolation_aligned_s = 0.001;  ///< DetectionConfig::isolation_aligned_s
   bool isolation_standstill_change = true;  ///< DetectionConfig::isolation_standstill_change
   /// The false-alarm run's motion includes holds (make_random_moves_with_holds).
   bool free_run_holds = true;
