@@ -208,10 +208,12 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       for (auto& st : states) reset_detector(st);
       now = 0;
     } else if ((now != 0 && !out.t_detected) || (out.t_detected && ctx.t <= *out.t_detected + decision_after_s + 1e-9)) {
-      // Isolation from the signature at the detection cycle itself (isolation_window_s 0:
-      // joints crossing later mostly see the reaction's own transients, not the contact),
-      // or from every joint that takes part over a short window from it (a contact's own
-      // joint may lag a joint below it by a few cycles).
+      // Isolation from the signature at the detection cycle and the aligned cycles after it
+      // (isolation_aligned_s: the estimate with the reaction's torque step paired with the
+      // motion it causes; later cycles mostly see the stop's friction sweep, not the
+      // contact), or from every joint that takes part over a short window from it
+      // (isolation_window_s; a contact's own joint may lag a joint below it by a few cycles).
+      // The reaction is commanded at the detection cycle with that cycle's signature.
       if (!out.t_detected) {
         out.t_detected = ctx.t;
         out.detected_by_hold = by_band == 0 && by_residual == 0;
