@@ -26,6 +26,8 @@ struct EvaluateOptions {
   std::string scenario = "paper", model = JG_DEFAULT_MODEL, json, scalar = "float", reaction = "stop";
   double rate = 1000.0, margin = 0.5, free_run_s = 0.0, calibration_s = 3600.0, hold_calibration_s = 1200.0;
   double hold_settle_s = 0.15, isolation_window_s = 0.0;
+  double isolation_aligned_s = 0.001;
+  bool isolation_standstill_level = false;
   bool no_hold = false, free_run_without_holds = false, no_residual = false;
   double residual_time_constant_s = 0.05;
   double contact_before_s = 0.005, contact_after_s = 0.020;
@@ -197,6 +199,13 @@ Command add_evaluate(CLI::App& app) {
   cmd->add_option("--isolation-window", o->isolation_window_s,
                   "Name the link from every joint taking part in the signature over this long from the detection [s] (0: the detection cycle)")
       ->capture_default_str()->check(CLI::Range(0.0, 0.1));
+  cmd->add_option("--isolation-aligned", o->isolation_aligned_s,
+                  "The cycles up to this long after the detection [s] whose estimate, with the motor torque aligned to its "
+                  "momentum difference (the reaction's torque step taken out), joins the signature (0: the detection cycle alone)")
+      ->capture_default_str()->check(CLI::Range(0.0, 0.1));
+  cmd->add_flag("--isolation-standstill-level", o->isolation_standstill_level,
+                "A joint at standstill joins the signature by the level of its estimate (the former rule) instead of its "
+                "change from a 50 ms baseline (the level there is mostly the friction it came to rest with)");
   cmd->add_option("--contact-window-before", o->contact_before_s,
                   "Contact estimate: torque estimates kept from before the detection [s]")
       ->capture_default_str()->check(CLI::Range(0.0, 0.1));
@@ -252,6 +261,8 @@ Command add_evaluate(CLI::App& app) {
             c.hold_calibration_s = o->no_hold ? 0.0 : o->hold_calibration_s;
             c.hold_settle_s = o->hold_settle_s;
             c.isolation_window_s = o->isolation_window_s;
+            c.isolation_aligned_s = o->isolation_aligned_s;
+            c.isolation_standstill_change = !o->isolation_standstill_level;
             c.contact_before_s = o->contact_before_s;
             c.contact_after_s = o->contact_after_s;
             c.free_run_holds = !o->free_run_without_holds;
@@ -323,7 +334,8 @@ Command add_evaluate(CLI::App& app) {
                           {"observer", to_string(c.gains.kind)}, {"gains", {c.gains.k1, c.gains.k2, c.gains.k3}},
                           {"hold_change_threshold", c.hold_threshold}, {"hold_settle_s", c.hold_settle_s},
                           {"hold_reference_s", c.hold_reference_s}, {"hold_calibration_s", c.hold_calibration_s},
-                          {"isolation_window_s", c.isolation_window_s}, {"false_alarm_run_with_holds", c.free_run_holds},
+                          {"isolation_window_s", c.isolation_window_s}, {"isolation_aligned_s", c.isolation_aligned_s},
+                          {"isolation_standstill_change", c.isolation_standstill_change}, {"false_alarm_run_with_holds", c.free_run_holds},
                           {"compare_scalar", c.compare_scalar}, {"residual_change_threshold", c.residual_threshold},
                           {"residual_time_constant_s", c.residual_time_constant_s},
                           {"contact_window_before_s", c.contact_before_s}, {"contact_window_after_s", c.contact_after_s}};

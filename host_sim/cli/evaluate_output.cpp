@@ -62,7 +62,8 @@ nlohmann::json run_json(const eval::RunResult& r) {
                    {"link_isolated", r.link_isolated}, {"peak_force", r.peak_force_n},
                    {"max_true_torque_over_threshold", r.max_true_ratio},
                    {"max_true_torque_over_moving_threshold", r.max_true_ratio_moving},
-                   {"isolable", r.isolable}, {"link_first_cycle", r.link_first_cycle}, {"detected_by_hold", r.detected_by_hold},
+                   {"isolable", r.isolable}, {"isolable_at_decision", r.isolable_at_decision},
+                   {"link_first_cycle", r.link_first_cycle}, {"detected_by_hold", r.detected_by_hold},
                    {"peak_true_torque_held", r.peak_true_torque_held}, {"held_push", r.held_push_nm}};
   // Contract fields: the true contact force (peak over the run, N) and the estimate's force
   // magnitude (at the end of the estimate's window, N; null: no estimate). The estimate
@@ -103,6 +104,7 @@ eval::RunResult run_from_json(const nlohmann::json& j) {
   r.max_true_ratio = j.at("max_true_torque_over_threshold").get<double>();
   r.max_true_ratio_moving = j.at("max_true_torque_over_moving_threshold").get<double>();
   r.isolable = j.at("isolable").get<bool>();
+  r.isolable_at_decision = j.value("isolable_at_decision", false);
   r.link_first_cycle = j.at("link_first_cycle").get<int>();
   r.detected_by_hold = j.at("detected_by_hold").get<bool>();
   r.peak_true_torque_held = j.at("peak_true_torque_held").get<double>();
@@ -160,6 +162,9 @@ nlohmann::json evaluate_json(const EvaluateFigures& f) {
             {"isolation_ceiling", sum.isolable / n},
             {"isolable", sum.isolable},
             {"isolated_of_isolable", sum.isolated_of_isolable},
+            {"isolation_ceiling_at_decision", sum.isolable_at_decision / n},
+            {"isolable_at_decision", sum.isolable_at_decision},
+            {"isolated_of_isolable_at_decision", sum.isolated_of_isolable_at_decision},
             {"detected_by_hold", sum.detected_by_hold},
             {"detected_by_residual", sum.detected_by_residual},
             {"held_smallest_detected", held_smallest(f.runs)},
@@ -212,6 +217,9 @@ void print_figures(const EvaluateFigures& f) {
   std::printf("isolable (the true torques name the link: the highest joint over its moving threshold): %d/%d; "
               "isolated of those %d/%d; detections first seen by the holding detector %d\n",
               sum.isolable, sum.runs, sum.isolated_of_isolable, sum.isolable, sum.detected_by_hold);
+  std::printf("isolable at decision time (the same from the cycles up to the isolation decision only): %d/%d; "
+              "isolated of those %d/%d\n",
+              sum.isolable_at_decision, sum.runs, sum.isolated_of_isolable_at_decision, sum.isolable_at_decision);
   if (sum.runs > 0) {
     std::printf("touched (the contact exerted any force): %d/%d, "
                 "detected %d/%d; touched with a true torque below the moving threshold on every joint: %d\n",

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "eval/aligned_estimate.hpp"
 #include "identification/lugre_batch.hpp"
 #include "jointguard/node/joint_reaction.hpp"
 
@@ -105,11 +106,31 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
   std::vector<HoldChangeState<double>> other_hold_states(n);
   const DebounceSettings debounce{static_cast<std::uint8_t>(d.debounce_cycles)};
   ContactWindow contact(d.contact, dt);
+  AlignedEstimate aligned(n, d.observer_gain_per_s, dt);
+  const int aligned_cycles = aligned.enabled() ? static_cast<int>(std::floor(std::max(0.0, d.isolation_aligned_s) / dt + 1e-9)) : 0;
+  const double decision_after_s = std::max(d.isolation_window_s, aligned_cycles * dt);
+  // A joint at standstill holds whatever friction it came to rest with (anywhere within
+  // +-tau_s): its estimate's level says nothing of a contact, its change does. Per joint:
+  // cycles at standstill in a row and a slow baseline of the estimate (50 ms).
+  constexpr double kStandstillSpeed = 0.02, kStandstillS = 0.005, kBaselineS = 0.05;
+  const bool standstill_change = d.isolation_standstill_change;
+  std::vector<int> still_cycles(n, 0);
+  std::vector<double> baseline(n, 0.0), baseline_at_detection(n, 0.0);
+  bool baseline_started = false;
+  const double baseline_gain = std::min(1.0, dt / kBaselineS);
   sim::JointVector contact_tau(static_cast<Eigen::Index>(n)), contact_threshold(static_cast<Eigen::Index>(n));
   const sim::ControlOverride hook = [&](const sim::CycleContext& ctx) -> std::optional<sim::JointVector> {
     const sim::Measurement& m = *ctx.measurement;
     const JointMask holding = sim::holding_mask(*ctx.reference);
     estimate(estimator, m, holding, started, mu);
+    aligned.step(m.tau_m);
+    if (!out.t_detected) baseline_at_detection = baseline;  // the baseline before this cycle's estimate
+    for (std::size_t j = 0; j < n; ++j) {
+      const auto i = static_cast<Eigen::Index>(j);
+      still_cycles[j] = std::fabs(m.dq(i)) <= kStandstillSpeed ? still_cycles[j] + 1 : 0;
+      baseline[j] = baseline_started ? baseline[j] + baseline_gain * (mu(i) - baseline[j]) : mu(i);
+    }
+    baseline_started = true;
     if (!reacting && d.reaction == Reaction::retreat) {
       if (path.size() == path_capacity) path.erase(path.begin());
       path.push_back(m.q);
@@ -186,12 +207,13 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       last_alarm_t = ctx.t;
       for (auto& st : states) reset_detector(st);
       now = 0;
-    } else if ((now != 0 && !out.t_detected) ||
-               (out.t_detected && ctx.t <= *out.t_detected + d.isolation_window_s + 1e-9)) {
-      // Isolation from the signature at the detection cycle itself (isolation_window_s 0:
-      // joints crossing later mostly see the reaction's own transients, not the contact),
-      // or from every joint that takes part over a short window from it (a contact's own
-      // joint may lag a joint below it by a few cycles).
+    } else if ((now != 0 && !out.t_detected) || (out.t_detected && ctx.t <= *out.t_detected + decision_after_s + 1e-9)) {
+      // Isolation from the signature at the detection cycle and the aligned cycles after it
+      // (isolation_aligned_s: the estimate with the reaction's torque step paired with the
+      // motion it causes; later cycles mostly see the stop's friction sweep, not the
+      // contact), or from every joint that takes part over a short window from it
+      // (isolation_window_s; a contact's own joint may lag a joint below it by a few cycles).
+      // The reaction is commanded at the detection cycle with that cycle's signature.
       if (!out.t_detected) {
         out.t_detected = ctx.t;
         out.detected_by_hold = by_band == 0 && by_residual == 0;
@@ -201,15 +223,26 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       // Signature with a lower bar than detection: a joint takes part when its estimate is
       // above 30 % of its threshold (about its collision-free band), so a contact whose own
       // joint sees less torque than a joint below it is still named by its own joint.
-      JointMask signature = now;
+      // The first aligned_cycles after the detection: the aligned estimate, with the
+      // reaction's torque step paired with the motion it causes (aligned_estimate.hpp);
+      // the detector's flags there see the unaligned estimate, so they do not join.
+      const bool after = ctx.t > *out.t_detected + 1e-9;
+      const bool use_aligned = after && ctx.t <= *out.t_detected + aligned_cycles * dt + 1e-9;
+      JointMask signature = use_aligned ? JointMask{0} : now;
       // A joint whose holding detector is armed takes part by its change since arrival
       // (|mu| there is mostly the friction it holds): over kHeldSignatureFraction of its
       // change threshold, about the largest collision-free change (1.5x it + 0.2 N·m).
       for (std::size_t j = 0; j < n; ++j) {
-        const double value = mu(static_cast<Eigen::Index>(j));
+        const double value = mu(static_cast<Eigen::Index>(j)) + (use_aligned ? aligned.correction(j) : 0.0);
+        const bool still = standstill_change && still_cycles[j] * dt >= kStandstillS - 1e-9;
+        // A joint held by static friction takes the reaction's torque step in its friction,
+        // not in its motion: its estimate moves by the step, aligned or not (the paper's waist
+        // collision, on an arm at rest: the elbow's estimate by 0.7 N·m). It takes part from
+        // the detection cycle only.
+        if (use_aligned && still) continue;
         const bool part = hold_states[j].armed
                               ? hold_deviation(hold_states[j], value) > kHeldSignatureFraction * hold_detector[j].change_threshold
-                              : std::fabs(value) > isolation_fraction * d.threshold[j];
+                              : std::fabs(still ? value - baseline_at_detection[j] : value) > isolation_fraction * d.threshold[j];
         if (part) signature |= static_cast<JointMask>(1U << j);
       }
       window_signature |= signature;
@@ -308,7 +341,11 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
     }
     // Isolable: at some cycle of the run the true torques name the collided link (the
     // highest joint over its noise band, the moving threshold, is the collided link's).
-    if (highest_clear != 0 && highest_clear == out.link_true) out.isolable = true;
+    if (highest_clear != 0 && highest_clear == out.link_true) {
+      out.isolable = true;
+      // Up to the decision (the detection cycle plus the cycles the decision waits for).
+      if (!out.t_detected || rec.t[k] <= *out.t_detected + decision_after_s + 1e-9) out.isolable_at_decision = true;
+    }
   }
   out.peak_force_n = r.peak_contact_force_n;
   if (!setup.collisions.empty()) contact.set_truth(nominal, setup.collisions.front(), r.contact_force_n, rec.tau_ext);

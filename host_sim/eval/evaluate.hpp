@@ -22,6 +22,17 @@ struct DetectionConfig {
   double low_speed_width = 0.03;        ///< [rad/s]
   double isolation_fraction = 0.3;      ///< joints above this share of their threshold join the signature
   double isolation_window_s = 0.0;      ///< the signature gathered over this long from the detection [s]
+  /// The cycles up to this long after the detection [s] whose aligned estimate
+  /// (aligned_estimate.hpp: the motor torque paired with the momentum difference it belongs
+  /// to, so the reaction's own torque step is not read as a contact) joins the signature;
+  /// 0: the detection cycle alone. One cycle at 1 kHz; none at 125 Hz, whose next cycle comes
+  /// 8 ms into the stop, when the friction the stop sweeps through dominates.
+  double isolation_aligned_s = 0.001;
+  double observer_gain_per_s = 0.0;     ///< first-order observer gain K [1/s] (0: no aligned estimate)
+  /// A joint at standstill (|dq| <= 0.02 rad/s for 5 ms) whose holding detector is not armed
+  /// takes part in the signature by its change from a 50 ms baseline of its estimate, not by
+  /// its level (the friction it came to rest with); false: by its level (the former rule).
+  bool isolation_standstill_change = true;
   int debounce_cycles = 1;
   /// Change detection while a joint's controller holds (hold_detector.hpp): threshold per
   /// joint [N·m] (empty or 0: off), settle and reference windows [s].
@@ -70,6 +81,10 @@ struct RunResult {
   /// The collided link is nameable at all: the highest joint whose true |tau_ext| clears
   /// its band (the threshold in effect) at some cycle of the contact is the collided link.
   bool isolable = false;
+  /// The same from the cycles up to the isolation decision only (the detection plus the
+  /// cycles the decision waits for; the whole run when nothing was detected): the ceiling
+  /// of what the information at decision time can name. A subset of `isolable`.
+  bool isolable_at_decision = false;
   double held_push_nm = 0.0;               ///< held_push: the torque the push puts on its own joint [N·m]
   double peak_true_torque_held = 0.0;      ///< max true |tau_ext| on a joint while its controller held [N·m]
   /// Where the true torque peaks against the moving threshold: the joint (1-based, 0 when no

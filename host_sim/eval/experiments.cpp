@@ -81,6 +81,9 @@ DetectionConfig detection_for(const ExperimentConfig& c) {
   d.debounce_cycles = c.debounce_cycles;
   d.hold_threshold = c.hold_threshold;
   d.isolation_window_s = c.isolation_window_s;
+  d.isolation_aligned_s = c.isolation_aligned_s;
+  d.isolation_standstill_change = c.isolation_standstill_change;
+  d.observer_gain_per_s = c.gains.kind == ObserverKind::first_order ? c.gains.k1 : 0.0;
   d.hold_settle_s = c.hold_settle_s;
   d.hold_reference_s = c.hold_reference_s;
   d.residual_threshold = c.residual_threshold;
@@ -108,6 +111,8 @@ Summary summarize(const std::vector<RunResult>& runs) {
     s.isolated += r.link_isolated == r.link_true ? 1 : 0;
     s.isolable += r.isolable ? 1 : 0;
     s.isolated_of_isolable += r.isolable && r.link_isolated == r.link_true ? 1 : 0;
+    s.isolable_at_decision += r.isolable_at_decision ? 1 : 0;
+    s.isolated_of_isolable_at_decision += r.isolable_at_decision && r.link_isolated == r.link_true ? 1 : 0;
     s.detected_by_hold += r.t_detected && r.detected_by_hold ? 1 : 0;
     s.detected_by_residual += r.t_detected && r.detected_by_residual ? 1 : 0;
     if (r.contact) {

@@ -43,6 +43,8 @@ struct ExperimentConfig {
   double residual_time_constant_s = 0.05;
   bool residual_detector = true;
   double isolation_window_s = 0.0;  ///< DetectionConfig::isolation_window_s
+  double isolation_aligned_s = 0.001;  ///< DetectionConfig::isolation_aligned_s
+  bool isolation_standstill_change = true;  ///< DetectionConfig::isolation_standstill_change
   /// The false-alarm run's motion includes holds (make_random_moves_with_holds).
   bool free_run_holds = true;
   /// Campaign and paper runs: the other firmware scalar ("float" or "q"; empty: none) runs
@@ -142,6 +144,8 @@ struct Summary {
   /// Runs whose true torques make the collided link nameable (RunResult::isolable), and how
   /// many of those were isolated.
   int isolable = 0, isolated_of_isolable = 0;
+  /// The same against the ceiling at decision time (RunResult::isolable_at_decision).
+  int isolable_at_decision = 0, isolated_of_isolable_at_decision = 0;
   /// Detections whose first cycle over came from the holding detector alone.
   int detected_by_hold = 0;
   /// Detections whose first cycle over came from the residual detector, not the band.
