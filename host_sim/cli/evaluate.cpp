@@ -30,7 +30,7 @@ struct EvaluateOptions {
   double residual_time_constant_s = 0.05;
   double contact_before_s = 0.005, contact_after_s = 0.020;
   bool surface_contacts = false, surface_prior = false, point_over_contact = false, observed_force = false;
-  double contact_force_after_s = 0.0;
+  double contact_force_after_s = 0.0, contact_prior_friction = 0.5;
   int count = 50, debounce = 1, jobs = 0;
   double speed = 0.8;
   bool sweep = false;
@@ -211,6 +211,9 @@ Command add_evaluate(CLI::App& app) {
   cmd->add_flag("--contact-surface-prior", o->surface_prior,
                 "Contact estimate: the force prior of a surface contact (across the link, within the friction cone) and the "
                 "point reported on the link's cover");
+  cmd->add_option("--contact-prior-friction", o->contact_prior_friction,
+                  "Contact estimate with --contact-surface-prior: the friction coefficient of the cone it assumes")
+      ->capture_default_str()->check(finite_range(0.0, 2.0));
   cmd->add_option("--contact-force-after", o->contact_force_after_s,
                   "Contact estimate: the point and the force estimated this long after the detection [s] (0: with the link, "
                   "--contact-window-after)")
@@ -274,6 +277,7 @@ Command add_evaluate(CLI::App& app) {
             c.contact_surface_prior = o->surface_prior;
             c.contact_point_over_the_contact = o->point_over_contact;
             c.contact_force_after_s = o->contact_force_after_s;
+            c.contact_prior_friction = o->contact_prior_friction;
             c.contact_lag_correction = !o->observed_force;
             c.free_run_holds = !o->free_run_without_holds;
             c.residual_detector = !o->no_residual;

@@ -54,6 +54,9 @@ struct ContactEstimatorParams {
   /// whose volume term favours the points where the torques are least sensitive to the force
   /// and adds up over the weak cycles at the contact's start.
   bool profile_point_likelihood = false;
+  /// The force reported at the points' posterior mean, not averaged over the points (where
+  /// the point is spread, |F| ~ 1/s averaged over it overstates the force).
+  bool force_at_mean_point = false;
 };
 
 /// The default segments of an arm: each link's body from 10 % of its reach to its reach

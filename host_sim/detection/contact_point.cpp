@@ -18,6 +18,7 @@ Matrix jacobian_transposed(const sim::ArmDynamics& arm, const sim::JointVector& 
 struct Candidate {
   double log_evidence = 0.0;
   double log_profile = 0.0;  ///< -0.5 (weighted residual^2 + prior penalty) at the posterior mean (MAP)
+  double log_fit = 0.0;      ///< -0.5 weighted residual^2 there
   Eigen::Vector3d force_mean = Eigen::Vector3d::Zero();
   double force_trace_cov = 0.0;  ///< trace of the force's posterior covariance [N^2]
 };
@@ -36,7 +37,8 @@ Candidate candidate(const Matrix& At, const Vector& tau, const Vector& sigma, co
   c.log_evidence = -0.5 * (tau.dot(alpha) + log_det + static_cast<double>(n) * std::log(2.0 * M_PI));
   c.force_mean = AP.transpose() * alpha;
   const Vector r = (tau - At * c.force_mean).cwiseQuotient(sigma);
-  c.log_profile = -0.5 * (r.squaredNorm() + c.force_mean.dot(P.ldlt().solve(c.force_mean)));
+  c.log_fit = -0.5 * r.squaredNorm();
+  c.log_profile = c.log_fit - 0.5 * c.force_mean.dot(P.ldlt().solve(c.force_mean));
   const Matrix cov = P - AP.transpose() * llt.solve(AP);
   c.force_trace_cov = std::max(0.0, cov.trace());
   return c;
@@ -44,6 +46,15 @@ Candidate candidate(const Matrix& At, const Vector& tau, const Vector& sigma, co
 
 void check_link(const sim::ArmDynamics& arm, int link) {
   if (link < 1 || link > arm.joints()) throw std::invalid_argument("contact estimate: no link " + std::to_string(link));
+}
+
+/// The torques fix only the moment s x F on this link: J(s) = (s / s1) J(s1) over the segment
+/// (the joints' axes meet on the link's axis at s = 0, as at link 2 of the reference arm).
+bool moment_only(const sim::ArmDynamics& arm, const sim::JointVector& q, int link0, const std::vector<double>& along) {
+  const double a = along.front(), b = along.back();
+  if (!(a > 0.0) || !(b > a)) return false;
+  const Matrix Ja = jacobian_transposed(arm, q, link0, a), Jb = jacobian_transposed(arm, q, link0, b);
+  return (Jb * a - Ja * b).norm() <= 1e-9 * (Jb * a).norm();
 }
 
 int weighted_rank(const Matrix& At, const Vector& sigma) {
@@ -83,10 +94,14 @@ void add_point_evidence(PointEvidence& evidence, const sim::ArmDynamics& arm, co
   for (std::size_t i = 0; i < evidence.along_m.size(); ++i) {
     const int link = static_cast<int>(i) + 1;
     const Eigen::Matrix3d P = force_prior(arm, obs.q, link, params);
+    // Where the torques fix only s x F, the force prior's penalty would pick the point (the
+    // largest s, the smallest force): the fit alone leaves the points' prior (uniform).
+    const bool fit_only = moment_only(arm, obs.q, static_cast<int>(i), evidence.along_m[i]);
     for (std::size_t k = 0; k < evidence.along_m[i].size(); ++k) {
       const Matrix At = jacobian_transposed(arm, obs.q, static_cast<int>(i), evidence.along_m[i][k]);
       const Candidate c = candidate(At, obs.tau_nm, obs.sigma_nm, P);
-      evidence.log_evidence[i][k] += weight * (params.profile_point_likelihood ? c.log_profile : c.log_evidence);
+      const double profile = fit_only ? c.log_fit : c.log_profile;
+      evidence.log_evidence[i][k] += weight * (params.profile_point_likelihood ? profile : c.log_evidence);
     }
   }
   evidence.weight += weight;
@@ -135,7 +150,14 @@ void estimate_point_and_force(const sim::ArmDynamics& arm, const TorqueObservati
   }
   e.along_m = mean_s;
   e.along_sigma_m = std::sqrt(var_s);
+  // The force at the posterior mean point: where the point is spread over the link (the
+  // torques fix s x F), the mean of |F| ~ 1/s over the points would overstate it.
   e.force_n = mean_f;
+  if (params.force_at_mean_point) {
+    const Candidate at_mean = candidate(jacobian_transposed(arm, latest.q, e.link - 1, mean_s), latest.tau_nm, latest.sigma_nm, P);
+    e.force_n = at_mean.force_mean.norm();
+    e.force_base = at_mean.force_mean;
+  }
   e.force_sigma_n = std::sqrt(var_f);
   e.point_in_link = surface_point(arm, latest.q, e.link, mean_s, e.force_base, params.surface_radius_m);
   const sim::LinkPoses poses = arm.poses(latest.q);

@@ -94,11 +94,12 @@ DetectionConfig detection_for(const ExperimentConfig& c) {
   d.contact.observer_gain_per_s = c.gains.kind == ObserverKind::first_order ? c.gains.k1 : 0.0;
   d.contact.estimator = detection::default_contact_params(c.model.reaches());
   if (c.contact_surface_prior) {
-    d.contact.estimator.axial_prior_ratio = detection::axial_prior_ratio(sim::kSkinFriction);
+    d.contact.estimator.axial_prior_ratio = detection::axial_prior_ratio(c.contact_prior_friction);
     d.contact.estimator.surface_radius_m = sim::kSurfaceRadius;
   }
   d.contact.point_over_the_contact = c.contact_point_over_the_contact;
   d.contact.estimator.profile_point_likelihood = c.contact_point_over_the_contact;
+  d.contact.estimator.force_at_mean_point = c.contact_point_over_the_contact;
   d.contact.force_after_s = c.contact_force_after_s;
   d.contact.lag_correction = c.contact_lag_correction;
   return d;
