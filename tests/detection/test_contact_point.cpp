@@ -122,6 +122,31 @@ TEST(ContactPoint, OverTheContactThePointComesFromEveryCycle) {
   EXPECT_LT(all.along_sigma_m, one.along_sigma_m);
 }
 
+TEST(ContactPoint, OverTheContactOnLinkTwoThePointStaysAtItsPrior) {
+  // The fit alone scores link 2's points (the force prior's penalty would pick the far end):
+  // every point fits, the posterior is the segment's uniform prior, whatever the true point.
+  const Arm a;
+  ContactEstimatorParams p = a.surface;
+  p.profile_point_likelihood = true;
+  p.force_at_mean_point = true;
+  const auto& seg = p.segments[1];
+  for (const double along : {0.12, 0.34}) {
+    auto evidence = jg::detection::make_point_evidence(3, p);
+    TorqueObservation last;
+    for (int k = 0; k < 20; ++k) {
+      const auto q = posture(0.2, 0.6 + 0.003 * k, -0.8);
+      last = observe(a, q, 2, surface_force(a, q, 2, along, 0.9, 30.0 + 2.0 * k), 0.5);
+      jg::detection::add_point_evidence(evidence, a.arm, last, p, 0.15);
+    }
+    jg::detection::ContactEstimate e;
+    e.link = 2;
+    jg::detection::estimate_point_and_force(a.arm, last, p, &evidence, e);
+    EXPECT_NEAR(e.along_m, 0.5 * (seg.along_min_m + seg.along_max_m), 0.025);  // the prior's shrinkage of the force leaves a trace
+    // The force at the mean point: the moment over that point.
+    EXPECT_NEAR(e.force_n, (30.0 + 38.0) * along / e.along_m, 0.02 * (30.0 + 38.0) * along / e.along_m);
+  }
+}
+
 TEST(ContactWindowTruth, TheForceIsComparedWithTheForceTheObserverSees) {
   // An ideal first-order observer (gain K) of a contact whose force ramps: its estimate lags
   // the force by about 1/K. Without the lag correction the window's force is the observer's
