@@ -31,6 +31,8 @@ struct EvaluateOptions {
   bool no_hold = false, free_run_without_holds = false, no_residual = false;
   double residual_time_constant_s = 0.05;
   double contact_before_s = 0.005, contact_after_s = 0.020;
+  bool surface_contacts = false, surface_prior = false, point_over_contact = false, observed_force = false;
+  double contact_force_after_s = 0.0, contact_prior_friction = 0.5;
   int count = 50, debounce = 1, jobs = 0;
   double speed = 0.8;
   bool sweep = false;
@@ -212,6 +214,23 @@ Command add_evaluate(CLI::App& app) {
   cmd->add_option("--contact-window-after", o->contact_after_s,
                   "Contact estimate: the link and point decided this long after the detection [s]")
       ->capture_default_str()->check(CLI::Range(0.0, 0.2));
+  cmd->add_flag("--surface-contacts", o->surface_contacts,
+                "campaign: contacts on the links' cover (0.04 m radius) with the force within the friction cone of skin "
+                "(mu 0.5) around the inward normal, instead of a point near the axis and a direction uniform on the sphere");
+  cmd->add_flag("--contact-surface-prior", o->surface_prior,
+                "Contact estimate: the force prior of a surface contact (across the link, within the friction cone) and the "
+                "point reported on the link's cover");
+  cmd->add_option("--contact-prior-friction", o->contact_prior_friction,
+                  "Contact estimate with --contact-surface-prior: the friction coefficient of the cone it assumes")
+      ->capture_default_str()->check(finite_range(0.0, 2.0));
+  cmd->add_option("--contact-force-after", o->contact_force_after_s,
+                  "Contact estimate: the point and the force estimated this long after the detection [s] (0: with the link, "
+                  "--contact-window-after)")
+      ->capture_default_str()->check(CLI::Range(0.0, 0.2));
+  cmd->add_flag("--contact-observed-force", o->observed_force,
+                "Contact estimate: the force as the observer sees it (no extrapolation over its lag)");
+  cmd->add_flag("--contact-point-over-contact", o->point_over_contact,
+                "Contact estimate: the point along the link from every clean cycle of the contact, not the decision's window");
   cmd->add_flag("--no-hold", o->no_hold, "Band detector alone (no change detection while a joint holds)");
   cmd->add_flag("--no-residual", o->no_residual, "No change detection against the estimate's slow baseline while moving");
   cmd->add_option("--residual-time-constant", o->residual_time_constant_s,
@@ -265,6 +284,12 @@ Command add_evaluate(CLI::App& app) {
             c.isolation_standstill_change = !o->isolation_standstill_level;
             c.contact_before_s = o->contact_before_s;
             c.contact_after_s = o->contact_after_s;
+            c.campaign_surface_contacts = o->surface_contacts;
+            c.contact_surface_prior = o->surface_prior;
+            c.contact_point_over_the_contact = o->point_over_contact;
+            c.contact_force_after_s = o->contact_force_after_s;
+            c.contact_prior_friction = o->contact_prior_friction;
+            c.contact_lag_correction = !o->observed_force;
             c.free_run_holds = !o->free_run_without_holds;
             c.residual_detector = !o->no_residual;
             c.residual_time_constant_s = o->residual_time_constant_s;

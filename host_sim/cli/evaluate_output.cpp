@@ -26,7 +26,10 @@ nlohmann::json contact_json(const eval::ContactOutcome& c) {
           {"force_true_at_estimate", c.force_true_n}, {"along_link_true", c.along_true_m},
           {"point_error", c.point_error_m >= 0.0 ? nlohmann::json(c.point_error_m) : nlohmann::json(nullptr)},
           {"force_given_true_point", c.force_at_true_point_n}, {"peak_force", c.peak_force_n}, {"t_peak_force", c.t_peak},
-          {"torque_true", c.torque_true_nm}};
+          {"torque_true", c.torque_true_nm}, {"force_true_observed", c.force_true_observed_n}, {"t_force", c.t_force},
+          {"force_given_true_link", c.force_given_true_link_n}, {"along_link_given_true_link", c.along_given_true_link_m},
+          {"point_error_given_true_link", c.point_error_given_true_link_m >= 0.0 ? nlohmann::json(c.point_error_given_true_link_m) : nlohmann::json(nullptr)},
+          {"point_true", vector_json(c.point_true)}};
 }
 
 eval::ContactOutcome contact_from_json(const nlohmann::json& j) {
@@ -54,6 +57,14 @@ eval::ContactOutcome contact_from_json(const nlohmann::json& j) {
   c.peak_force_n = j.at("peak_force").get<double>();
   c.t_peak = j.at("t_peak_force").get<double>();
   c.torque_true_nm = j.at("torque_true").get<std::vector<double>>();
+  c.force_true_observed_n = j.value("force_true_observed", 0.0);
+  c.t_force = j.value("t_force", c.t);
+  c.force_given_true_link_n = j.value("force_given_true_link", 0.0);
+  c.along_given_true_link_m = j.value("along_link_given_true_link", 0.0);
+  if (j.contains("point_error_given_true_link") && !j.at("point_error_given_true_link").is_null()) {
+    c.point_error_given_true_link_m = j.at("point_error_given_true_link").get<double>();
+  }
+  if (j.contains("point_true")) c.point_true = vector_of(j.at("point_true"));
   return c;
 }
 
@@ -177,6 +188,10 @@ nlohmann::json evaluate_json(const EvaluateFigures& f) {
                                   {"link_right_of_isolable", sum.estimated_right_of_isolable},
                                   {"force_within_20pct", sum.force_within_20pct},
                                   {"force_within_20pct_given_true_point", sum.force_within_20pct_true_point},
+                                  {"force_within_20pct_of_observed", sum.force_within_20pct_observed},
+                                  {"force_within_20pct_of_observed_given_true_point", sum.force_within_20pct_observed_true_point},
+                                  {"force_within_20pct_of_observed_given_true_link", sum.force_within_20pct_observed_true_link},
+                                  {"point_within_5cm_given_true_link", sum.point_within_5cm_true_link},
                                   {"peak_force_within_20pct_of_true_peak", sum.peak_force_within_20pct},
                                   {"point_within_5cm", sum.point_within_5cm},
                                   {"along_link_within_5cm", sum.along_within_5cm}}},
@@ -238,6 +253,11 @@ void print_figures(const EvaluateFigures& f) {
                 sum.force_within_20pct, sum.estimated, sum.force_within_20pct_true_point, sum.estimated,
                 sum.peak_force_within_20pct, sum.estimated, sum.point_within_5cm, sum.estimated, sum.along_within_5cm,
                 sum.estimated);
+    std::printf("contact force against the true force as the observer sees it (first-order filtered with its gain): "
+                "within 20 %% %d/%d (given the true point %d/%d, given the true link %d/%d); point within 5 cm given the true "
+                "link %d/%d\n",
+                sum.force_within_20pct_observed, sum.estimated, sum.force_within_20pct_observed_true_point, sum.estimated,
+                sum.force_within_20pct_observed_true_link, sum.estimated, sum.point_within_5cm_true_link, sum.estimated);
   }
   const nlohmann::json smallest = held_smallest(f.runs);
   if (!smallest.empty()) {

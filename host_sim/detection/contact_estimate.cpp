@@ -1,5 +1,7 @@
 #include "detection/contact_estimate.hpp"
 
+#include "detection/contact_point.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -14,31 +16,6 @@ using Vector = Eigen::VectorXd;
 /// J^T of a point (s, 0, 0) on link `link` (0-based): n x 3.
 Matrix jacobian_transposed(const sim::ArmDynamics& arm, const sim::JointVector& q, int link, const Eigen::Vector3d& point) {
   return arm.point_jacobian(q, link, point).transpose();
-}
-
-/// The linear-Gaussian model at one candidate point: log evidence of tau, force posterior.
-struct Candidate {
-  double log_evidence = 0.0;
-  Eigen::Vector3d force_mean = Eigen::Vector3d::Zero();
-  double force_trace_cov = 0.0;  ///< trace of the force's posterior covariance [N^2]
-};
-
-Candidate candidate(const Matrix& At, const Vector& tau, const Vector& sigma, double prior_n) {
-  const double p2 = prior_n * prior_n;
-  const auto n = tau.size();
-  Matrix S = p2 * At * At.transpose();
-  for (Eigen::Index j = 0; j < n; ++j) S(j, j) += sigma(j) * sigma(j);
-  const Eigen::LLT<Matrix> llt(S);  // S is positive definite: sigma > 0
-  const Vector alpha = llt.solve(tau);
-  double log_det = 0.0;
-  const Matrix L = llt.matrixL();
-  for (Eigen::Index j = 0; j < n; ++j) log_det += 2.0 * std::log(L(j, j));
-  Candidate c;
-  c.log_evidence = -0.5 * (tau.dot(alpha) + log_det + static_cast<double>(n) * std::log(2.0 * M_PI));
-  c.force_mean = p2 * At.transpose() * alpha;
-  const Matrix cov = p2 * Matrix::Identity(3, 3) - p2 * p2 * At.transpose() * llt.solve(At);
-  c.force_trace_cov = std::max(0.0, cov.trace());
-  return c;
 }
 
 void check(const sim::ArmDynamics& arm, const TorqueObservation& obs) {
@@ -134,42 +111,8 @@ ContactEstimate estimate_contact(const sim::ArmDynamics& arm, const TorqueObserv
   }
   e.link = static_cast<int>(best) + 1;
   // Within the link: the posterior over the points from the latest torques (linear-Gaussian
-  // model, uniform prior along the segment), and the force there.
-  const auto& along = evidence->along_m[best];
-  std::vector<double> logs;
-  for (const double s_m : along) {
-    const Matrix At = jacobian_transposed(arm, obs.q, static_cast<int>(best), Eigen::Vector3d(s_m, 0.0, 0.0));
-    logs.push_back(candidate(At, obs.tau_nm, obs.sigma_nm, params.force_prior_n).log_evidence);
-  }
-  const double top = *std::max_element(logs.begin(), logs.end());
-  std::vector<double> w(logs.size());
-  double wsum = 0.0;
-  for (std::size_t k = 0; k < logs.size(); ++k) wsum += (w[k] = std::exp(logs[k] - top));
-  double mean_s = 0.0, mean_f = 0.0, var_s = 0.0, var_f = 0.0;
-  std::vector<Candidate> cands;
-  for (std::size_t k = 0; k < logs.size(); ++k) {
-    w[k] /= wsum;
-    const Matrix At = jacobian_transposed(arm, obs.q, static_cast<int>(best), Eigen::Vector3d(along[k], 0.0, 0.0));
-    cands.push_back(candidate(At, obs.tau_nm, obs.sigma_nm, params.force_prior_n));
-    mean_s += w[k] * along[k];
-    mean_f += w[k] * cands[k].force_mean.norm();
-    e.force_base += w[k] * cands[k].force_mean;
-  }
-  for (std::size_t k = 0; k < logs.size(); ++k) {
-    var_s += w[k] * (along[k] - mean_s) * (along[k] - mean_s);
-    var_f += w[k] * ((cands[k].force_mean.norm() - mean_f) * (cands[k].force_mean.norm() - mean_f) + cands[k].force_trace_cov);
-  }
-  e.along_m = mean_s;
-  e.along_sigma_m = std::sqrt(var_s);
-  e.force_n = mean_f;
-  e.force_sigma_n = std::sqrt(var_f);
-  e.point_in_link = Eigen::Vector3d(mean_s, 0.0, 0.0);
-  const sim::LinkPoses poses = arm.poses(obs.q);
-  e.point_base = poses.origin[best] + poses.rotation[best] * e.point_in_link;
-  const Matrix At = jacobian_transposed(arm, obs.q, static_cast<int>(best), e.point_in_link);
-  e.determined_components = rank_of(At, obs.sigma_nm);
-  const Vector r = (obs.tau_nm - At * force_at(arm, obs, e.link, e.point_in_link)).cwiseQuotient(obs.sigma_nm);
-  e.residual_chi2 = r.squaredNorm();
+  // model, uniform prior along the segment), and the force there (contact_point.hpp).
+  estimate_point_and_force(arm, obs, params, nullptr, e);
   return e;
 }
 

@@ -44,6 +44,19 @@ struct ContactEstimatorParams {
   int points_per_link = 33;           ///< grid along each segment (>= 1)
   double force_prior_n = 60.0;        ///< rms per component of the isotropic force prior [N]
   double accept_chi2_per_dof = 9.0;   ///< a link explains the torques up to this residual per dof (3 sigma)
+  /// The force prior's rms along the link's x axis over its rms across it (contact_point.hpp):
+  /// 1 isotropic (no preferred direction); a contact on the link's cover pushes across the
+  /// axis, within its friction cone: axial_prior_ratio(mu).
+  double axial_prior_ratio = 1.0;
+  double surface_radius_m = 0.0;  ///< the links' cover radius: the point reported on it (0: on the axis) [m]
+  /// Over several cycles (add_point_evidence): each cycle scores a point by its best fit (the
+  /// force's posterior mean: weighted residual and prior penalty) instead of its evidence,
+  /// whose volume term favours the points where the torques are least sensitive to the force
+  /// and adds up over the weak cycles at the contact's start.
+  bool profile_point_likelihood = false;
+  /// The force reported at the points' posterior mean, not averaged over the points (where
+  /// the point is spread, |F| ~ 1/s averaged over it overstates the force).
+  bool force_at_mean_point = false;
 };
 
 /// The default segments of an arm: each link's body from 10 % of its reach to its reach

@@ -18,7 +18,18 @@ detection::TorqueObservation ContactWindow::observe() const {
   for (const auto& s : samples_) {
     if (s.t >= from) w.push_back(s);
   }
-  return detection::summarize_window(w, config_.observer_gain_per_s);
+  return detection::summarize_window(w, config_.lag_correction ? config_.observer_gain_per_s : 0.0);
+}
+
+Eigen::Vector3d ContactWindow::force_at(const sim::ArmDynamics& arm, const detection::TorqueObservation& obs, int link,
+                                        const Eigen::Vector3d& point) const {
+  if (config_.estimator.axial_prior_ratio < 1.0) return detection::force_with_prior(arm, obs, link, point, config_.estimator);
+  return detection::force_at(arm, obs, link, point);
+}
+
+void ContactWindow::add_evidence(const sim::ArmDynamics& arm, const detection::TorqueObservation& obs, double weight) {
+  detection::accumulate(*grid_, arm, obs, weight);
+  if (config_.point_over_the_contact) detection::add_point_evidence(*points_, arm, obs, config_.estimator, weight);
 }
 
 void ContactWindow::add(const sim::ArmDynamics& arm, double t, const sim::JointVector& q, const sim::JointVector& tau_nm,
@@ -36,34 +47,47 @@ void ContactWindow::add(const sim::ArmDynamics& arm, double t, const sim::JointV
   const double weight = config_.observer_gain_per_s > 0.0 ? std::min(1.0, dt_ * config_.observer_gain_per_s) : 0.2;
   if (!grid_) {
     grid_ = detection::make_grid(arm.joints(), config_.estimator);
+    points_ = detection::make_point_evidence(arm.joints(), config_.estimator);
     for (const auto& s : samples_) {
-      if (s.t + 1e-9 >= *t_detected - config_.before_s) {
-        detection::accumulate(*grid_, arm, {s.q, s.mu_nm, s.sigma_nm}, weight);
-      }
+      if (s.t + 1e-9 >= *t_detected - config_.before_s) add_evidence(arm, {s.q, s.mu_nm, s.sigma_nm}, weight);
     }
   } else if (!outcome_) {
-    detection::accumulate(*grid_, arm, {q, tau_nm, sample.sigma_nm}, weight);
+    add_evidence(arm, {q, tau_nm, sample.sigma_nm}, weight);
+  } else if (!force_decided_ && config_.point_over_the_contact) {
+    detection::add_point_evidence(*points_, arm, {q, tau_nm, sample.sigma_nm}, config_.estimator, weight);
   }
   const detection::TorqueObservation obs = observe();
-  if (outcome_) {
+  if (outcome_ && force_decided_) {
     // Decided: follow the force at the decided point.
-    const double f = detection::force_at(arm, obs, outcome_->estimate.link, outcome_->estimate.point_in_link).norm();
+    const double f = force_at(arm, obs, outcome_->estimate.link, outcome_->estimate.point_in_link).norm();
     if (f > outcome_->peak_force_n) {
       outcome_->peak_force_n = f;
       outcome_->t_peak = t;
     }
     return;
   }
-  if (since + 1e-9 < config_.after_s) return;
-  const detection::ContactEstimate e = detection::estimate_contact(arm, obs, config_.estimator, &*grid_);
-  ContactOutcome o;
-  o.t = t;
-  o.estimate = e;
+  if (!outcome_) {
+    if (since + 1e-9 < config_.after_s) return;
+    ContactOutcome o;
+    o.t = t;
+    o.estimate = detection::estimate_contact(arm, obs, config_.estimator, &*grid_);
+    o.observation = obs;
+    o.peak_force_n = o.estimate.force_n;
+    o.t_peak = o.t_force = t;
+    decision_cycle_ = cycle_ - 1;
+    outcome_ = o;
+  }
+  if (since + 1e-9 < std::max(config_.after_s, config_.force_after_s)) return;
+  // The point and the force on the decided link.
+  ContactOutcome& o = *outcome_;
+  if (config_.point_over_the_contact) detection::estimate_point_and_force(arm, obs, config_.estimator, &*points_, o.estimate);
+  else if (t > o.t) detection::estimate_point_and_force(arm, obs, config_.estimator, nullptr, o.estimate);
+  o.t_force = t;
   o.observation = obs;
-  o.peak_force_n = e.force_n;
+  o.peak_force_n = o.estimate.force_n;
   o.t_peak = t;
   decision_cycle_ = cycle_ - 1;  // 0-based index of this cycle
-  outcome_ = o;
+  force_decided_ = true;
 }
 
 void ContactWindow::set_truth(const sim::ArmDynamics& arm, const sim::CollisionEvent& event,
@@ -74,13 +98,30 @@ void ContactWindow::set_truth(const sim::ArmDynamics& arm, const sim::CollisionE
   // The measurement of cycle k reflects the force of the interval before it (cycle k - 1).
   const long k = std::max(0L, decision_cycle_ - 1);
   if (k < static_cast<long>(contact_force_n.size())) o.force_true_n = contact_force_n[static_cast<std::size_t>(k)];
+  // The observer's first-order filter over the true force up to the decision (its output at
+  // cycle j has seen the force of the intervals before j).
+  const double K = config_.observer_gain_per_s;
+  const double keep = K > 0.0 ? std::exp(-K * dt_) : 0.0;
+  double seen = 0.0;
+  for (long j = 0; j <= k && j < static_cast<long>(contact_force_n.size()); ++j) {
+    seen = keep * seen + (1.0 - keep) * contact_force_n[static_cast<std::size_t>(j)];
+  }
+  o.force_true_observed_n = seen;
+  o.point_true = event.point_in_link;
   o.along_true_m = event.point_in_link.x();
   o.point_error_m = o.estimate.link == event.link ? (o.estimate.point_in_link - event.point_in_link).norm() : -1.0;
   for (const auto& joint : tau_ext) {
     if (static_cast<std::size_t>(decision_cycle_) < joint.size()) o.torque_true_nm.push_back(joint[static_cast<std::size_t>(decision_cycle_)]);
   }
   if (event.link >= 1 && event.link <= arm.joints()) {
-    o.force_at_true_point_n = detection::force_at(arm, o.observation, event.link, event.point_in_link).norm();
+    detection::ContactEstimate on_true = o.estimate;
+    on_true.link = event.link;
+    detection::estimate_point_and_force(arm, o.observation, config_.estimator,
+                                        config_.point_over_the_contact ? &*points_ : nullptr, on_true);
+    o.force_given_true_link_n = on_true.force_n;
+    o.along_given_true_link_m = on_true.along_m;
+    o.point_error_given_true_link_m = (on_true.point_in_link - event.point_in_link).norm();
+    o.force_at_true_point_n = force_at(arm, o.observation, event.link, event.point_in_link).norm();
   }
 }
 

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "detection/contact_estimate.hpp"
+#include "detection/contact_point.hpp"
 #include "io/recording.hpp"
 #include "plant/collision.hpp"
 
@@ -28,18 +29,36 @@ struct ContactWindowConfig {
   /// about the largest collision-free estimate: several sigma of the observer's noise).
   double noise_band_sigmas = 3.0;
   double observer_gain_per_s = 0.0;  ///< first-order observer gain for the lag correction (0: none)
+  /// The point along the decided link from every clean cycle's torques (their log evidence
+  /// summed, detection/contact_point.hpp), not from the decision's window alone.
+  bool point_over_the_contact = false;
+  /// The point and the force are estimated this long after the detection (>= after_s: the
+  /// link is decided at after_s; the force has built up and the stop's transient has passed
+  /// by then); 0: at the link's decision.
+  double force_after_s = 0.0;
+  /// The decision's torques advanced by the observer's lag (slope / K): an estimate of the
+  /// force at that instant; false: of the force as the observer sees it (force_true_observed_n).
+  bool lag_correction = true;
   detection::ContactEstimatorParams estimator;
 };
 
 /// The estimate and, where the run knows it, the truth beside it.
 struct ContactOutcome {
   double t = 0.0;  ///< the decision's cycle [s]
+  double t_force = 0.0;  ///< the point's and force's cycle [s] (ContactWindowConfig::force_after_s)
   detection::ContactEstimate estimate;
   detection::TorqueObservation observation;
   double peak_force_n = 0.0;  ///< largest force followed at the decided point after the decision [N]
   double t_peak = 0.0;        ///< its cycle [s]
   // Ground truth (simulation only):
   double force_true_n = 0.0;           ///< true contact force at the decision's cycle [N]
+  /// The true contact force as the observer sees it at the decision's cycle: first-order
+  /// filtered with the observer's gain K (its estimate of a torque is that torque so filtered) [N]
+  double force_true_observed_n = 0.0;
+  Eigen::Vector3d point_true = Eigen::Vector3d::Zero();  ///< the true point [m, link frame]
+  /// The point and the force estimated on the true link (the link decision's errors left
+  /// out): force magnitude [N], point along the link [m], 3-D point error [m].
+  double force_given_true_link_n = 0.0, along_given_true_link_m = 0.0, point_error_given_true_link_m = -1.0;
   double along_true_m = 0.0;           ///< true point's coordinate along the link's x axis [m]
   double point_error_m = -1.0;         ///< 3-D distance estimated-true point when the link is right, else -1
   double force_at_true_point_n = 0.0;  ///< |force_at| the true link and point at the decision [N]
@@ -63,9 +82,16 @@ class ContactWindow {
   ContactWindowConfig config_;
   double dt_;
   std::optional<detection::EvidenceGrid> grid_;
+  std::optional<detection::PointEvidence> points_;
+  /// The followed force at a point: minimum norm with the isotropic prior (as before the
+  /// surface prior), the prior's posterior mean otherwise.
+  Eigen::Vector3d force_at(const sim::ArmDynamics& arm, const detection::TorqueObservation& obs, int link,
+                           const Eigen::Vector3d& point) const;
+  void add_evidence(const sim::ArmDynamics& arm, const detection::TorqueObservation& obs, double weight);
   std::deque<detection::WindowSample> samples_;
   std::size_t keep_;
   long cycle_ = 0, decision_cycle_ = 0;
+  bool force_decided_ = false;
   std::optional<ContactOutcome> outcome_;
 };
 

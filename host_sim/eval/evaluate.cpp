@@ -348,7 +348,12 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
     }
   }
   out.peak_force_n = r.peak_contact_force_n;
-  if (!setup.collisions.empty()) contact.set_truth(nominal, setup.collisions.front(), r.contact_force_n, rec.tau_ext);
+  if (!setup.collisions.empty()) {
+    // The truth is the contact as it acted (a surface contact's side is resolved at its onset).
+    sim::CollisionEvent acted = setup.collisions.front();
+    if (r.first_contact.link != 0) acted.point_in_link = r.first_contact.point_in_link;
+    contact.set_truth(nominal, acted, r.contact_force_n, rec.tau_ext);
+  }
   out.contact = contact.outcome();
   out.contact_force_n = std::move(r.contact_force_n);
   if (record_trace) {

@@ -54,6 +54,15 @@ struct ExperimentConfig {
   /// The contact estimate (ContactWindowConfig): samples before the detection, the decision
   /// after it [s], noise per threshold.
   double contact_before_s = 0.005, contact_after_s = 0.020, contact_noise_band_sigmas = 3.0;
+  /// Surface contacts (docs/contact-estimate.md): the campaign draws points on the links'
+  /// cover and forces within the friction cone (sim::CampaignSpec::surface_contacts), and
+  /// the contact estimate's force prior knows the cone and reports the point on the cover.
+  bool campaign_surface_contacts = false;
+  bool contact_surface_prior = false;
+  bool contact_point_over_the_contact = false;
+  double contact_prior_friction = 0.5;  ///< the friction coefficient the surface prior assumes (sim::kSkinFriction)
+  double contact_force_after_s = 0.0;  ///< ContactWindowConfig::force_after_s
+  bool contact_lag_correction = true;  ///< ContactWindowConfig::lag_correction
 };
 
 /// The holding detector's threshold from the largest collision-free deviation seen while
@@ -172,6 +181,12 @@ struct Summary {
   int estimated = 0, estimated_link_right = 0, estimated_right_of_isolable = 0;
   int force_within_20pct = 0, force_within_20pct_true_point = 0, point_within_5cm = 0, along_within_5cm = 0;
   int peak_force_within_20pct = 0;  ///< the force followed after the decision: its peak against the run's true peak
+  /// The force within 20 % of the true force as the observer sees it (ContactOutcome::
+  /// force_true_observed_n), and the same given the true point.
+  int force_within_20pct_observed = 0, force_within_20pct_observed_true_point = 0;
+  /// On the true link (ContactOutcome::*_given_true_link): force within 20 % of the observed
+  /// truth, point within 5 cm (3-D).
+  int force_within_20pct_observed_true_link = 0, point_within_5cm_true_link = 0;
 };
 Summary summarize(const std::vector<RunResult>& runs);
 

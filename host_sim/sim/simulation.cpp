@@ -117,6 +117,7 @@ SimulationResult run_simulation(const SimulationSetup& setup, const ControlOverr
       progress(static_cast<double>(k) / static_cast<double>(cycles));
     }
   }
+  if (!setup.collisions.empty()) result.first_contact = schedule.resolved(0);
   result.simulated_s = static_cast<double>(cycles) * dt;
   result.cycles = cycles;
   return result;

@@ -53,6 +53,9 @@ struct SimulationResult {
   /// Largest contact force within each control cycle [N] (only when the setup has
   /// collisions): the force a person felt over time, for the ISO/TS 15066 assessment.
   std::vector<double> contact_force_n;
+  /// The first scheduled collision as it acted (point and direction resolved at its onset:
+  /// into_motion, surface contacts); link 0 when it never began.
+  ResolvedContact first_contact;
   double simulated_s = 0.0;
   long cycles = 0;
 };

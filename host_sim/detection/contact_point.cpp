@@ -1,0 +1,178 @@
+#include "detection/contact_point.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace jg::detection {
+namespace {
+using Matrix = Eigen::MatrixXd;
+using Vector = Eigen::VectorXd;
+
+Matrix jacobian_transposed(const sim::ArmDynamics& arm, const sim::JointVector& q, int link0, double along_m) {
+  return arm.point_jacobian(q, link0, Eigen::Vector3d(along_m, 0.0, 0.0)).transpose();
+}
+
+/// The linear-Gaussian model at one point: log evidence of tau, the force's posterior.
+struct Candidate {
+  double log_evidence = 0.0;
+  double log_profile = 0.0;  ///< -0.5 (weighted residual^2 + prior penalty) at the posterior mean (MAP)
+  double log_fit = 0.0;      ///< -0.5 weighted residual^2 there
+  Eigen::Vector3d force_mean = Eigen::Vector3d::Zero();
+  double force_trace_cov = 0.0;  ///< trace of the force's posterior covariance [N^2]
+};
+
+Candidate candidate(const Matrix& At, const Vector& tau, const Vector& sigma, const Eigen::Matrix3d& P) {
+  const auto n = tau.size();
+  const Matrix AP = At * P;  // n x 3
+  Matrix S = AP * At.transpose();
+  for (Eigen::Index j = 0; j < n; ++j) S(j, j) += sigma(j) * sigma(j);
+  const Eigen::LLT<Matrix> llt(S);  // positive definite: sigma > 0
+  const Vector alpha = llt.solve(tau);
+  double log_det = 0.0;
+  const Matrix L = llt.matrixL();
+  for (Eigen::Index j = 0; j < n; ++j) log_det += 2.0 * std::log(L(j, j));
+  Candidate c;
+  c.log_evidence = -0.5 * (tau.dot(alpha) + log_det + static_cast<double>(n) * std::log(2.0 * M_PI));
+  c.force_mean = AP.transpose() * alpha;
+  const Vector r = (tau - At * c.force_mean).cwiseQuotient(sigma);
+  c.log_fit = -0.5 * r.squaredNorm();
+  c.log_profile = c.log_fit - 0.5 * c.force_mean.dot(P.ldlt().solve(c.force_mean));
+  const Matrix cov = P - AP.transpose() * llt.solve(AP);
+  c.force_trace_cov = std::max(0.0, cov.trace());
+  return c;
+}
+
+void check_link(const sim::ArmDynamics& arm, int link) {
+  if (link < 1 || link > arm.joints()) throw std::invalid_argument("contact estimate: no link " + std::to_string(link));
+}
+
+/// The torques fix only the moment s x F on this link: J(s) = (s / s1) J(s1) over the segment
+/// (the joints' axes meet on the link's axis at s = 0, as at link 2 of the reference arm).
+bool moment_only(const sim::ArmDynamics& arm, const sim::JointVector& q, int link0, const std::vector<double>& along) {
+  const double a = along.front(), b = along.back();
+  if (!(a > 0.0) || !(b > a)) return false;
+  const Matrix Ja = jacobian_transposed(arm, q, link0, a), Jb = jacobian_transposed(arm, q, link0, b);
+  return (Jb * a - Ja * b).norm() <= 1e-9 * (Jb * a).norm();
+}
+
+int weighted_rank(const Matrix& At, const Vector& sigma) {
+  Matrix W = At;
+  for (Eigen::Index j = 0; j < W.rows(); ++j) W.row(j) /= sigma(j);
+  Eigen::JacobiSVD<Matrix> svd(W);
+  svd.setThreshold(1e-6);
+  return static_cast<int>(svd.rank());
+}
+}  // namespace
+
+double axial_prior_ratio(double friction_coefficient) {
+  const double mu = std::max(0.0, friction_coefficient);
+  return 0.5 * mu / std::sqrt(0.5 * (1.0 + 0.25 * mu * mu));
+}
+
+Eigen::Matrix3d force_prior(const sim::ArmDynamics& arm, const sim::JointVector& q, int link,
+                            const ContactEstimatorParams& params) {
+  check_link(arm, link);
+  const double across2 = params.force_prior_n * params.force_prior_n;
+  const double along2 = across2 * params.axial_prior_ratio * params.axial_prior_ratio;
+  const Eigen::Vector3d x = arm.poses(q).rotation[link - 1].col(0);
+  return across2 * (Eigen::Matrix3d::Identity() - x * x.transpose()) + along2 * x * x.transpose();
+}
+
+PointEvidence make_point_evidence(int joints, const ContactEstimatorParams& params) {
+  const EvidenceGrid g = make_grid(joints, params);
+  PointEvidence p;
+  p.along_m = g.along_m;
+  for (const auto& a : g.along_m) p.log_evidence.emplace_back(a.size(), 0.0);
+  return p;
+}
+
+void add_point_evidence(PointEvidence& evidence, const sim::ArmDynamics& arm, const TorqueObservation& obs,
+                        const ContactEstimatorParams& params, double weight) {
+  if (static_cast<int>(evidence.along_m.size()) != arm.joints()) throw std::invalid_argument("contact estimate: evidence of another arm");
+  for (std::size_t i = 0; i < evidence.along_m.size(); ++i) {
+    const int link = static_cast<int>(i) + 1;
+    const Eigen::Matrix3d P = force_prior(arm, obs.q, link, params);
+    // Where the torques fix only s x F, the force prior's penalty would pick the point (the
+    // largest s, the smallest force): the fit alone leaves the points' prior (uniform).
+    const bool fit_only = moment_only(arm, obs.q, static_cast<int>(i), evidence.along_m[i]);
+    for (std::size_t k = 0; k < evidence.along_m[i].size(); ++k) {
+      const Matrix At = jacobian_transposed(arm, obs.q, static_cast<int>(i), evidence.along_m[i][k]);
+      const Candidate c = candidate(At, obs.tau_nm, obs.sigma_nm, P);
+      const double profile = fit_only ? c.log_fit : c.log_profile;
+      evidence.log_evidence[i][k] += weight * (params.profile_point_likelihood ? profile : c.log_evidence);
+    }
+  }
+  evidence.weight += weight;
+}
+
+Eigen::Vector3d surface_point(const sim::ArmDynamics& arm, const sim::JointVector& q, int link, double along_m,
+                              const Eigen::Vector3d& force_base, double radius_m) {
+  check_link(arm, link);
+  Eigen::Vector3d f = arm.poses(q).rotation[link - 1].transpose() * force_base;  // link frame
+  f.x() = 0.0;
+  const Eigen::Vector3d axis_point(along_m, 0.0, 0.0);
+  if (!(radius_m > 0.0) || !(f.norm() > 1e-9)) return axis_point;
+  return axis_point - radius_m * f.normalized();
+}
+
+void estimate_point_and_force(const sim::ArmDynamics& arm, const TorqueObservation& latest,
+                              const ContactEstimatorParams& params, const PointEvidence* evidence, ContactEstimate& e) {
+  check_link(arm, e.link);
+  const auto i = static_cast<std::size_t>(e.link - 1);
+  const bool summed = evidence != nullptr && evidence->weight > 0.0;
+  const std::vector<double> along = summed ? evidence->along_m.at(i) : make_grid(arm.joints(), params).along_m.at(i);
+  const Eigen::Matrix3d P = force_prior(arm, latest.q, e.link, params);
+  std::vector<Candidate> cands;
+  std::vector<double> logs;
+  for (std::size_t k = 0; k < along.size(); ++k) {
+    cands.push_back(candidate(jacobian_transposed(arm, latest.q, e.link - 1, along[k]), latest.tau_nm, latest.sigma_nm, P));
+    logs.push_back(summed ? evidence->log_evidence[i][k] : cands.back().log_evidence);
+  }
+  const double top = *std::max_element(logs.begin(), logs.end());
+  std::vector<double> w(logs.size());
+  double wsum = 0.0;
+  for (std::size_t k = 0; k < logs.size(); ++k) wsum += (w[k] = std::exp(logs[k] - top));
+  double mean_s = 0.0, mean_f = 0.0;
+  e.force_base = Eigen::Vector3d::Zero();
+  for (std::size_t k = 0; k < logs.size(); ++k) {
+    w[k] /= wsum;
+    mean_s += w[k] * along[k];
+    mean_f += w[k] * cands[k].force_mean.norm();
+    e.force_base += w[k] * cands[k].force_mean;
+  }
+  double var_s = 0.0, var_f = 0.0;
+  for (std::size_t k = 0; k < logs.size(); ++k) {
+    var_s += w[k] * (along[k] - mean_s) * (along[k] - mean_s);
+    const double df = cands[k].force_mean.norm() - mean_f;
+    var_f += w[k] * (df * df + cands[k].force_trace_cov);
+  }
+  e.along_m = mean_s;
+  e.along_sigma_m = std::sqrt(var_s);
+  // The force at the posterior mean point: where the point is spread over the link (the
+  // torques fix s x F), the mean of |F| ~ 1/s over the points would overstate it.
+  e.force_n = mean_f;
+  if (params.force_at_mean_point) {
+    const Candidate at_mean = candidate(jacobian_transposed(arm, latest.q, e.link - 1, mean_s), latest.tau_nm, latest.sigma_nm, P);
+    e.force_n = at_mean.force_mean.norm();
+    e.force_base = at_mean.force_mean;
+  }
+  e.force_sigma_n = std::sqrt(var_f);
+  e.point_in_link = surface_point(arm, latest.q, e.link, mean_s, e.force_base, params.surface_radius_m);
+  const sim::LinkPoses poses = arm.poses(latest.q);
+  e.point_base = poses.origin[i] + poses.rotation[i] * e.point_in_link;
+  const Matrix At = jacobian_transposed(arm, latest.q, e.link - 1, mean_s);
+  e.determined_components = weighted_rank(At, latest.sigma_nm);
+  const Vector r = (latest.tau_nm - At * force_at(arm, latest, e.link, Eigen::Vector3d(mean_s, 0.0, 0.0))).cwiseQuotient(latest.sigma_nm);
+  e.residual_chi2 = r.squaredNorm();
+}
+
+Eigen::Vector3d force_with_prior(const sim::ArmDynamics& arm, const TorqueObservation& obs, int link,
+                                 const Eigen::Vector3d& point_in_link, const ContactEstimatorParams& params) {
+  check_link(arm, link);
+  const Matrix At = arm.point_jacobian(obs.q, link - 1, point_in_link).transpose();
+  return candidate(At, obs.tau_nm, obs.sigma_nm, force_prior(arm, obs.q, link, params)).force_mean;
+}
+
+}  // namespace jg::detection
