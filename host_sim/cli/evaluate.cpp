@@ -31,7 +31,7 @@ struct EvaluateOptions {
   bool no_hold = false, free_run_without_holds = false, no_residual = false;
   double residual_time_constant_s = 0.05;
   double contact_before_s = 0.005, contact_after_s = 0.020;
-  bool surface_contacts = false, surface_prior = false, point_over_contact = false, observed_force = false;
+  bool surface_contacts = false, surface_prior = false, point_over_contact = false, observed_force = false, contact_link_from_isolation = false;
   double contact_force_after_s = 0.0, contact_prior_friction = 0.5;
   int count = 50, debounce = 1, jobs = 0;
   double speed = 0.8;
@@ -229,6 +229,8 @@ Command add_evaluate(CLI::App& app) {
       ->capture_default_str()->check(CLI::Range(0.0, 0.2));
   cmd->add_flag("--contact-observed-force", o->observed_force,
                 "Contact estimate: the force as the observer sees it (no extrapolation over its lag)");
+  cmd->add_flag("--contact-link-from-isolation", o->contact_link_from_isolation,
+                "Contact estimate: the point and the force on the link the isolation named (not the estimate's own link)");
   cmd->add_flag("--contact-point-over-contact", o->point_over_contact,
                 "Contact estimate: the point along the link from every clean cycle of the contact, not the decision's window");
   cmd->add_flag("--no-hold", o->no_hold, "Band detector alone (no change detection while a joint holds)");
@@ -287,6 +289,7 @@ Command add_evaluate(CLI::App& app) {
             c.campaign_surface_contacts = o->surface_contacts;
             c.contact_surface_prior = o->surface_prior;
             c.contact_point_over_the_contact = o->point_over_contact;
+            c.contact_link_from_isolation = o->contact_link_from_isolation;
             c.contact_force_after_s = o->contact_force_after_s;
             c.contact_prior_friction = o->contact_prior_friction;
             c.contact_lag_correction = !o->observed_force;
@@ -363,7 +366,11 @@ Command add_evaluate(CLI::App& app) {
                           {"isolation_standstill_change", c.isolation_standstill_change}, {"false_alarm_run_with_holds", c.free_run_holds},
                           {"compare_scalar", c.compare_scalar}, {"residual_change_threshold", c.residual_threshold},
                           {"residual_time_constant_s", c.residual_time_constant_s},
-                          {"contact_window_before_s", c.contact_before_s}, {"contact_window_after_s", c.contact_after_s}};
+                          {"contact_window_before_s", c.contact_before_s}, {"contact_window_after_s", c.contact_after_s},
+                          {"campaign_surface_contacts", c.campaign_surface_contacts}, {"contact_surface_prior", c.contact_surface_prior},
+                          {"contact_point_over_the_contact", c.contact_point_over_the_contact},
+                          {"contact_force_after_s", c.contact_force_after_s}, {"contact_lag_correction", c.contact_lag_correction},
+                          {"contact_link_from_isolation", c.contact_link_from_isolation}};
             if (!o->shard.empty()) {
               const auto segments = static_cast<std::size_t>(std::max(1.0, std::ceil(free_s / eval::kFreeRunSegmentS - 1e-9)));
               const nlohmann::json identity = {{"scenario", o->scenario}, {"count", o->count}, {"seed", o->seed},

@@ -33,7 +33,7 @@ void ContactWindow::add_evidence(const sim::ArmDynamics& arm, const detection::T
 }
 
 void ContactWindow::add(const sim::ArmDynamics& arm, double t, const sim::JointVector& q, const sim::JointVector& tau_nm,
-                        const sim::JointVector& threshold_nm, const std::optional<double>& t_detected) {
+                        const sim::JointVector& threshold_nm, const std::optional<double>& t_detected, int isolated_link) {
   ++cycle_;
   if (!config_.enabled) return;
   const double since = t_detected ? t - *t_detected : -1.0;
@@ -71,6 +71,11 @@ void ContactWindow::add(const sim::ArmDynamics& arm, double t, const sim::JointV
     ContactOutcome o;
     o.t = t;
     o.estimate = detection::estimate_contact(arm, obs, config_.estimator, &*grid_);
+    if (config_.link_from_isolation && isolated_link >= 1 && isolated_link <= arm.joints() && isolated_link != o.estimate.link) {
+      o.estimate.link = isolated_link;
+      detection::estimate_point_and_force(arm, obs, config_.estimator,
+                                          config_.point_over_the_contact ? &*points_ : nullptr, o.estimate);
+    }
     o.observation = obs;
     o.peak_force_n = o.estimate.force_n;
     o.t_peak = o.t_force = t;

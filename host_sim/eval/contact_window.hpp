@@ -39,6 +39,10 @@ struct ContactWindowConfig {
   /// The decision's torques advanced by the observer's lag (slope / K): an estimate of the
   /// force at that instant; false: of the force as the observer sees it (force_true_observed_n).
   bool lag_correction = true;
+  /// The link is the one the isolation decision named (the signature over the detection
+  /// cycle and the aligned cycle after it, evaluate.cpp) when it named one; the point and
+  /// the force are estimated on it. false: the contact estimate's own link (EvidenceGrid).
+  bool link_from_isolation = false;
   detection::ContactEstimatorParams estimator;
 };
 
@@ -71,7 +75,7 @@ class ContactWindow {
   /// Every cycle: the posture, each joint's torque to explain (the estimate, or its change
   /// since arrival for a joint whose holding detector is armed) and its threshold in effect.
   void add(const sim::ArmDynamics& arm, double t, const sim::JointVector& q, const sim::JointVector& tau_nm,
-           const sim::JointVector& threshold_nm, const std::optional<double>& t_detected);
+           const sim::JointVector& threshold_nm, const std::optional<double>& t_detected, int isolated_link = 0);
   [[nodiscard]] const std::optional<ContactOutcome>& outcome() const { return outcome_; }
   /// The truth of the run's first collision; `contact_force_n` per control cycle (SimulationResult).
   void set_truth(const sim::ArmDynamics& arm, const sim::CollisionEvent& event, const std::vector<double>& contact_force_n,

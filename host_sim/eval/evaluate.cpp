@@ -267,7 +267,7 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       }
       reacting = reacting || d.reaction != Reaction::none;
     }
-    if (!setup.collisions.empty()) contact.add(nominal, ctx.t, m.q, contact_tau, contact_threshold, out.t_detected);
+    if (!setup.collisions.empty()) contact.add(nominal, ctx.t, m.q, contact_tau, contact_threshold, out.t_detected, out.link_isolated);
     mask = now;
     if (record_trace) {
       out.trace.t.push_back(ctx.t);

@@ -101,6 +101,7 @@ DetectionConfig detection_for(const ExperimentConfig& c) {
     d.contact.estimator.surface_radius_m = sim::kSurfaceRadius;
   }
   d.contact.point_over_the_contact = c.contact_point_over_the_contact;
+  d.contact.link_from_isolation = c.contact_link_from_isolation;
   d.contact.estimator.profile_point_likelihood = c.contact_point_over_the_contact;
   d.contact.estimator.force_at_mean_point = c.contact_point_over_the_contact;
   d.contact.force_after_s = c.contact_force_after_s;
