@@ -84,6 +84,7 @@ DetectionConfig detection_for(const ExperimentConfig& c) {
   d.isolation_aligned_s = c.isolation_aligned_s;
   d.isolation_standstill_change = c.isolation_standstill_change;
   d.observer_gain_per_s = c.gains.kind == ObserverKind::first_order ? c.gains.k1 : 0.0;
+  d.observer_aligns_motor_torque = c.gains.align_motor_torque;
   d.hold_settle_s = c.hold_settle_s;
   d.hold_reference_s = c.hold_reference_s;
   d.residual_threshold = c.residual_threshold;
