@@ -25,7 +25,8 @@
 // stop: the cause measured"). With align_motor_torque (the default) the balance takes the
 // mean of the last two motor torques, (tau_k + tau_{k-1}) / 2, centred on k-1 like the
 // momentum difference: a torque step then balances against the motion it causes. One more
-// state per joint (the last motor torque); the first sample only primes it. Off: tau_k, the
+// state per joint (the last motor torque); the first balance (second sample) takes tau_k
+// alone, the first sample's torque being no measure of the torque held before it. Off: tau_k, the
 // former balance (kept to compare, docs/results.md "Motor torque aligned in the observer").
 //
 // Q16.16: d_k, section states and output in N·m; the torque mean is midpoint() (exact
@@ -101,6 +102,7 @@ struct ObserverState {
   S last_motor_torque{};  ///< tau_{k-1} (used with align_motor_torque)
   S last_output{};
   bool primed = false;
+  bool balanced = false;  ///< a balance has been made (the first one has no tau_{k-1})
 };
 
 /// Host side: partial fractions and step-invariant discretisation in double, converted to
@@ -162,16 +164,22 @@ template <class S>
   if (status != nullptr) {
     status->error = Error::ok;
   }
-  if (!st.primed) {  // the first sample has no momentum difference (nor torque mean) yet
+  if (!st.primed) {  // the first sample has no momentum difference yet
     st.last_momentum = momentum;
-    st.last_motor_torque = motor_torque;
     st.primed = true;
     return st.last_output;
   }
   // The torque held over [k-1, k], or its mean with the one before, centred on k-1 like
-  // the momentum difference (header comment).
-  const S balance_torque = c.align_motor_torque ? midpoint(motor_torque, st.last_motor_torque) : motor_torque;
+  // the momentum difference (header comment). The first balance takes tau_k alone, as the
+  // former balance: the first velocity is no encoder difference (no earlier position), and
+  // the first sample's torque need not be the one held before it (a drive starting, or a
+  // simulation started at rest, measures no torque yet while the arm is held: half the
+  // holding torque would read as a disturbance; measured: a false alarm at the second
+  // sample of the paper scenario at 125 Hz).
+  const S previous_torque = st.balanced ? st.last_motor_torque : motor_torque;
+  const S balance_torque = c.align_motor_torque ? midpoint(motor_torque, previous_torque) : motor_torque;
   st.last_motor_torque = motor_torque;
+  st.balanced = true;
   // One product and one rounding: (p_k - p_{k-1}) / dT enters the balance exactly.
   // The balance's differences and the disturbance are intermediate terms (QTerm in fixed
   // point): an addend, factors of the filter sections' products.
