@@ -20,8 +20,9 @@ void ObserverOptions::add_to(CLI::App* cmd) {
                   "Observer gains K1[,K2[,K3]] [1/s] (first_order default: 150 at 500 Hz and above, 250 below)")
       ->delimiter(',');
   cmd->add_flag("--observer-torque-mean,!--no-observer-torque-mean", align_motor_torque,
-                "Observer balance with the mean of the last two motor torques, centred like the momentum "
-                "difference (default); --no-observer-torque-mean: the torque of the sample (the former balance)");
+                "Observer balance with the mean of the last two motor torques, centred like an encoder-difference "
+                "momentum difference (off by default: right for the simulated drives, not for the UR10e's "
+                "recordings); --no-observer-torque-mean: the torque of the sample (the default)");
 }
 
 ObserverGains ObserverOptions::to_gains(double rate_hz) const {
