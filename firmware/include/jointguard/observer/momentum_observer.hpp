@@ -29,10 +29,9 @@
 // alone, the first sample's torque being no measure of the torque held before it. Off by
 // default: the argument holds only for a velocity that is an encoder difference over the
 // sample and a torque held over it (the simulated drives). On the real UR10e recordings
-// (the robot's own velocity, the current sampled at an instant, ~94 Hz) the mean put five
-// false alarms into motion_contacts (ctest -R cli.real_ur10e_detection): docs/results.md,
-// "Motor torque aligned in the observer". Off: tau_k, the
-// former balance, the default.
+// (the controller's measured velocities, not position differences, and measured currents,
+// ~94 Hz) the mean put five false alarms into motion_contacts (ctest -R
+// cli.real_ur10e_detection): docs/results.md, "Motor torque aligned in the observer".
 //
 // Q16.16: d_k, section states and output in N·m; the torque mean is midpoint() (exact
 // 64-bit sum, one rounding to 0.5 LSB, no overflow possible: the mean lies between its
