@@ -142,7 +142,7 @@ Command add_identify(CLI::App& app) {
             ga.runs = o->runs;
             Progress bar("identify");
             const auto r = about_recording(o->recording, [&] {
-              return eval::identify_recording(rec, model, ObserverGains{ObserverKind::first_order, o->observer.gains[0], 0, 0}, ga,
+              return eval::identify_recording(rec, model, ObserverGains{ObserverKind::first_order, o->observer.gains[0], 0, 0, o->observer.align_motor_torque}, ga,
                                               [&](double f) { bar.update(f); });
             });
             bar.finish();

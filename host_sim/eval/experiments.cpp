@@ -361,7 +361,7 @@ Preparation prepare(ExperimentConfig& c, double margin_nm, const std::function<v
   ident::GaSettings ga;
   ga.seed = c.seed;
   ga.threads = std::max(1, c.jobs);
-  p.identification = identify_recording(p.excitation, c.model, ObserverGains{ObserverKind::first_order, c.gains.k1, 0, 0}, ga,
+  p.identification = identify_recording(p.excitation, c.model, ObserverGains{ObserverKind::first_order, c.gains.k1, 0, 0, c.gains.align_motor_torque}, ga,
                                         [&](double f) { if (progress) progress(0.8 * f); });
   c.friction.clear();
   for (const auto& r : p.identification) c.friction.push_back(r.params);
