@@ -180,10 +180,15 @@ template <class S>
   // simulation started at rest, measures no torque yet while the arm is held: half the
   // holding torque would read as a disturbance; measured: a false alarm at the second
   // sample of the paper scenario at 125 Hz).
-  const S previous_torque = st.balanced ? st.last_motor_torque : motor_torque;
-  const S balance_torque = c.align_motor_torque ? midpoint(motor_torque, previous_torque) : motor_torque;
-  st.last_motor_torque = motor_torque;
-  st.balanced = true;
+  // Off: one flag test and nothing else (the Q16.16 estimator's budget).
+  S balance_torque = motor_torque;
+  if (c.align_motor_torque) {
+    if (st.balanced) {
+      balance_torque = midpoint(motor_torque, st.last_motor_torque);
+    }
+    st.last_motor_torque = motor_torque;
+    st.balanced = true;
+  }
   // One product and one rounding: (p_k - p_{k-1}) / dT enters the balance exactly.
   // The balance's differences and the disturbance are intermediate terms (QTerm in fixed
   // point): an addend, factors of the filter sections' products.
