@@ -361,7 +361,10 @@ Preparation prepare(ExperimentConfig& c, double margin_nm, const std::function<v
   ident::GaSettings ga;
   ga.seed = c.seed;
   ga.threads = std::max(1, c.jobs);
-  p.identification = identify_recording(p.excitation, c.model, ObserverGains{ObserverKind::first_order, c.gains.k1, 0, 0, c.gains.align_motor_torque}, ga,
+  // The same balance as the estimator's (the torque mean or not): the friction identified
+  // from the observer's output is the one the estimator then predicts inside that balance.
+  const ObserverGains identification_gains{ObserverKind::first_order, c.gains.k1, 0, 0, c.gains.align_motor_torque};
+  p.identification = identify_recording(p.excitation, c.model, identification_gains, ga,
                                         [&](double f) { if (progress) progress(0.8 * f); });
   c.friction.clear();
   for (const auto& r : p.identification) c.friction.push_back(r.params);
