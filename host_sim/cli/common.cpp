@@ -19,11 +19,20 @@ void ObserverOptions::add_to(CLI::App* cmd) {
   cmd->add_option("--gains", gains,
                   "Observer gains K1[,K2[,K3]] [1/s] (first_order default: 150 at 500 Hz and above, 250 below)")
       ->delimiter(',');
+  cmd->add_flag("--observer-torque-mean,!--no-observer-torque-mean", align_motor_torque,
+                "Observer balance with the mean of the last two motor torques, centred like an encoder-difference "
+                "momentum difference (off by default: right for the simulated drives, not for the UR10e's "
+                "recordings); --no-observer-torque-mean: the torque of the sample (the default)");
 }
 
 ObserverGains ObserverOptions::to_gains(double rate_hz) const {
-  if (gains.empty() && preset == "first_order") return tuning::default_gains(rate_hz);
+  if (gains.empty() && preset == "first_order") {
+    ObserverGains d = tuning::default_gains(rate_hz);
+    d.align_motor_torque = align_motor_torque;
+    return d;
+  }
   ObserverGains g;
+  g.align_motor_torque = align_motor_torque;
   if (preset == "first_order") g.kind = ObserverKind::first_order;
   else if (preset == "lowpass2") g.kind = ObserverKind::lowpass2;
   else if (preset == "paper_bandpass") g.kind = ObserverKind::paper_bandpass;

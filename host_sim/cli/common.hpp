@@ -19,6 +19,7 @@ namespace jg::cli {
 struct ObserverOptions {
   std::string preset = "first_order";
   std::vector<double> gains;
+  bool align_motor_torque = kAlignMotorTorqueDefault;  ///< --observer-torque-mean / --no-observer-torque-mean
   void add_to(CLI::App* cmd);
   [[nodiscard]] ObserverGains to_gains(double rate_hz) const;
 };

@@ -142,8 +142,9 @@ Command add_identify(CLI::App& app) {
             ga.runs = o->runs;
             Progress bar("identify");
             const auto r = about_recording(o->recording, [&] {
-              return eval::identify_recording(rec, model, ObserverGains{ObserverKind::first_order, o->observer.gains[0], 0, 0}, ga,
-                                              [&](double f) { bar.update(f); });
+              const ObserverGains gains{ObserverKind::first_order, o->observer.gains[0], 0, 0,
+                                        o->observer.align_motor_torque};
+              return eval::identify_recording(rec, model, gains, ga, [&](double f) { bar.update(f); });
             });
             bar.finish();
             std::printf("joint  sigma0      sigma1    sigma2   tau_c    tau_s    w_s      rms [N·m]\n");

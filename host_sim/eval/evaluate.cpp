@@ -233,7 +233,8 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       // (|mu| there is mostly the friction it holds): over kHeldSignatureFraction of its
       // change threshold, about the largest collision-free change (1.5x it + 0.2 N·m).
       for (std::size_t j = 0; j < n; ++j) {
-        const double value = mu(static_cast<Eigen::Index>(j)) + (use_aligned ? aligned.correction(j) : 0.0);
+        const double value =
+            mu(static_cast<Eigen::Index>(j)) + (use_aligned && !d.observer_aligns_motor_torque ? aligned.correction(j) : 0.0);
         const bool still = standstill_change && still_cycles[j] * dt >= kStandstillS - 1e-9;
         // A joint held by static friction takes the reaction's torque step in its friction,
         // not in its motion: its estimate moves by the step, aligned or not (the paper's waist

@@ -29,6 +29,9 @@ struct DetectionConfig {
   /// 8 ms into the stop, when the friction the stop sweeps through dominates.
   double isolation_aligned_s = 0.001;
   double observer_gain_per_s = 0.0;     ///< first-order observer gain K [1/s] (0: no aligned estimate)
+  /// The observer balances with the torque mean (momentum_observer.hpp): its estimate is
+  /// already the aligned one, the host's correction is not added (it would be doubled).
+  bool observer_aligns_motor_torque = false;
   /// A joint at standstill (|dq| <= 0.02 rad/s for 5 ms) whose holding detector is not armed
   /// takes part in the signature by its change from a 50 ms baseline of its estimate, not by
   /// its level (the friction it came to rest with); false: by its level (the former rule).

@@ -85,6 +85,7 @@ DetectionConfig detection_for(const ExperimentConfig& c) {
   d.isolation_aligned_s = c.isolation_aligned_s;
   d.isolation_standstill_change = c.isolation_standstill_change;
   d.observer_gain_per_s = c.gains.kind == ObserverKind::first_order ? c.gains.k1 : 0.0;
+  d.observer_aligns_motor_torque = c.gains.align_motor_torque;
   d.hold_settle_s = c.hold_settle_s;
   d.hold_reference_s = c.hold_reference_s;
   d.residual_threshold = c.residual_threshold;
@@ -376,7 +377,10 @@ Preparation prepare(ExperimentConfig& c, double margin_nm, const std::function<v
   ident::GaSettings ga;
   ga.seed = c.seed;
   ga.threads = std::max(1, c.jobs);
-  p.identification = identify_recording(p.excitation, c.model, ObserverGains{ObserverKind::first_order, c.gains.k1, 0, 0}, ga,
+  // The same balance as the estimator's (the torque mean or not): the friction identified
+  // from the observer's output is the one the estimator then predicts inside that balance.
+  const ObserverGains identification_gains{ObserverKind::first_order, c.gains.k1, 0, 0, c.gains.align_motor_torque};
+  p.identification = identify_recording(p.excitation, c.model, identification_gains, ga,
                                         [&](double f) { if (progress) progress(0.8 * f); });
   c.friction.clear();
   for (const auto& r : p.identification) c.friction.push_back(r.params);

@@ -43,7 +43,9 @@ TEST(Observer, StepResponseMatchesContinuousAtTheSamples) {
       (void)jg::observer_step(c, st, 0.0, 0.0, 0.0, 0.0);
       double worst = 0.0;
       for (int k = 0; k < static_cast<int>(2.0 / dt); ++k) {
-        const double y = jg::observer_step(c, st, 0.0, 1.0, 0.0, 0.0);
+        // The unit disturbance step through beta (d = tau_m - beta - ...): the filter D(s)
+        // alone, whichever motor torque the balance takes (its mean: test_torque_mean.cpp).
+        const double y = jg::observer_step(c, st, 0.0, 0.0, -1.0, 0.0);
         worst = std::max(worst, std::fabs(y - continuous_step(g, (k + 1) * dt)));
       }
       std::printf("%-15s dT %.3f: worst step-response error %.2e\n", jg::to_string(g.kind), dt, worst);
@@ -133,6 +135,8 @@ TEST(Observer, NonFiniteInputsAreRejectedAndStateKept) {
   EXPECT_EQ(r, good);
   EXPECT_EQ(st.section[0], before.section[0]);
   EXPECT_EQ(st.section[1], before.section[1]);
+  EXPECT_EQ(st.last_motor_torque, before.last_motor_torque) << "the torque mean's state is kept too";
+  EXPECT_EQ(st.last_momentum, before.last_momentum);
   jg::ObserverCoeffs<jg::q16> q{};
   EXPECT_EQ(jg::discretize(ObserverGains{ObserverKind::first_order, -5.0, 0, 0}, 0.001, q), jg::Error::invalid_parameter);
   EXPECT_EQ(jg::discretize(kPresets[0], 0.0, q), jg::Error::invalid_parameter);

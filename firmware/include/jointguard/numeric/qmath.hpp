@@ -727,4 +727,21 @@ template <class T, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
   return (a * b - c * d) * scale;
 }
 
+// ---------------------------------------------------------------- midpoint
+
+/// (a + b) / 2, the mean of two values of one format. Q<F>: the sum exact in 64 bits, one
+/// rounding to nearest (ties toward +infinity: + 1, arithmetic shift right by 1), so the
+/// error is at most 0.5 LSB. It cannot overflow and needs no saturation: the mean of two
+/// values of the symmetric range lies between them, so it is in that range (never
+/// INT32_MIN). Float and double: a / 2 + b / 2 (halving is exact above the subnormals, and
+/// unlike (a + b) / 2 the sum cannot overflow to infinity for finite a and b).
+template <int F>
+[[nodiscard]] constexpr Q<F> midpoint(Q<F> a, Q<F> b) noexcept {
+  return Q<F>::from_symmetric_raw(static_cast<std::int32_t>((std::int64_t{a.raw()} + b.raw() + 1) >> 1));
+}
+template <class T, std::enable_if_t<std::is_floating_point_v<T>, int> = 0>
+[[nodiscard]] constexpr T midpoint(T a, T b) noexcept {
+  return a * T(0.5) + b * T(0.5);
+}
+
 }  // namespace jg
