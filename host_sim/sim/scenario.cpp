@@ -19,6 +19,16 @@ JointVector to_joint_vector(const std::vector<double>& v) {
   return out;
 }
 
+/// A generated motion's length [s]: its moves are built in memory before the run (at least
+/// one per 0.5 s), so it is bounded: 7 days (1.2 million moves, about 0.4 GB under the
+/// sanitizers); 76 days ran the scenario fuzzer out of memory.
+constexpr double kMaxGeneratedMotionS = 7.0 * 86400.0;
+double generated_duration(const YamlFields& t) {
+  const double d = t.number("duration_s");
+  if (!(d > 0.0) || d > kMaxGeneratedMotionS) t.fail("duration_s", "expected > 0 and at most 604800 (7 days)");
+  return d;
+}
+
 std::shared_ptr<const Trajectory> parse_trajectory(const YamlFields& t, std::size_t n, unsigned long long seed) {
   const std::string type = t.text("type");
   if (type == "excitation") {
@@ -52,7 +62,7 @@ std::shared_ptr<const Trajectory> parse_trajectory(const YamlFields& t, std::siz
     const double speed = t.number("max_speed_rad_s");
     if (!(speed > 0.0)) t.fail("max_speed_rad_s", "expected > 0");
     return make_random_moves(to_joint_vector(t.numbers("start_rad", n)), to_joint_vector(t.numbers("lower_rad", n)),
-                             to_joint_vector(t.numbers("upper_rad", n)), speed, t.number("duration_s"), seed);
+                             to_joint_vector(t.numbers("upper_rad", n)), speed, generated_duration(t), seed);
   }
   if (type == "calibration") {
     // Covers the workspace and its stops (motion/calibration_motion.hpp).
@@ -68,7 +78,7 @@ std::shared_ptr<const Trajectory> parse_trajectory(const YamlFields& t, std::siz
     c.dwell_max_s = t.number("dwell_max_s", c.dwell_max_s);
     try {
       return make_calibration_motion(to_joint_vector(t.numbers("start_rad", n)), to_joint_vector(t.numbers("lower_rad", n)),
-                                     to_joint_vector(t.numbers("upper_rad", n)), c, t.number("duration_s"), seed);
+                                     to_joint_vector(t.numbers("upper_rad", n)), c, generated_duration(t), seed);
     } catch (const std::invalid_argument& e) {
       t.fail("type", e.what());
     }

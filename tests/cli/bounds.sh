@@ -33,6 +33,10 @@ sed 's/^control_rate_hz: 1000$/control_rate_hz: 1000\nduration_s: 1e12/' scenari
 sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/long.yaml"
 expect 1 "duration_s" -- "$J" simulate "$W/long.yaml" --out "$W/never.csv"
 expect 2 "duration" -- "$J" simulate scenarios/paper_excitation.yaml --duration 1e12 --out "$W/never.csv"
+# A generated motion of 76 days (found by the scenario fuzzer: its moves filled the memory).
+sed 's/^  duration_s: .*/  duration_s: 6566666/' scenarios/free_motion.yaml > "$W/random_long.yaml"
+sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/random_long.yaml"
+expect 1 "random_long.yaml:.*duration_s.*7 days" -- "$J" simulate "$W/random_long.yaml" --out "$W/never.csv"
 # Gears of 3e6 N·m/rad at the default plant rate diverge: exit 1, no NaN recording.
 sed 's/^control_rate_hz: 1000$/control_rate_hz: 1000\nelasticity: {stiffness_nm_per_rad: [3e6, 3e6, 3e6]}/' scenarios/paper_excitation.yaml > "$W/stiff.yaml"
 sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/stiff.yaml"
