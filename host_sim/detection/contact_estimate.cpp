@@ -30,15 +30,16 @@ void check(const sim::ArmDynamics& arm, const TorqueObservation& obs) {
   }
 }
 
-int rank_of(const Matrix& At, const Vector& sigma) {
-  // Rank of the noise-weighted J^T: singular values below 1e-6 of the largest count as zero.
+}  // namespace
+
+int weighted_rank(const Eigen::MatrixXd& At, const Eigen::VectorXd& sigma) {
+  // Singular values below 1e-6 of the largest count as zero.
   Matrix W = At;
   for (Eigen::Index j = 0; j < W.rows(); ++j) W.row(j) /= sigma(j);
   Eigen::JacobiSVD<Matrix> svd(W);
   svd.setThreshold(1e-6);
   return static_cast<int>(svd.rank());
 }
-}  // namespace
 
 ContactEstimatorParams default_contact_params(const std::vector<double>& reaches_m) {
   ContactEstimatorParams p;
@@ -103,7 +104,7 @@ ContactEstimate estimate_contact(const sim::ArmDynamics& arm, const TorqueObserv
     const double mean = c[k];
     e.link_chi2.push_back(mean);
     const Matrix At = jacobian_transposed(arm, obs.q, static_cast<int>(i), Eigen::Vector3d(evidence->along_m[i][k], 0.0, 0.0));
-    const int dof = n - rank_of(At, obs.sigma_nm);
+    const int dof = n - weighted_rank(At, obs.sigma_nm);
     if (!found && mean <= params.accept_chi2_per_dof * std::max(dof, 0) + 1e-12) {
       best = i;
       found = true;

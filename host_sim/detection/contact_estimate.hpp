@@ -59,6 +59,10 @@ struct ContactEstimatorParams {
   bool force_at_mean_point = false;
 };
 
+/// Rank of the noise-weighted J^T (rows: joints, each divided by its sigma): how many force
+/// components the torques determine.
+int weighted_rank(const Eigen::MatrixXd& At, const Eigen::VectorXd& sigma);
+
 /// The default segments of an arm: each link's body from 10 % of its reach to its reach
 /// (reach: the distance to the next joint, robot::JointDescription::reach_m), at least 0.1 m.
 ContactEstimatorParams default_contact_params(const std::vector<double>& reaches_m);

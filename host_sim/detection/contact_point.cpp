@@ -57,13 +57,6 @@ bool moment_only(const sim::ArmDynamics& arm, const sim::JointVector& q, int lin
   return (Jb * a - Ja * b).norm() <= 1e-9 * (Jb * a).norm();
 }
 
-int weighted_rank(const Matrix& At, const Vector& sigma) {
-  Matrix W = At;
-  for (Eigen::Index j = 0; j < W.rows(); ++j) W.row(j) /= sigma(j);
-  Eigen::JacobiSVD<Matrix> svd(W);
-  svd.setThreshold(1e-6);
-  return static_cast<int>(svd.rank());
-}
 }  // namespace
 
 double axial_prior_ratio(double friction_coefficient) {
