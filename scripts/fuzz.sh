@@ -7,6 +7,10 @@
 # (default 10000000, whichever comes first). READERS default to all of them.
 # Prints per reader: executions, seconds, result; a finding's input lands in
 # build/fuzz/long/<reader>/ (crash-*, leak-*, timeout-*, oom-*) and the script exits 1.
+# Environment: JG_FUZZ_OUT, the output folder (default build/fuzz/long; two chains of
+# readers run side by side each need their own), JG_FUZZ_TIMEOUT, the seconds an input may
+# take before it counts as a hang (default 10; a niced run beside other work is starved of
+# the CPU for whole seconds, and an input of 0.1 s then "takes" more than 10).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SECONDS_PER_READER="${1:-600}"
@@ -19,7 +23,8 @@ cmake --build --preset fuzz
 ROOT="$PWD"
 # The targets write each input to a file: in memory when /dev/shm is there.
 if [ -z "${JG_FUZZ_TMP:-}" ] && [ -w /dev/shm ]; then export JG_FUZZ_TMP=/dev/shm; fi
-OUT="$ROOT/build/fuzz/long"
+OUT="${JG_FUZZ_OUT:-$ROOT/build/fuzz/long}"
+TIMEOUT="${JG_FUZZ_TIMEOUT:-10}"
 mkdir -p "$OUT"
 status=0
 printf '%-12s %12s %8s %s\n' reader executions seconds result | tee "$OUT/summary.txt"
@@ -30,10 +35,10 @@ for r in "${READERS[@]}"; do
   start=$(date +%s)
   set +e
   # -jobs=1: one worker process (its output in $W/fuzz-0.log), restarted never; -timeout:
-  # an input taking 10 s is a finding (a reader must refuse, not hang); -max_len: inputs up
+  # an input taking $TIMEOUT s (10 by default) is a finding (a reader must refuse, not hang); -max_len: inputs up
   # to 8 kB (the seeds are smaller; the 23 kB DBC and 40 kB regression only start them).
   (cd "$W" && nice -n 10 "$ROOT/build/fuzz/tests/fuzz/fuzz_$r" corpus "$ROOT/tests/fuzz/regressions/$r" \
-     -jobs=1 -workers=1 -max_total_time="$SECONDS_PER_READER" -runs="$RUNS" -timeout=10 -max_len=8192 -seed=1 \
+     -jobs=1 -workers=1 -max_total_time="$SECONDS_PER_READER" -runs="$RUNS" -timeout="$TIMEOUT" -max_len=8192 -seed=1 \
      -print_final_stats=1 -artifact_prefix="$W/" > driver.log 2>&1)
   rc=$?
   set -e

@@ -6,23 +6,14 @@
 #include <random>
 
 #include "detection/contact_estimate.hpp"
-#include "robot/robot_model.hpp"
+#include "ref3_arm.hpp"
 
 namespace {
 using jg::detection::ContactEstimatorParams;
 using jg::detection::TorqueObservation;
 
-struct Arm {
-  jg::robot::RobotModel model = jg::robot::load_robot(JG_SOURCE_DIR "/models/ref3.yaml");
-  jg::sim::ArmDynamics arm = model.dynamics();
-  ContactEstimatorParams params = jg::detection::default_contact_params(model.reaches());
-};
-
-jg::sim::JointVector posture(double a, double b, double c) {
-  jg::sim::JointVector q(3);
-  q << a, b, c;
-  return q;
-}
+using Arm = jg::test::Ref3Arm;
+using jg::test::posture;
 
 TorqueObservation observe(const Arm& a, const jg::sim::JointVector& q, int link, const Eigen::Vector3d& point,
                           const Eigen::Vector3d& force, double sigma) {

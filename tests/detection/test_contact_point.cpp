@@ -8,29 +8,22 @@
 
 #include "detection/contact_point.hpp"
 #include "eval/contact_window.hpp"
-#include "robot/robot_model.hpp"
+#include "ref3_arm.hpp"
 
 namespace {
 using jg::detection::ContactEstimatorParams;
 using jg::detection::TorqueObservation;
 
-struct Arm {
-  jg::robot::RobotModel model = jg::robot::load_robot(JG_SOURCE_DIR "/models/ref3.yaml");
-  jg::sim::ArmDynamics arm = model.dynamics();
-  ContactEstimatorParams isotropic = jg::detection::default_contact_params(model.reaches());
+struct Arm : jg::test::Ref3Arm {
   ContactEstimatorParams surface = [this] {
-    ContactEstimatorParams p = isotropic;
+    ContactEstimatorParams p = params;
     p.axial_prior_ratio = jg::detection::axial_prior_ratio(0.5);
     p.surface_radius_m = 0.04;
     return p;
   }();
 };
 
-jg::sim::JointVector posture(double a, double b, double c) {
-  jg::sim::JointVector q(3);
-  q << a, b, c;
-  return q;
-}
+using jg::test::posture;
 
 /// A force straight into the cover of `link` at `along` on the side at `azimuth` [rad].
 struct SurfaceForce {
@@ -76,7 +69,7 @@ TEST(ContactPoint, TheSurfacePriorLocatesThePointOnTheLastLinkFromOnePosture) {
     // Without the prior (any direction) every point explains the torques: the point spreads.
     jg::detection::ContactEstimate without;
     without.link = 3;
-    jg::detection::estimate_point_and_force(a.arm, o, a.isotropic, nullptr, without);
+    jg::detection::estimate_point_and_force(a.arm, o, a.params, nullptr, without);
     EXPECT_LE(with.along_sigma_m, without.along_sigma_m + 1e-9);
     EXPECT_LT(exact.along_sigma_m, 0.2 * without.along_sigma_m);
   }
