@@ -112,6 +112,53 @@ static void estimator_on_a_held_joint(void) {
   (void)flag;
 }
 
+/* A held joint whose stiction holds 3 N m (the band's standstill allowance is 5 N m above
+ * its 1 N m base, as the calibration sets it at rest): a 1.5 N m push is under the band. With
+ * the holding detector (jg_joint_options) and the controller's holding state, the push is
+ * a change of 1.5 N m from the value at arrival, over its 0.5 N m threshold: flagged, and
+ * only while holding. */
+static bool push_on_a_held_joint(const jg_joint_options* options, bool holding) {
+  jg_joint_config c = held_joint();
+  c.threshold.low_speed_extra = 5.0;
+  jg_joint_params params;
+  jg_joint_state state;
+  CHECK(jg_joint_init_options(&c, options, &params, &state) == JG_OK);
+  const double no_gravity[3] = {0.0, 0.0, 0.0};
+  jg_outward_message base, to_child;
+  jg_inward_message tip, to_parent;
+  CHECK(jg_base_message(no_gravity, &base) == JG_OK);
+  jg_tip_message(&tip);
+  jg_error e = JG_OK;
+  const jg_scalar zero = jg_scalar_from_double(0.0, &e);
+  const jg_scalar dither = jg_scalar_from_double(0.004, &e); /* one count, within the deadband */
+  bool flag = false;
+  for (int k = 0; k < 400; ++k) {
+    /* 3 N m held from the start, 1.5 N m more from cycle 300 (after settle and reference). */
+    const jg_scalar motor = jg_scalar_from_double(k < 300 ? 3.0 : 4.5, &e);
+    const jg_scalar dq = (k % 4 == 0) ? dither : zero;
+    CHECK(jg_joint_outward_holding(&params, &state, zero, dq, holding, &base, &to_child) == JG_OK);
+    flag = jg_joint_inward_and_estimate_holding(&params, &state, dq, motor, holding, &tip, &to_parent) || flag;
+    if (k == 299) CHECK(!flag); /* nothing before the push */
+  }
+  CHECK(e == JG_OK);
+  return flag;
+}
+
+static void holding_detector(void) {
+  jg_joint_options o;
+  memset(&o, 0, sizeof o); /* settle 0.15 s, reference 0.016 s by default */
+  o.hold_change_threshold = 0.5;
+  o.holding_velocity_deadband = 0.005;
+  CHECK(push_on_a_held_joint(&o, true));
+  CHECK(!push_on_a_held_joint(&o, false)); /* not holding: the band alone */
+  CHECK(!push_on_a_held_joint(NULL, true)); /* no options: the band alone */
+  jg_joint_params p;
+  jg_joint_state s;
+  const jg_joint_config c = held_joint();
+  o.hold_settle_s = -1.0;
+  CHECK(jg_joint_init_options(&c, &o, &p, &s) == JG_INVALID_PARAMETER);
+}
+
 static void parameter_errors(void) {
   jg_joint_params p;
   jg_joint_state s;
@@ -147,6 +194,13 @@ static void drive_on_a_c_bus(void) {
   const jg_drive_config bad = {3, 2, 0, 0, false};
   CHECK(jg_drive_init(&drive, &bad, &c, g, &port) == JG_BAD_CONFIG);
   CHECK(jg_drive_init(&drive, &dc, &c, g, &port) == JG_OK);
+  jg_joint_options held;
+  memset(&held, 0, sizeof held);
+  held.hold_change_threshold = 0.5;
+  CHECK(jg_drive_init_options(&drive, &dc, &c, &held, g, &port) == JG_OK);
+  held.hold_reference_s = NAN;
+  CHECK(jg_drive_init_options(&drive, &dc, &c, &held, g, &port) == JG_NOT_FINITE);
+  b.sent_count = 0;
 
   jg_drive_announce(&drive); /* before the first sync: status 0x051 with the booting flag */
   CHECK(b.sent_count == 1);
@@ -166,8 +220,8 @@ static void drive_on_a_c_bus(void) {
   sync.data[7] = crc8_autosar(sync.data, 7);
   b.inbox[b.inbox_count++] = sync;
   jg_error e = JG_OK;
-  jg_drive_set_sample(&drive, jg_scalar_from_double(0.1, &e), jg_scalar_from_double(0.0, &e),
-                      jg_scalar_from_double(0.0, &e));
+  jg_drive_set_sample_holding(&drive, jg_scalar_from_double(0.1, &e), jg_scalar_from_double(0.0, &e),
+                              jg_scalar_from_double(0.0, &e), true);
   CHECK(jg_drive_poll(&drive));
   CHECK(b.sent_count == 2);
   const jg_can_frame* st = &b.sent[1];
@@ -190,6 +244,7 @@ static void drive_on_a_c_bus(void) {
 int main(void) {
   estimator_on_a_held_joint();
   parameter_errors();
+  holding_detector();
   drive_on_a_c_bus();
   printf("jointguard C API (%s, %d.%d.%d): %s\n", jg_scalar_name(), JG_VERSION_MAJOR, JG_VERSION_MINOR,
          JG_VERSION_PATCH, failures == 0 ? "all checks passed" : "FAILED");

@@ -91,6 +91,29 @@ typedef struct {
   double sample_time_s;    /* the control period */
 } jg_joint_config;
 
+/* Optional features beyond jg_joint_config (since 0.2), for jg_joint_init_options and
+ * jg_drive_init_options. All zero (or a NULL pointer) is what jg_joint_init and
+ * jg_drive_init do.
+ * - Holding-aware change detection (issue 15; jointguard/detection/hold_detector.hpp):
+ *   while the drive's controller holds a constant setpoint (the `holding` argument of the
+ *   *_holding calls), the friction it holds is constant, so a contact shows as a change of
+ *   the estimate from its value on arrival, whatever the stiction holds.
+ *   hold_change_threshold [N m]: `jointguard calibrate --holding`'s hold_change_threshold
+ *   (<= 0: off); hold_settle_s: held time skipped after arrival (0: 0.15 s);
+ *   hold_reference_s: held time averaged into the reference (0: 0.016 s, at least one sample).
+ * - holding_velocity_deadband [rad/s]: while holding, a measured |dq| up to this is taken as
+ *   0 (the one-count dither of a joint at rest); 1-2 motor-encoder counts per sample; 0: off.
+ * - align_motor_torque: the observer balances the momentum change with the mean of the last
+ *   two motor torques (jointguard/observer/momentum_observer.hpp; off by default, see
+ *   docs/results.md "Motor torque aligned in the observer"). */
+typedef struct {
+  double hold_change_threshold;
+  double hold_settle_s;
+  double hold_reference_s;
+  double holding_velocity_deadband;
+  bool align_motor_torque;
+} jg_joint_options;
+
 /* Messages between neighbouring joints (the momentum recursion), in jg_scalar. */
 typedef struct {
   jg_scalar angular_velocity[3]; /* [rad/s] */
@@ -148,6 +171,18 @@ jg_error jg_joint_outward(const jg_joint_params* params, jg_joint_state* state, 
 bool jg_joint_inward_and_estimate(const jg_joint_params* params, jg_joint_state* state, jg_scalar dq,
                                   jg_scalar motor_torque, const jg_inward_message* from_child,
                                   jg_inward_message* to_parent);
+/* jg_joint_init with the optional features (options may be NULL: none). JG_NOT_FINITE,
+ * JG_INVALID_PARAMETER (a negative time or deadband) or JG_OUT_OF_RANGE (a settle or
+ * reference time over 65535 samples, a value the scalar cannot hold) leave both untouched. */
+jg_error jg_joint_init_options(const jg_joint_config* config, const jg_joint_options* options, jg_joint_params* params,
+                               jg_joint_state* state);
+/* Phases 1 and 2 of a drive that reports holding: `holding` is its controller's state this
+ * cycle (a constant setpoint). Give both phases the same value. */
+jg_error jg_joint_outward_holding(const jg_joint_params* params, jg_joint_state* state, jg_scalar q, jg_scalar dq,
+                                  bool holding, const jg_outward_message* from_parent, jg_outward_message* to_child);
+bool jg_joint_inward_and_estimate_holding(const jg_joint_params* params, jg_joint_state* state, jg_scalar dq,
+                                          jg_scalar motor_torque, bool holding, const jg_inward_message* from_child,
+                                          jg_inward_message* to_parent);
 /* The estimate of the contact's torque on this joint [N m], and the friction predicted. */
 jg_scalar jg_joint_external_torque(const jg_joint_state* state);
 jg_scalar jg_joint_friction_torque(const jg_joint_state* state);
@@ -215,6 +250,12 @@ jg_error jg_drive_init(jg_drive* drive, const jg_drive_config* config, const jg_
                        const double gravity[3], const jg_can_port* port);
 /* The drive's own sample before the sync (MCU: encoder and current ADC). */
 void jg_drive_set_sample(jg_drive* drive, jg_scalar position, jg_scalar velocity, jg_scalar motor_torque);
+/* jg_drive_init with the optional features (options may be NULL), and the sample with the
+ * controller's holding state (the sensor frame's holding byte when sensors_over_can). */
+jg_error jg_drive_init_options(jg_drive* drive, const jg_drive_config* config, const jg_joint_config* joint,
+                               const jg_joint_options* options, const double gravity[3], const jg_can_port* port);
+void jg_drive_set_sample_holding(jg_drive* drive, jg_scalar position, jg_scalar velocity, jg_scalar motor_torque,
+                                 bool holding);
 /* Before the first sync: a status frame with the booting flag (call every ~100 ms). */
 void jg_drive_announce(jg_drive* drive);
 /* Reads every received frame; runs the cycle once its sync (and sample) are in. True when a

@@ -7,6 +7,7 @@
 // operator new, __cxa_* or unwinding). No exceptions, no RTTI: the same flags as the core.
 #include "jointguard.h"
 
+#include <cmath>
 #include <cstring>
 #include <new>
 #include <type_traits>
@@ -147,7 +148,45 @@ struct DriveObject {
   jg::JointDrive<Scalar, CallbackPort> drive;
 };
 
-jg_error make_params(const jg_joint_config& c, Params& p) noexcept {
+/// Samples in `seconds` (rounded up), at least `min`; false beyond the counters' 65535.
+bool samples_of(double seconds, double sample_time_s, std::uint16_t min, std::uint16_t& out) noexcept {
+  const double n = std::ceil(seconds / sample_time_s - 1e-9);
+  if (!(n <= 65535.0)) {
+    return false;
+  }
+  out = n < static_cast<double>(min) ? min : static_cast<std::uint16_t>(n);
+  return true;
+}
+
+/// The holding detector and deadband of jg_joint_options (header), converted as the host's
+/// joint parameters are (host_sim/eval/evaluate.cpp hold_params, eval/joint_params.hpp).
+jg_error hold_params(const jg_joint_options& o, double sample_time_s, Params& p) noexcept {
+  if (!jg::detail::is_finite(o.hold_change_threshold) || !jg::detail::is_finite(o.hold_settle_s) ||
+      !jg::detail::is_finite(o.hold_reference_s) || !jg::detail::is_finite(o.holding_velocity_deadband)) {
+    return JG_NOT_FINITE;
+  }
+  if (o.hold_settle_s < 0.0 || o.hold_reference_s < 0.0 || o.holding_velocity_deadband < 0.0) {
+    return JG_INVALID_PARAMETER;
+  }
+  jg::HoldChangeParams<Scalar> h{};
+  if (!samples_of(o.hold_settle_s > 0.0 ? o.hold_settle_s : 0.15, sample_time_s, 0U, h.settle_cycles) ||
+      !samples_of(o.hold_reference_s > 0.0 ? o.hold_reference_s : 0.016, sample_time_s, 1U, h.reference_cycles)) {
+    return JG_OUT_OF_RANGE;
+  }
+  jg::NumericStatus st{};
+  // <= 0 disables the detector (hold_change_step); kept as 0 so no negative value is stored.
+  h.change_threshold = jg::convert<Scalar>(o.hold_change_threshold > 0.0 ? o.hold_change_threshold : 0.0, st);
+  h.inv_reference_cycles = jg::convert<Scalar>(1.0 / h.reference_cycles, st);
+  const auto deadband = jg::convert<Scalar>(o.holding_velocity_deadband, st);
+  if (!st.ok()) {
+    return JG_OUT_OF_RANGE;
+  }
+  p.hold = h;
+  p.holding_velocity_deadband = deadband;
+  return JG_OK;
+}
+
+jg_error make_params(const jg_joint_config& c, const jg_joint_options* options, Params& p) noexcept {
   jg::LinkDescription l{};
   l.a_prev = c.link.a_prev;
   l.alpha_prev = c.link.alpha_prev;
@@ -180,7 +219,8 @@ jg_error make_params(const jg_joint_config& c, Params& p) noexcept {
   if (static_cast<unsigned>(c.observer) > 3U) {
     return JG_BAD_CONFIG;
   }
-  const jg::ObserverGains g{static_cast<jg::ObserverKind>(c.observer), c.gain_k1, c.gain_k2, c.gain_k3};
+  const jg::ObserverGains g{static_cast<jg::ObserverKind>(c.observer), c.gain_k1, c.gain_k2, c.gain_k3,
+                            options != nullptr && options->align_motor_torque};
   if (const jg::Error e = jg::discretize(g, c.sample_time_s, p.observer); e != jg::Error::ok) {
     return c_error(e);
   }
@@ -199,7 +239,7 @@ jg_error make_params(const jg_joint_config& c, Params& p) noexcept {
     return JG_OUT_OF_RANGE;
   }
   p.debounce.cycles = c.debounce_cycles == 0U ? std::uint8_t{1} : c.debounce_cycles;
-  return JG_OK;
+  return options == nullptr ? JG_OK : hold_params(*options, c.sample_time_s, p);
 }
 
 jg_error gravity_of(const double gravity[3], jg::Vec3<Scalar>& out) noexcept {
@@ -236,11 +276,16 @@ const char* jg_error_name(jg_error e) {
 }
 
 jg_error jg_joint_init(const jg_joint_config* config, jg_joint_params* params, jg_joint_state* state) {
+  return jg_joint_init_options(config, nullptr, params, state);
+}
+
+jg_error jg_joint_init_options(const jg_joint_config* config, const jg_joint_options* options, jg_joint_params* params,
+                               jg_joint_state* state) {
   if (config == nullptr || params == nullptr || state == nullptr) {
     return JG_NULL_ARGUMENT;
   }
   Params p{};
-  if (const jg_error e = make_params(*config, p); e != JG_OK) {
+  if (const jg_error e = make_params(*config, options, p); e != JG_OK) {
     return e;
   }
   ::new (static_cast<void*>(params)) Params(p);
@@ -266,12 +311,18 @@ void jg_tip_message(jg_inward_message* out) {
 
 jg_error jg_joint_outward(const jg_joint_params* params, jg_joint_state* state, jg_scalar q, jg_scalar dq,
                           const jg_outward_message* from_parent, jg_outward_message* to_child) {
+  return jg_joint_outward_holding(params, state, q, dq, false, from_parent, to_child);
+}
+
+jg_error jg_joint_outward_holding(const jg_joint_params* params, jg_joint_state* state, jg_scalar q, jg_scalar dq,
+                                  bool holding, const jg_outward_message* from_parent, jg_outward_message* to_child) {
   if (params == nullptr || state == nullptr || from_parent == nullptr || to_child == nullptr) {
     return JG_NULL_ARGUMENT;
   }
   jg::OutwardMessage<Scalar> out{};
-  const jg::Error e =
-      jg::joint_outward(*object_in<Params>(params), *object_in<State>(state), from_c(q), from_c(dq), from_c(*from_parent), out);
+  // Not holding, the velocity passes unchanged (estimate_velocity): the former call.
+  const jg::Error e = jg::joint_outward(*object_in<Params>(params), *object_in<State>(state), from_c(q), from_c(dq), holding,
+                                        from_c(*from_parent), out);
   to_c(out, *to_child);
   return c_error(e);
 }
@@ -279,12 +330,18 @@ jg_error jg_joint_outward(const jg_joint_params* params, jg_joint_state* state, 
 bool jg_joint_inward_and_estimate(const jg_joint_params* params, jg_joint_state* state, jg_scalar dq,
                                   jg_scalar motor_torque, const jg_inward_message* from_child,
                                   jg_inward_message* to_parent) {
+  return jg_joint_inward_and_estimate_holding(params, state, dq, motor_torque, false, from_child, to_parent);
+}
+
+bool jg_joint_inward_and_estimate_holding(const jg_joint_params* params, jg_joint_state* state, jg_scalar dq,
+                                          jg_scalar motor_torque, bool holding, const jg_inward_message* from_child,
+                                          jg_inward_message* to_parent) {
   if (params == nullptr || state == nullptr || from_child == nullptr || to_parent == nullptr) {
     return false;
   }
   jg::InwardMessage<Scalar> out{};
   const bool flag = jg::joint_inward_and_estimate(*object_in<Params>(params), *object_in<State>(state), from_c(dq),
-                                                  from_c(motor_torque), from_c(*from_child), out);
+                                                  from_c(motor_torque), holding, from_c(*from_child), out);
   to_c(out, *to_parent);
   return flag;
 }
@@ -307,6 +364,11 @@ void jg_joint_reset_detector(jg_joint_state* state) {
 
 jg_error jg_drive_init(jg_drive* drive, const jg_drive_config* config, const jg_joint_config* joint,
                        const double gravity[3], const jg_can_port* port) {
+  return jg_drive_init_options(drive, config, joint, nullptr, gravity, port);
+}
+
+jg_error jg_drive_init_options(jg_drive* drive, const jg_drive_config* config, const jg_joint_config* joint,
+                               const jg_joint_options* options, const double gravity[3], const jg_can_port* port) {
   if (drive == nullptr || config == nullptr || joint == nullptr || gravity == nullptr || port == nullptr ||
       port->send == nullptr || port->receive == nullptr) {
     return JG_NULL_ARGUMENT;
@@ -315,7 +377,7 @@ jg_error jg_drive_init(jg_drive* drive, const jg_drive_config* config, const jg_
     return JG_BAD_CONFIG;
   }
   Params p{};
-  if (const jg_error e = make_params(*joint, p); e != JG_OK) {
+  if (const jg_error e = make_params(*joint, options, p); e != JG_OK) {
     return e;
   }
   jg::Vec3<Scalar> g{};
@@ -333,8 +395,13 @@ jg_error jg_drive_init(jg_drive* drive, const jg_drive_config* config, const jg_
 }
 
 void jg_drive_set_sample(jg_drive* drive, jg_scalar position, jg_scalar velocity, jg_scalar motor_torque) {
+  jg_drive_set_sample_holding(drive, position, velocity, motor_torque, false);
+}
+
+void jg_drive_set_sample_holding(jg_drive* drive, jg_scalar position, jg_scalar velocity, jg_scalar motor_torque,
+                                 bool holding) {
   if (drive != nullptr) {
-    object_in<DriveObject>(drive)->drive.set_sample(from_c(position), from_c(velocity), from_c(motor_torque));
+    object_in<DriveObject>(drive)->drive.set_sample(from_c(position), from_c(velocity), from_c(motor_torque), holding);
   }
 }
 
