@@ -151,6 +151,19 @@ struct ObserverInputStatus {
   Error error = Error::ok;  ///< not_finite: inputs rejected, last output repeated
 };
 
+namespace detail {
+/// (tau_k + tau_{k-1}) / 2 after the first balance, tau_k before it; remembers tau_k. Out of
+/// line and cold: with align_motor_torque off (the default) the cycle pays one flag test
+/// only, not the registers this path would hold (docs/mcu.md: 43 instructions inline).
+template <class S>
+[[gnu::noinline, gnu::cold]] S aligned_motor_torque(ObserverState<S>& st, S motor_torque) noexcept {
+  const S mean = st.balanced ? midpoint(motor_torque, st.last_motor_torque) : motor_torque;
+  st.last_motor_torque = motor_torque;
+  st.balanced = true;
+  return mean;
+}
+}  // namespace detail
+
 /// One sample. Returns the estimate r of the disturbance d - f (d = tau_f - tau_ext with
 /// the plant's sign: the external torque estimate is -r). Non-finite inputs (float) are
 /// rejected: the state is untouched and the last output is returned with the error set.
@@ -181,14 +194,7 @@ template <class S>
   // holding torque would read as a disturbance; measured: a false alarm at the second
   // sample of the paper scenario at 125 Hz).
   // Off: one flag test and nothing else (the Q16.16 estimator's budget).
-  S balance_torque = motor_torque;
-  if (c.align_motor_torque) {
-    if (st.balanced) {
-      balance_torque = midpoint(motor_torque, st.last_motor_torque);
-    }
-    st.last_motor_torque = motor_torque;
-    st.balanced = true;
-  }
+  const S balance_torque = c.align_motor_torque ? detail::aligned_motor_torque(st, motor_torque) : motor_torque;
   // One product and one rounding: (p_k - p_{k-1}) / dT enters the balance exactly.
   // The balance's differences and the disturbance are intermediate terms (QTerm in fixed
   // point): an addend, factors of the filter sections' products.
