@@ -282,7 +282,27 @@ Command add_replay(CLI::App& app) {
               std::printf("  t = %.4f s: link %d (joints over threshold:", e.t, e.link);
               for (const int k : e.joints_over) std::printf(" %d", k);
               std::printf(")%s\n", e.by_hold ? " by the holding detector" : "");
-              j["events"].push_back({{"t", e.t}, {"link", e.link}, {"joints_over", e.joints_over}, {"by_hold", e.by_hold}});
+              nlohmann::json event = {{"t", e.t}, {"link", e.link}, {"joints_over", e.joints_over}, {"by_hold", e.by_hold}};
+              if (e.contact && e.contact->link >= 1) {
+                const auto& c = *e.contact;
+                const int link_id = ids[static_cast<std::size_t>(c.link - 1)];
+                std::printf("    contact (at %.4f s): link %d, %.3f +- %.3f m along it, force %.1f +- %.1f N (%d of 3 components "
+                            "determined), peak %.1f N at %.4f s\n",
+                            e.contact_t, link_id, c.along_m, c.along_sigma_m, c.force_n, c.force_sigma_n, c.determined_components,
+                            e.contact_peak_force_n, e.contact_t_peak);
+                event["contact"] = {{"t", e.contact_t},
+                                    {"link", link_id},
+                                    {"along_m", c.along_m},
+                                    {"along_sigma_m", c.along_sigma_m},
+                                    {"point_base_m", {c.point_base.x(), c.point_base.y(), c.point_base.z()}},
+                                    {"force_n", c.force_n},
+                                    {"force_sigma_n", c.force_sigma_n},
+                                    {"force_base_n", {c.force_base.x(), c.force_base.y(), c.force_base.z()}},
+                                    {"determined_components", c.determined_components},
+                                    {"peak_force_n", e.contact_peak_force_n},
+                                    {"t_peak", e.contact_t_peak}};
+              }
+              j["events"].push_back(event);
             }
             if (!trace->empty()) {
               std::string text = "t";

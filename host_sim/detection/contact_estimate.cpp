@@ -41,13 +41,20 @@ int weighted_rank(const Eigen::MatrixXd& At, const Eigen::VectorXd& sigma) {
   return static_cast<int>(svd.rank());
 }
 
-ContactEstimatorParams default_contact_params(const std::vector<double>& reaches_m) {
+ContactEstimatorParams default_contact_params(const std::vector<double>& reaches_m,
+                                              const std::vector<Eigen::Vector3d>& axes) {
   ContactEstimatorParams p;
-  for (const double r : reaches_m) {
-    const double length = std::max(r, 0.1);
-    p.segments.push_back({0.1 * length, length});
+  for (std::size_t i = 0; i < reaches_m.size(); ++i) {
+    const double length = std::max(reaches_m[i], 0.1);
+    const Eigen::Vector3d axis = i < axes.size() && axes[i].norm() > 1e-9 ? axes[i].normalized() : Eigen::Vector3d::UnitX();
+    p.segments.push_back({0.1 * length, length, axis});
   }
   return p;
+}
+
+Eigen::Vector3d segment_point(const ContactEstimatorParams& params, int link0, double along_m) {
+  const auto i = static_cast<std::size_t>(link0);
+  return (link0 >= 0 && i < params.segments.size() ? params.segments[i].axis : Eigen::Vector3d::UnitX()) * along_m;
 }
 
 EvidenceGrid make_grid(int joints, const ContactEstimatorParams& params) {
@@ -64,6 +71,7 @@ EvidenceGrid make_grid(int joints, const ContactEstimatorParams& params) {
                                   : seg.along_min_m + (seg.along_max_m - seg.along_min_m) * k / (points - 1));
     }
     g.along_m.push_back(along);
+    g.axis.push_back(seg.axis);
     g.chi2.emplace_back(along.size(), 0.0);
   }
   return g;
@@ -73,7 +81,7 @@ void accumulate(EvidenceGrid& grid, const sim::ArmDynamics& arm, const TorqueObs
   check(arm, obs);
   for (std::size_t i = 0; i < grid.along_m.size(); ++i) {
     for (std::size_t k = 0; k < grid.along_m[i].size(); ++k) {
-      const Eigen::Vector3d point(grid.along_m[i][k], 0.0, 0.0);
+      const Eigen::Vector3d point = grid.axis[i] * grid.along_m[i][k];
       const Matrix At = jacobian_transposed(arm, obs.q, static_cast<int>(i), point);
       const Vector r = (obs.tau_nm - At * force_at(arm, obs, static_cast<int>(i) + 1, point)).cwiseQuotient(obs.sigma_nm);
       grid.chi2[i][k] = std::max(grid.chi2[i][k], r.squaredNorm());
@@ -103,7 +111,7 @@ ContactEstimate estimate_contact(const sim::ArmDynamics& arm, const TorqueObserv
     const std::size_t k = static_cast<std::size_t>(std::min_element(c.begin(), c.end()) - c.begin());
     const double mean = c[k];
     e.link_chi2.push_back(mean);
-    const Matrix At = jacobian_transposed(arm, obs.q, static_cast<int>(i), Eigen::Vector3d(evidence->along_m[i][k], 0.0, 0.0));
+    const Matrix At = jacobian_transposed(arm, obs.q, static_cast<int>(i), evidence->axis[i] * evidence->along_m[i][k]);
     const int dof = n - weighted_rank(At, obs.sigma_nm);
     if (!found && mean <= params.accept_chi2_per_dof * std::max(dof, 0) + 1e-12) {
       best = i;

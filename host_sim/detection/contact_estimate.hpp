@@ -34,9 +34,12 @@
 
 namespace jg::detection {
 
-/// Where a contact may lie on one link: along the link frame's x axis [m].
+/// Where a contact may lie on one link: along its body's axis from the link frame's origin
+/// [m]. The axis points towards the next joint (RobotModel::reach_axes): the link frame's x
+/// axis on the project's arms, along z or -x on links of vendor URDFs (the UR's forearm).
 struct LinkSegment {
   double along_min_m = 0.0, along_max_m = 0.3;
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();  ///< unit, link frame
 };
 
 struct ContactEstimatorParams {
@@ -64,8 +67,13 @@ struct ContactEstimatorParams {
 int weighted_rank(const Eigen::MatrixXd& At, const Eigen::VectorXd& sigma);
 
 /// The default segments of an arm: each link's body from 10 % of its reach to its reach
-/// (reach: the distance to the next joint, robot::JointDescription::reach_m), at least 0.1 m.
-ContactEstimatorParams default_contact_params(const std::vector<double>& reaches_m);
+/// (reach: the distance to the next joint, robot::JointDescription::reach_m), at least 0.1 m,
+/// along `axes` (unit, link frame: RobotModel::reach_axes(); none given: each link's x axis).
+ContactEstimatorParams default_contact_params(const std::vector<double>& reaches_m,
+                                              const std::vector<Eigen::Vector3d>& axes = {});
+
+/// The point `along_m` along link `link0`'s (0-based) segment axis [m, link frame].
+Eigen::Vector3d segment_point(const ContactEstimatorParams& params, int link0, double along_m);
 
 /// The torques to explain: one posture, the external torque estimate and its 1-sigma
 /// uncertainty per joint (> 0).
@@ -78,9 +86,9 @@ struct TorqueObservation {
 struct ContactEstimate {
   int link = 0;                         ///< 1-based; 0 when nothing was estimated
   std::vector<double> link_chi2;        ///< largest residual over the observations at each link's best point (index 0 = link 1)
-  double along_m = 0.0;                 ///< posterior mean of the point along the link's x axis [m]
+  double along_m = 0.0;                 ///< posterior mean of the point along the link's segment axis [m]
   double along_sigma_m = 0.0;           ///< its posterior standard deviation [m]
-  Eigen::Vector3d point_in_link = Eigen::Vector3d::Zero();  ///< (along_m, 0, 0) [m]
+  Eigen::Vector3d point_in_link = Eigen::Vector3d::Zero();  ///< along_m x the segment's axis, on the cover [m]
   Eigen::Vector3d point_base = Eigen::Vector3d::Zero();     ///< [m]
   Eigen::Vector3d force_base = Eigen::Vector3d::Zero();     ///< posterior mean force [N]
   double force_n = 0.0;        ///< posterior mean of the determined force's magnitude [N]
@@ -101,7 +109,8 @@ struct ContactEstimate {
 /// distal link always explains n <= 3 torques; a more proximal link that explains them is
 /// preferred because a distal contact showing no torque on its own joints is a coincidence.
 struct EvidenceGrid {
-  std::vector<std::vector<double>> along_m;  ///< [link][point] the grid along each link's x axis
+  std::vector<std::vector<double>> along_m;  ///< [link][point] the grid along each link's segment axis
+  std::vector<Eigen::Vector3d> axis;         ///< [link] the segment's axis (LinkSegment::axis)
   std::vector<std::vector<double>> chi2;     ///< [link][point] largest ((tau - J^T F) / sigma)^2 over the observations
   double weight = 0.0;                       ///< sum of the weights added (observations)
 };

@@ -10,8 +10,9 @@ namespace {
 using Matrix = Eigen::MatrixXd;
 using Vector = Eigen::VectorXd;
 
-Matrix jacobian_transposed(const sim::ArmDynamics& arm, const sim::JointVector& q, int link0, double along_m) {
-  return arm.point_jacobian(q, link0, Eigen::Vector3d(along_m, 0.0, 0.0)).transpose();
+Matrix jacobian_transposed(const sim::ArmDynamics& arm, const sim::JointVector& q, const ContactEstimatorParams& params,
+                           int link0, double along_m) {
+  return arm.point_jacobian(q, link0, segment_point(params, link0, along_m)).transpose();
 }
 
 /// The linear-Gaussian model at one point: log evidence of tau, the force's posterior.
@@ -50,10 +51,11 @@ void check_link(const sim::ArmDynamics& arm, int link) {
 
 /// The torques fix only the moment s x F on this link: J(s) = (s / s1) J(s1) over the segment
 /// (the joints' axes meet on the link's axis at s = 0, as at link 2 of the reference arm).
-bool moment_only(const sim::ArmDynamics& arm, const sim::JointVector& q, int link0, const std::vector<double>& along) {
+bool moment_only(const sim::ArmDynamics& arm, const sim::JointVector& q, const ContactEstimatorParams& params, int link0,
+                 const std::vector<double>& along) {
   const double a = along.front(), b = along.back();
   if (!(a > 0.0) || !(b > a)) return false;
-  const Matrix Ja = jacobian_transposed(arm, q, link0, a), Jb = jacobian_transposed(arm, q, link0, b);
+  const Matrix Ja = jacobian_transposed(arm, q, params, link0, a), Jb = jacobian_transposed(arm, q, params, link0, b);
   return (Jb * a - Ja * b).norm() <= 1e-9 * (Jb * a).norm();
 }
 
@@ -69,7 +71,7 @@ Eigen::Matrix3d force_prior(const sim::ArmDynamics& arm, const sim::JointVector&
   check_link(arm, link);
   const double across2 = params.force_prior_n * params.force_prior_n;
   const double along2 = across2 * params.axial_prior_ratio * params.axial_prior_ratio;
-  const Eigen::Vector3d x = arm.poses(q).rotation[link - 1].col(0);
+  const Eigen::Vector3d x = arm.poses(q).rotation[link - 1] * segment_point(params, link - 1, 1.0);
   return across2 * (Eigen::Matrix3d::Identity() - x * x.transpose()) + along2 * x * x.transpose();
 }
 
@@ -89,9 +91,9 @@ void add_point_evidence(PointEvidence& evidence, const sim::ArmDynamics& arm, co
     const Eigen::Matrix3d P = force_prior(arm, obs.q, link, params);
     // Where the torques fix only s x F, the force prior's penalty would pick the point (the
     // largest s, the smallest force): the fit alone leaves the points' prior (uniform).
-    const bool fit_only = moment_only(arm, obs.q, static_cast<int>(i), evidence.along_m[i]);
+    const bool fit_only = moment_only(arm, obs.q, params, static_cast<int>(i), evidence.along_m[i]);
     for (std::size_t k = 0; k < evidence.along_m[i].size(); ++k) {
-      const Matrix At = jacobian_transposed(arm, obs.q, static_cast<int>(i), evidence.along_m[i][k]);
+      const Matrix At = jacobian_transposed(arm, obs.q, params, static_cast<int>(i), evidence.along_m[i][k]);
       const Candidate c = candidate(At, obs.tau_nm, obs.sigma_nm, P);
       const double profile = fit_only ? c.log_fit : c.log_profile;
       evidence.log_evidence[i][k] += weight * (params.profile_point_likelihood ? profile : c.log_evidence);
@@ -100,12 +102,12 @@ void add_point_evidence(PointEvidence& evidence, const sim::ArmDynamics& arm, co
   evidence.weight += weight;
 }
 
-Eigen::Vector3d surface_point(const sim::ArmDynamics& arm, const sim::JointVector& q, int link, double along_m,
-                              const Eigen::Vector3d& force_base, double radius_m) {
+Eigen::Vector3d surface_point(const sim::ArmDynamics& arm, const sim::JointVector& q, int link, const Eigen::Vector3d& axis,
+                              double along_m, const Eigen::Vector3d& force_base, double radius_m) {
   check_link(arm, link);
   Eigen::Vector3d f = arm.poses(q).rotation[link - 1].transpose() * force_base;  // link frame
-  f.x() = 0.0;
-  const Eigen::Vector3d axis_point(along_m, 0.0, 0.0);
+  f -= axis * axis.dot(f);  // across the axis only
+  const Eigen::Vector3d axis_point = axis * along_m;
   if (!(radius_m > 0.0) || !(f.norm() > 1e-9)) return axis_point;
   return axis_point - radius_m * f.normalized();
 }
@@ -120,7 +122,7 @@ void estimate_point_and_force(const sim::ArmDynamics& arm, const TorqueObservati
   std::vector<Candidate> cands;
   std::vector<double> logs;
   for (std::size_t k = 0; k < along.size(); ++k) {
-    cands.push_back(candidate(jacobian_transposed(arm, latest.q, e.link - 1, along[k]), latest.tau_nm, latest.sigma_nm, P));
+    cands.push_back(candidate(jacobian_transposed(arm, latest.q, params, e.link - 1, along[k]), latest.tau_nm, latest.sigma_nm, P));
     logs.push_back(summed ? evidence->log_evidence[i][k] : cands.back().log_evidence);
   }
   const double top = *std::max_element(logs.begin(), logs.end());
@@ -147,17 +149,18 @@ void estimate_point_and_force(const sim::ArmDynamics& arm, const TorqueObservati
   // torques fix s x F), the mean of |F| ~ 1/s over the points would overstate it.
   e.force_n = mean_f;
   if (params.force_at_mean_point) {
-    const Candidate at_mean = candidate(jacobian_transposed(arm, latest.q, e.link - 1, mean_s), latest.tau_nm, latest.sigma_nm, P);
+    const Candidate at_mean = candidate(jacobian_transposed(arm, latest.q, params, e.link - 1, mean_s), latest.tau_nm, latest.sigma_nm, P);
     e.force_n = at_mean.force_mean.norm();
     e.force_base = at_mean.force_mean;
   }
   e.force_sigma_n = std::sqrt(var_f);
-  e.point_in_link = surface_point(arm, latest.q, e.link, mean_s, e.force_base, params.surface_radius_m);
+  e.point_in_link = surface_point(arm, latest.q, e.link, segment_point(params, e.link - 1, 1.0), mean_s, e.force_base,
+                                  params.surface_radius_m);
   const sim::LinkPoses poses = arm.poses(latest.q);
   e.point_base = poses.origin[i] + poses.rotation[i] * e.point_in_link;
-  const Matrix At = jacobian_transposed(arm, latest.q, e.link - 1, mean_s);
+  const Matrix At = jacobian_transposed(arm, latest.q, params, e.link - 1, mean_s);
   e.determined_components = weighted_rank(At, latest.sigma_nm);
-  const Vector r = (latest.tau_nm - At * force_at(arm, latest, e.link, Eigen::Vector3d(mean_s, 0.0, 0.0))).cwiseQuotient(latest.sigma_nm);
+  const Vector r = (latest.tau_nm - At * force_at(arm, latest, e.link, segment_point(params, e.link - 1, mean_s))).cwiseQuotient(latest.sigma_nm);
   e.residual_chi2 = r.squaredNorm();
 }
 

@@ -54,10 +54,11 @@ void estimate_point_and_force(const sim::ArmDynamics& arm, const TorqueObservati
 Eigen::Vector3d force_with_prior(const sim::ArmDynamics& arm, const TorqueObservation& obs, int link,
                                  const Eigen::Vector3d& point_in_link, const ContactEstimatorParams& params);
 
-/// The point on the cover [m, link frame] at `along_m` where a force `force_base` pushes in
-/// (opposite its component across the axis), `radius_m` from the axis; on the axis when
-/// the radius is 0 or the force has no component across.
-Eigen::Vector3d surface_point(const sim::ArmDynamics& arm, const sim::JointVector& q, int link, double along_m,
-                              const Eigen::Vector3d& force_base, double radius_m);
+/// The point on the cover [m, link frame] at `along_m` along `axis` (unit, link frame: the
+/// segment's) where a force `force_base` pushes in (opposite its component across the axis),
+/// `radius_m` from the axis; on the axis when the radius is 0 or the force has no component
+/// across.
+Eigen::Vector3d surface_point(const sim::ArmDynamics& arm, const sim::JointVector& q, int link, const Eigen::Vector3d& axis,
+                              double along_m, const Eigen::Vector3d& force_base, double radius_m);
 
 }  // namespace jg::detection

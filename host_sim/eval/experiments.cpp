@@ -96,7 +96,7 @@ DetectionConfig detection_for(const ExperimentConfig& c) {
   d.contact.after_s = c.contact_after_s;
   d.contact.noise_band_sigmas = c.contact_noise_band_sigmas;
   d.contact.observer_gain_per_s = c.gains.kind == ObserverKind::first_order ? c.gains.k1 : 0.0;
-  d.contact.estimator = detection::default_contact_params(c.model.reaches());
+  d.contact.estimator = detection::default_contact_params(c.model.reaches(), c.model.reach_axes());
   if (c.contact_surface_prior) {
     d.contact.estimator.axial_prior_ratio = detection::axial_prior_ratio(c.contact_prior_friction);
     d.contact.estimator.surface_radius_m = sim::kSurfaceRadius;

@@ -12,6 +12,7 @@
 #include "eval/firmware_estimator.hpp"
 #include "eval/calibration_region.hpp"
 #include "eval/evaluate.hpp"
+#include "eval/replay_contact.hpp"
 #include "jointguard/detection/detector.hpp"
 #include "jointguard/detection/hold_detector.hpp"
 #include "robot/torque_kind.hpp"
@@ -395,6 +396,9 @@ ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel&
   std::vector<JointDetectorState> st(n);
   JointMask previous = 0;
   double quiet_since = -1.0;
+  ReplayContact contact(model, gains, dt);
+  sim::JointVector q_now(static_cast<Eigen::Index>(n)), contact_tau(static_cast<Eigen::Index>(n)),
+      contact_threshold(static_cast<Eigen::Index>(n));
   for (std::size_t k = 0; k < rec.samples(); ++k) {
     JointMask mask = 0, by_band = 0;
     r.held_samples += held[k] ? 1 : 0;
@@ -432,7 +436,14 @@ ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel&
       }
       if (gated) band.base += 1e12;  // nothing is over while the gate is open
       const bool changed = use_hold && hold_change_step(hold[j], hold_state[j], held[k] && !gated, mu);
-      if (threshold_at(band, w) < std::fabs(mu)) by_band |= static_cast<JointMask>(1U << j);
+      const double band_now = threshold_at(band, w);
+      if (band_now < std::fabs(mu)) by_band |= static_cast<JointMask>(1U << j);
+      // As in run_detection: a held joint's change since arrival is what the contact adds
+      // (its estimate there is mostly the friction it holds).
+      const auto i = static_cast<Eigen::Index>(j);
+      q_now(i) = rec.q[j][k];
+      contact_tau(i) = use_hold && hold_state[j].armed ? mu - hold_state[j].reference : mu;
+      contact_threshold(i) = use_hold && hold_state[j].armed ? std::min(band_now, hold[j].change_threshold) : band_now;
       if (detector_step(band, DebounceSettings{static_cast<std::uint8_t>(debounce_cycles)}, st[j], mu, w, changed)) {
         mask |= static_cast<JointMask>(1U << j);
       }
@@ -451,7 +462,9 @@ ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel&
                               : std::fabs(r.mu[j][k]) > 0.3 * thresholds[j];
         if (part) signature |= static_cast<JointMask>(1U << j);
       }
-      e.link = rec.joint_ids[static_cast<std::size_t>(isolate_link(signature) - 1)];
+      const int isolated = isolate_link(signature);
+      e.link = rec.joint_ids[static_cast<std::size_t>(isolated - 1)];
+      contact.event(r.events.size(), e.t, isolated);
       for (std::size_t j = 0; j < n; ++j) {
         if ((mask & (1U << j)) != 0U) e.joints_over.push_back(rec.joint_ids[j]);
       }
@@ -483,7 +496,17 @@ ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel&
         quiet_since = -1.0;
       }
     }
+    if (mask == 0 && previous != 0) contact.end();  // re-armed: the contact is over
     previous = mask;
+    contact.add(rec.t[k], q_now, contact_tau, contact_threshold);
+  }
+  for (std::size_t i = 0; i < r.events.size(); ++i) {
+    if (const auto& o = contact.outcome(i)) {
+      r.events[i].contact = o->estimate;
+      r.events[i].contact_t = o->t;
+      r.events[i].contact_peak_force_n = o->peak_force_n;
+      r.events[i].contact_t_peak = o->t_peak;
+    }
   }
   return r;
 }

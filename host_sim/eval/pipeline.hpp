@@ -3,10 +3,12 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "detection/contact_estimate.hpp"
 #include "eval/estimator.hpp"
 #include "identification/identify.hpp"
 #include "io/recording.hpp"
@@ -120,6 +122,12 @@ struct ReplayEvent {
   int link = 0;
   std::vector<int> joints_over;
   bool by_hold = false;  ///< raised by the holding detector alone (no joint over its band)
+  /// The contact that explains the joints' torques (eval/replay_contact.hpp), decided at
+  /// contact_t [s]; none when the recording ended first or the next event came before.
+  std::optional<detection::ContactEstimate> contact;
+  double contact_t = 0.0;
+  /// The largest force at the decided point until the detector re-armed [N], and when [s].
+  double contact_peak_force_n = 0.0, contact_t_peak = 0.0;
 };
 struct ReplayResult {
   std::vector<ReplayEvent> events;

@@ -31,7 +31,7 @@ HilResult run_hil(const sim::Scenario& scenario, const HilConfig& c) {
   d.friction = c.friction;
   // The master's contact estimate from the drives' torques (as in evaluate).
   d.contact.observer_gain_per_s = c.gains.kind == ObserverKind::first_order ? c.gains.k1 : 0.0;
-  d.contact.estimator = detection::default_contact_params(c.model.reaches());
+  d.contact.estimator = detection::default_contact_params(c.model.reaches(), c.model.reach_axes());
   HilResult out;
   const std::string name = setup.meta.scenario.empty() ? scenario.file : setup.meta.scenario;
   if (c.interface.empty()) {

@@ -133,6 +133,21 @@ std::vector<double> RobotModel::reaches() const {
   return out;
 }
 
+std::vector<Eigen::Vector3d> RobotModel::reach_axes() const {
+  std::vector<Eigen::Vector3d> out;
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    Eigen::Vector3d axis = Eigen::Vector3d::UnitX();
+    if (i + 1 < joints.size()) {
+      // Frame i+1's origin in frame i: RotX(alpha_prev) TransX(a_prev) RotZ(theta) TransZ(d) applied to 0.
+      const LinkDescription& next = joints[i + 1].link;
+      const Eigen::Vector3d origin(next.a_prev, -std::sin(next.alpha_prev) * next.d, std::cos(next.alpha_prev) * next.d);
+      if (origin.norm() > 1e-6) axis = origin.normalized();
+    }
+    out.push_back(axis);
+  }
+  return out;
+}
+
 void check_simulatable(const RobotModel& model) {
   const sim::ArmDynamics arm(model.plant_links());
   const auto n = static_cast<Eigen::Index>(model.joints.size());

@@ -36,6 +36,10 @@ struct RobotModel {
   [[nodiscard]] sim::ArmDynamics dynamics() const;
   [[nodiscard]] std::vector<sim::JointDriveConfig> drives() const;
   [[nodiscard]] std::vector<double> reaches() const;
+  /// Per link, the unit direction [link frame] towards the next joint's origin, from the next
+  /// joint's modified D-H offsets (a_prev, 0, d) rotated by alpha_prev: where the link's body
+  /// lies. +x for the last link and where the next joint's origin coincides with the link's.
+  [[nodiscard]] std::vector<Eigen::Vector3d> reach_axes() const;
 };
 
 /// What to take from a robot file besides its path (CLI: --base, --tip, --drive).

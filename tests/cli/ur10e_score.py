@@ -65,6 +65,28 @@ for run in ("static", "static_still"):
     print(f"{run}: false alarms outside them: {len(false)} {false}")
     ok = ok and not false
 
+# The contact estimate of each push's first event (replay's "contact"): a link, a point and
+# a force with spreads, and a followed peak force that can make the push's torques at all: the
+# largest change of K.i over the push, divided by the arm's reach (1.3 m, the longest lever
+# any contact has), is a lower bound on the force [N]; 1,000 N is far above a hand's push.
+static = json.load(open(f"{work}/static.json"))["events"]
+print("static: push  contact link  along [m]  force at decision [N]  peak [N]  lower bound [N]")
+for n, (a, b) in enumerate(PUSHES, 1):
+    first = next((e for e in static if a - 0.5 <= e["t"] - t0 <= b + 1.0), None)
+    if first is None:
+        continue  # missed: reported above
+    c = first.get("contact")
+    pre = [[tau[j][i] for i, x in enumerate(t) if a - 1.5 <= x < a - 0.5] for j in range(6)]
+    change = max(abs(tau[j][i] - statistics.mean(pre[j])) for j in range(6) for i, x in enumerate(t) if a <= x <= b)
+    bound = change / 1.3
+    if c is None:
+        print(f"{n:4d}  no contact estimate")
+        ok = False
+        continue
+    print(f"{n:4d}  {c['link']:12d}  {c['along_m']:5.2f} +- {c['along_sigma_m']:.2f}  {c['force_n']:8.1f} +- {c['force_sigma_n']:5.1f}"
+          f"  {c['peak_force_n']:8.1f}  {bound:8.1f}")
+    ok = ok and 1 <= c["link"] <= 6 and c["force_sigma_n"] > 0 and bound <= c["peak_force_n"] <= 1000.0
+
 t0f = float(next(csv.DictReader(open(f"{data}/motion_free.csv")))["t"])
 free = {v: [round(e - t0f, 3) for e in events(f"motion_free_{v}")] for v in ("band", "widen", "gate")}
 print(f"motion_free (calibrated on its first 5 s), alarms: band alone {free['band']}, "

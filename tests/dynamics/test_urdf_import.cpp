@@ -384,3 +384,48 @@ TEST(DriveFile, AcceptsTheUr10eVendorStyleFile) {
 }
 
 }  // namespace
+
+namespace {
+/// Each link's reach axis, from the link's origin, points at the next joint's origin in every
+/// posture: where the contact estimate places the link's body (detection/contact_estimate.hpp).
+/// Returns the links whose axis is not +x (vendor frames: the body along z or -x).
+int expect_reach_axes_point_to_the_next_joint(const jg::robot::RobotModel& model) {
+  const jg::sim::ArmDynamics arm = model.dynamics();
+  const auto axes = model.reach_axes();
+  const auto n = static_cast<Eigen::Index>(model.joints.size());
+  EXPECT_EQ(axes.size(), model.joints.size());
+  int not_x = 0;
+  for (std::size_t i = 0; i < axes.size(); ++i) {
+    EXPECT_NEAR(axes[i].norm(), 1.0, 1e-12) << model.source << " link " << i + 1;
+    not_x += (axes[i] - Eigen::Vector3d::UnitX()).norm() > 1e-9 ? 1 : 0;
+  }
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> angle(-2.0, 2.0);
+  for (int trial = 0; trial < 3; ++trial) {
+    JointVector q(n);
+    for (Eigen::Index i = 0; i < n; ++i) q(i) = angle(rng);
+    const jg::sim::LinkPoses poses = arm.poses(q);
+    for (std::size_t i = 0; i + 1 < axes.size(); ++i) {
+      const Eigen::Vector3d to_next = poses.origin[i + 1] - poses.origin[i];
+      if (to_next.norm() < 1e-6) continue;  // the next joint at the link's origin: +x kept
+      EXPECT_LT((poses.rotation[i] * axes[i] - to_next.normalized()).norm(), 1e-9) << model.source << " link " << i + 1;
+    }
+  }
+  return not_x;
+}
+}  // namespace
+
+TEST(ReachAxes, PointToTheNextJointOnTheProjectsArmsAndVendorUrdfs) {
+  // The project's arms: their links lie along x (the contact estimate's former assumption).
+  EXPECT_EQ(expect_reach_axes_point_to_the_next_joint(jg::robot::load_robot(std::string(JG_SOURCE_DIR) + "/models/ref3.yaml")), 0);
+  EXPECT_GT(expect_reach_axes_point_to_the_next_joint(jg::robot::load_robot(kData + "skew_branch.urdf")), 0);
+  (void)expect_reach_axes_point_to_the_next_joint(jg::robot::load_robot(std::string(JG_SOURCE_DIR) + "/models/panda.yaml"));
+  if (!std::filesystem::exists(kUr10e)) GTEST_SKIP() << "real data folder absent: " << kUr10e;
+  const auto ur = jg::robot::load_robot(kUr10e);
+  // The UR10e's upper arm and forearm (links 2 and 3) do not lie along +x of their frames.
+  EXPECT_GT(expect_reach_axes_point_to_the_next_joint(ur), 0);
+  const auto axes = ur.reach_axes();
+  std::printf("UR10e reach axes:");
+  for (const auto& a : axes) std::printf(" (%.2f %.2f %.2f)", a.x(), a.y(), a.z());
+  std::printf("\n");
+}
