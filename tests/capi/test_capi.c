@@ -74,16 +74,21 @@ static jg_joint_config held_joint(void) {
   return c;
 }
 
+/* A joint alone in its chain: the base's message without gravity and the tip's. */
+static void lone_joint_ends(jg_outward_message* base, jg_inward_message* tip) {
+  const double no_gravity[3] = {0.0, 0.0, 0.0};
+  CHECK(jg_base_message(no_gravity, base) == JG_OK);
+  jg_tip_message(tip);
+}
+
 static void estimator_on_a_held_joint(void) {
   const jg_joint_config c = held_joint();
   static jg_joint_params params; /* caller-owned storage, as on the MCU */
   static jg_joint_state state;
   CHECK(jg_joint_init(&c, &params, &state) == JG_OK);
-  const double no_gravity[3] = {0.0, 0.0, 0.0};
   jg_outward_message base, to_child;
   jg_inward_message tip, to_parent;
-  CHECK(jg_base_message(no_gravity, &base) == JG_OK);
-  jg_tip_message(&tip);
+  lone_joint_ends(&base, &tip);
   jg_error e = JG_OK;
   const jg_scalar zero = jg_scalar_from_double(0.0, &e);
   /* The motor holds 0.5 N m against a contact pushing the other way, arm at rest: the
@@ -123,11 +128,9 @@ static bool push_on_a_held_joint(const jg_joint_options* options, bool holding) 
   jg_joint_params params;
   jg_joint_state state;
   CHECK(jg_joint_init_options(&c, options, &params, &state) == JG_OK);
-  const double no_gravity[3] = {0.0, 0.0, 0.0};
   jg_outward_message base, to_child;
   jg_inward_message tip, to_parent;
-  CHECK(jg_base_message(no_gravity, &base) == JG_OK);
-  jg_tip_message(&tip);
+  lone_joint_ends(&base, &tip);
   jg_error e = JG_OK;
   const jg_scalar zero = jg_scalar_from_double(0.0, &e);
   const jg_scalar dither = jg_scalar_from_double(0.004, &e); /* one count, within the deadband */
