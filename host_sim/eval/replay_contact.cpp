@@ -1,6 +1,7 @@
 #include "eval/replay_contact.hpp"
 
 #include <cmath>
+#include <stdexcept>
 
 namespace jg::eval {
 namespace {
@@ -35,7 +36,14 @@ void ReplayContact::add(double t, const sim::JointVector& q, const sim::JointVec
   recent_.push_back({t, q, tau_nm, threshold_nm});
   while (recent_.size() > keep_) recent_.pop_front();
   if (!followed_ || !window_) return;
-  window_->add(arm_, t, q, tau_nm, threshold_nm, t_event_, link_);
+  try {
+    window_->add(arm_, t, q, tau_nm, threshold_nm, t_event_, link_);
+  } catch (const std::invalid_argument&) {
+    // Torques the estimate cannot weigh (a threshold in effect of 0 gives no noise scale):
+    // the event keeps its detection and link, without a contact estimate.
+    followed_.reset();
+    return;
+  }
   if (window_->outcome()) outcomes_[*followed_] = window_->outcome();
 }
 
