@@ -123,7 +123,8 @@ struct ReplayEvent {
   std::vector<int> joints_over;
   bool by_hold = false;  ///< raised by the holding detector alone (no joint over its band)
   /// The contact that explains the joints' torques (eval/replay_contact.hpp), decided at
-  /// contact_t [s]; none when the recording ended first or the next event came before.
+  /// contact_t [s]; none when the recording ended first, the next event came before, or a
+  /// threshold in effect of 0 left the torques without a noise scale.
   std::optional<detection::ContactEstimate> contact;
   double contact_t = 0.0;
   /// The largest force at the decided point until the detector re-armed [N], and when [s].
