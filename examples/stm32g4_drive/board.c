@@ -6,6 +6,7 @@ void board_wait_for_sample_tick(void) {}
 double board_link_position_rad(void) { return 0.0; }
 double board_link_velocity_rad_s(void) { return 0.0; }
 double board_motor_torque_nm(void) { return 0.0; }
+bool board_holding_setpoint(void) { return false; }
 void board_hold_position(void) {}
 
 #include "jointguard.h"

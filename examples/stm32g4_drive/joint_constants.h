@@ -27,4 +27,11 @@
 #define THRESHOLD_BASE 2.0
 #define THRESHOLD_LOW_SPEED_EXTRA 3.0
 #define THRESHOLD_LOW_SPEED_WIDTH 0.03
+/* The holding detector (`jointguard calibrate --holding`: hold_change_threshold, and its
+ * settle and reference times) and the dither deadband while holding (1-2 motor-encoder
+ * counts per sample at the link side). */
+#define HOLD_CHANGE_THRESHOLD 0.9
+#define HOLD_SETTLE_S 0.15
+#define HOLD_REFERENCE_S 0.016
+#define HOLDING_VELOCITY_DEADBAND 0.005
 #endif

@@ -2,6 +2,8 @@
 // unit and TIM2 clock (docs/porting.md sections 3 and 7), the firmware scalar chosen when the package
 // was built (jg::Scalar). Constants are converted once at start-up with range checks; the
 // loop samples, polls the bus (the master's sync paces the cycle) and reacts to a collision.
+#include <cstdint>
+
 #include "board.h"
 #include "joint_constants.h"
 #include "jointguard/hal/mcu/stm32g4_clock.hpp"
@@ -38,6 +40,12 @@ bool make_params(jg::JointEstimatorParams<S>& p) {
   jg::NumericStatus st{};
   p.threshold = {jg::convert<S>(THRESHOLD_BASE, st), S{}, jg::convert<S>(THRESHOLD_LOW_SPEED_EXTRA, st),
                  jg::convert<S>(1.0 / THRESHOLD_LOW_SPEED_WIDTH, st)};
+  // The holding detector: settle and reference in samples (the constants are far below the
+  // counters' 65535), the reference's mean as a product.
+  const auto samples = [](double seconds) { return static_cast<std::uint16_t>(seconds / SAMPLE_TIME_S + 0.5); };
+  p.hold = {jg::convert<S>(HOLD_CHANGE_THRESHOLD, st), samples(HOLD_SETTLE_S), samples(HOLD_REFERENCE_S),
+            jg::convert<S>(1.0 / samples(HOLD_REFERENCE_S), st)};
+  p.holding_velocity_deadband = jg::convert<S>(HOLDING_VELOCITY_DEADBAND, st);
   return jg::convert_link(l, p.link) == jg::Error::ok && jg::discretize(f, SAMPLE_TIME_S, p.friction) == jg::Error::ok &&
          jg::discretize(g, SAMPLE_TIME_S, p.observer) == jg::Error::ok && st.ok();
 }
@@ -70,7 +78,7 @@ int main() {
   for (;;) {
     board_wait_for_sample_tick();
     drive.set_sample(to_scalar(board_link_position_rad()), to_scalar(board_link_velocity_rad_s()),
-                     to_scalar(board_motor_torque_nm()));
+                     to_scalar(board_motor_torque_nm()), board_holding_setpoint());
     if (!drive.poll() && ++ticks % 100U == 0U) {
       drive.announce();  // until the master's first sync: "booting" every 100 ms
     }

@@ -38,10 +38,15 @@ int main(void) {
   joint.threshold.low_speed_width = THRESHOLD_LOW_SPEED_WIDTH;
   joint.debounce_cycles = 1;
   joint.sample_time_s = SAMPLE_TIME_S;
+  jg_joint_options options = {0};
+  options.hold_change_threshold = HOLD_CHANGE_THRESHOLD;
+  options.hold_settle_s = HOLD_SETTLE_S;
+  options.hold_reference_s = HOLD_REFERENCE_S;
+  options.holding_velocity_deadband = HOLDING_VELOCITY_DEADBAND;
   const jg_drive_config config = {JOINT_NUMBER, JOINT_COUNT, 0, 0, false};
   const jg_can_port port = {NULL, board_can_send, board_can_receive, NULL, NULL};
   const double gravity[3] = {0.0, 0.0, -9.81};
-  if (jg_drive_init(&drive, &config, &joint, gravity, &port) != JG_OK) {
+  if (jg_drive_init_options(&drive, &config, &joint, &options, gravity, &port) != JG_OK) {
     board_hold_position(); /* constants that do not fit the scalar: never run */
     for (;;) {
     }
@@ -49,9 +54,9 @@ int main(void) {
   unsigned ticks = 0;
   for (;;) {
     board_wait_for_sample_tick();
-    jg_drive_set_sample(&drive, jg_scalar_from_double(board_link_position_rad(), NULL),
-                        jg_scalar_from_double(board_link_velocity_rad_s(), NULL),
-                        jg_scalar_from_double(board_motor_torque_nm(), NULL));
+    jg_drive_set_sample_holding(&drive, jg_scalar_from_double(board_link_position_rad(), NULL),
+                                jg_scalar_from_double(board_link_velocity_rad_s(), NULL),
+                                jg_scalar_from_double(board_motor_torque_nm(), NULL), board_holding_setpoint());
     if (!jg_drive_poll(&drive) && ++ticks % 100U == 0U) jg_drive_announce(&drive);
     jg_drive_status status;
     jg_drive_status_get(&drive, &status);
