@@ -18,10 +18,12 @@
 #include <sstream>
 
 #include "cli/commands.hpp"
+#include "cli/common.hpp"
 #include "cli/mcu_cost.hpp"
 #include "eval/experiments.hpp"
 #include "identification/identify.hpp"
 #include "identification/lugre_batch.hpp"
+#include "io/atomic_write.hpp"
 #include "models/paper_friction.hpp"
 #include "motion/excitation.hpp"
 
@@ -222,7 +224,7 @@ Command add_bench(CLI::App& app) {
                                  "Measure the firmware's instructions per joint cycle on the Cortex-M4F (qemu), its size,\n"
                                  "the simulation's speed and the identification time.\n"
                                  "Example: jointguard bench --json out/bench.json");
-  cmd->add_option("--json", *json, "Write the figures here (contract format)");
+  cmd->add_option("--json", *json, "Write the figures here (contract format)")->check(output_file());
   cmd->add_flag("--firmware-only", *firmware_only,
                 "Only the Cortex-M4F figures (no host simulation or identification timing); exit 1 when they cannot be measured");
   return {cmd, [json, firmware_only]() {
@@ -297,7 +299,7 @@ Command add_bench(CLI::App& app) {
             if (*firmware_only) {
               print_firmware();
               if (!json->empty()) {
-                std::ofstream(*json) << nlohmann::json{{"firmware", firmware_json()}}.dump(2) << '\n';
+                io::write_json_atomic(*json, nlohmann::json{{"firmware", firmware_json()}});
                 std::printf("wrote %s\n", json->c_str());
               }
               bool all = m.ok;
@@ -335,7 +337,7 @@ Command add_bench(CLI::App& app) {
               j["firmware"] = firmware_json();
               j["host"] = {{"sim_realtime_factor", r.simulated_s / sim_wall}, {"identify_seconds", ga_s},
                            {"identify_definition", "one GA run, population 200 x 300 generations, 1251 samples"}};
-              std::ofstream(*json) << j.dump(2) << '\n';
+              io::write_json_atomic(*json, j);
               std::printf("wrote %s\n", json->c_str());
             }
             return 0;

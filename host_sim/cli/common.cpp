@@ -1,5 +1,7 @@
 #include "cli/common.hpp"
 
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -134,6 +136,21 @@ nlohmann::json resampling_json(const io::RegularizeReport& r) {
   j["dropped_segments"] = spans(r.dropped);
   j["summary"] = r.summary();
   return j;
+}
+
+CLI::Validator output_file() {
+  return CLI::Validator(
+      [](std::string& path) {
+        namespace fs = std::filesystem;
+        std::error_code ec;
+        if (path.empty()) return std::string("an empty path");
+        if (fs::is_directory(path, ec)) return "'" + path + "' is a folder, not a file";
+        const fs::path folder = fs::path(path).has_parent_path() ? fs::path(path).parent_path() : fs::path(".");
+        if (!fs::is_directory(folder, ec)) return "the folder '" + folder.string() + "' of '" + path + "' does not exist";
+        if (::access(folder.c_str(), W_OK) != 0) return "the folder '" + folder.string() + "' of '" + path + "' is not writable";
+        return std::string();
+      },
+      "FILE (in an existing folder)");
 }
 
 CLI::Validator finite_range(double lo, double hi) {

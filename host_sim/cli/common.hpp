@@ -32,6 +32,9 @@ void add_model_selection(CLI::App* cmd, robot::LoadOptions& o);
 
 /// A finite number within [lo, hi] (CLI::Range lets NaN through: every comparison is false).
 CLI::Validator finite_range(double lo, double hi);
+/// An output file: its folder exists and is writable, and the path is not a folder. Checked
+/// when the command line is read (exit 2, the option named), before any long run.
+CLI::Validator output_file();
 
 /// How a subcommand reads a recording: --torque-kind, --rate, --max-gap. Every recording
 /// is regularized by time stamp (io/regularize.hpp) and the command says what was done.

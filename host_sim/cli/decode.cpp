@@ -9,6 +9,7 @@
 #include "can/dbc.hpp"
 #include "can/sim_bus.hpp"
 #include "cli/commands.hpp"
+#include "cli/common.hpp"
 #include "io/atomic_write.hpp"
 #include "jointguard/protocol/frames.hpp"
 
@@ -31,7 +32,7 @@ Command add_decode(CLI::App& app) {
   cmd->add_option("--nominal", o->nominal_bps, "Arbitration bit rate for the wire-time figures [bit/s]")->capture_default_str()
       ->check(CLI::Range(1e4, 1e7));
   cmd->add_option("--data", o->data_bps, "CAN FD data-phase bit rate [bit/s]")->capture_default_str()->check(CLI::Range(1e4, 1.6e7));
-  cmd->add_option("--json", o->json, "Write the decoded traffic here");
+  cmd->add_option("--json", o->json, "Write the decoded traffic here")->check(output_file());
   return {cmd, [o]() {
             const can::Dbc dbc = can::read_dbc(o->dbc);
             const auto frames = can::read_candump_log(o->capture);

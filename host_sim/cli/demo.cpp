@@ -18,6 +18,7 @@
 #include <sstream>
 
 #include "diagnosis/testset.hpp"
+#include "io/atomic_write.hpp"
 #include "eval/experiments.hpp"
 #include "report/safety_report.hpp"
 #include "report/svg_plot.hpp"
@@ -294,7 +295,7 @@ int run_demo(const DemoOptions& options) {
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   html << "<p class=\"note\">Generated in " << fmt("%.0f", wall) << " s.</p></body></html>\n";
   const auto report_path = std::filesystem::path(options.out_dir) / "report.html";
-  std::ofstream(report_path) << html.str();
+  io::write_text_atomic(report_path.string(), html.str());
   std::printf("\npaper collisions at 1 kHz (float): ");
   for (const auto& r : rows[0].runs) std::printf("%s ", r.t_detected ? fmt("%.0f ms", 1e3 * (*r.t_detected - r.t_collision)).c_str() : "missed");
   std::printf("\npaper collisions at 125 Hz (Q16.16): ");

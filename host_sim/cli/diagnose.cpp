@@ -15,6 +15,7 @@
 #include "diagnosis/model_out.hpp"
 #include "dynamics/rigid_body_identification.hpp"
 #include "diagnosis/pairing.hpp"
+#include "io/atomic_write.hpp"
 #include "eval/pipeline.hpp"
 #include "report/svg_plot.hpp"
 #include "robot/robot_model.hpp"
@@ -80,11 +81,12 @@ Command add_diagnose(CLI::App& app) {
   cmd->add_option("--real", o->real, "Real recording (CSV)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--sim", o->sim, "Simulated recording of the same motion (CSV)")->check(CLI::ExistingFile);
   cmd->add_option("--friction", o->friction, "Nominal friction JSON (identify) for the model's prediction")->check(CLI::ExistingFile);
-  cmd->add_option("--json", o->json, "Write findings here (contract format)");
+  cmd->add_option("--json", o->json, "Write findings here (contract format)")->check(output_file());
   cmd->add_option("--out", o->out, "Folder for the plots (SVG) and summary");
   cmd->add_option("--model-out", o->model_out,
                   "Write the robot file with what was found: identified links (model vs real) and the named effects as\n"
-                  "plant_effects, so that `simulate --model` and a new diagnosis include them");
+                  "plant_effects, so that `simulate --model` and a new diagnosis include them")
+      ->check(output_file());
   cmd->add_flag("--no-rigid-body", o->no_rigid_body,
                 "Without --sim: keep the robot file's rigid body (default: identify the whole arm's rigid body and\n"
                 "friction on the training blocks first, an arm-level finding, then diagnose what remains)");
@@ -222,7 +224,8 @@ Command add_diagnose(CLI::App& app) {
                 p.y_label = "torque [N·m]";
                 p.series.push_back({"residual (real - model)", s.t, s.residual, "#9aa7b8", 0.8});
                 p.series.push_back({"fitted effects", s.t, d.fitted, "#d62728", 1.4});
-                std::ofstream(std::filesystem::path(o->out) / ("joint" + std::to_string(d.joint) + "_residual.svg")) << report::render_svg(p);
+                io::write_text_atomic((std::filesystem::path(o->out) / ("joint" + std::to_string(d.joint) + "_residual.svg")).string(),
+                                      report::render_svg(p));
                 if (!d.findings.empty()) {  // residual against the strongest finding's variable
                   report::Plot v;
                   v.title = "joint " + std::to_string(d.joint) + ": residual against velocity";
@@ -232,7 +235,8 @@ Command add_diagnose(CLI::App& app) {
                   for (std::size_t k = 0; k < s.size(); ++k) after[k] = s.residual[k] - d.fitted[k];
                   v.series.push_back({"before", s.dq, s.residual, "#9aa7b8", 0.6});
                   v.series.push_back({"after", s.dq, after, "#2ca02c", 0.6});
-                  std::ofstream(std::filesystem::path(o->out) / ("joint" + std::to_string(d.joint) + "_velocity.svg")) << report::render_svg(v);
+                  io::write_text_atomic((std::filesystem::path(o->out) / ("joint" + std::to_string(d.joint) + "_velocity.svg")).string(),
+                                        report::render_svg(v));
                 }
               }
             }

@@ -248,7 +248,7 @@ Command add_evaluate(CLI::App& app) {
   cmd->add_option("--margin", o->margin, "Threshold margin above the observed band [N·m]")->capture_default_str()->check(finite_range(0.0, 1000.0));
   cmd->add_option("--debounce", o->debounce, "Cycles over threshold before a detection")->capture_default_str()->check(CLI::Range(1, 50));
   cmd->add_option("--reaction", o->reaction, "Reaction on detection")->check(CLI::IsMember({"none", "stop", "zero_gravity", "retreat", "reflex"}))->capture_default_str();
-  cmd->add_option("--json", o->json, "Write the runs and summary here (contract format; with --shard: this part)");
+  cmd->add_option("--json", o->json, "Write the runs and summary here (contract format; with --shard: this part)")->check(output_file());
   cmd->add_option("--jobs", o->jobs, "Threads for the independent runs (0: all cores); the output does not depend on it")
       ->capture_default_str()->check(CLI::Range(0, 1024));
   cmd->add_option("--shard", o->shard, "K/N: run only the K-th of N disjoint parts and write a partial JSON "
@@ -397,7 +397,7 @@ Command add_merge(CLI::App& app) {
                                  "of one run: the same bytes as the unsharded command writes.\n"
                                  "Example: jointguard merge out/part1.json out/part2.json --json out/campaign.json");
   cmd->add_option("parts", *paths, "The parts (every shard once)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--json", *json, "Write the combined JSON here")->required();
+  cmd->add_option("--json", *json, "Write the combined JSON here")->check(output_file())->required();
   return {cmd, [paths, json]() {
             const EvaluateFigures fig = merge_partials(*paths);
             print_figures(fig);

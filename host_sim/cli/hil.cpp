@@ -166,7 +166,7 @@ Command add_node(CLI::App& app) {
   cmd->add_option("--idle-exit", o->idle_exit_s, "Exit after this long without a sync once started [s] (0: run until SIGINT/SIGTERM)")
       ->capture_default_str();
   cmd->add_option("--startup-timeout", o->startup_s, "Fail when no sync arrives within this time [s]")->capture_default_str();
-  cmd->add_option("--json", o->json, "Write the node's counters here on exit");
+  cmd->add_option("--json", o->json, "Write the node's counters here on exit")->check(output_file());
   cmd->add_option("--fault", o->faults,
                   "Fault on this drive's side (repeatable; times in s of plant time = sync counter / rate): late[:J]@START[:DURATION] "
                   "(its frames go out 10 ms of bus time late), bus-off[:J]@START[:DURATION] (its controller off the bus, then "

@@ -9,6 +9,7 @@
 #include "hil/fault_spec.hpp"
 #include "hil/hil_run.hpp"
 #include "hil/socketcan_master.hpp"
+#include "io/atomic_write.hpp"
 #include "io/recording.hpp"
 #include "io/yaml_fields.hpp"
 
@@ -20,7 +21,7 @@ void HilOptions::add_to(CLI::App* cmd, bool plant) {
     auto* i = cmd->add_option("--iface", iface, "SocketCAN interface the `jointguard node` processes listen on");
     auto* b = cmd->add_option("--bus", bus, "sim: the drives in-process on the simulated CAN FD bus")->check(CLI::IsMember({"sim"}));
     i->excludes(b);
-    cmd->add_option("--out", out, "Also write the recording (CSV + JSON side file)");
+    cmd->add_option("--out", out, "Also write the recording (CSV + JSON side file)")->check(output_file());
   }
   cmd->add_option("--model", model, "Robot file for the drives (default: the scenario's model); without --bus, the plant's robot file, "
                    "with the plant_effects `diagnose --model-out` wrote")->check(CLI::ExistingFile);
@@ -44,8 +45,8 @@ void HilOptions::add_to(CLI::App* cmd, bool plant) {
             return std::string();
           },
           "KIND[:TARGET]@START[:DURATION]"));
-  cmd->add_option("--trace", trace, "Write the drives' estimates per cycle here (CSV: t, mu1..n)");
-  cmd->add_option("--json", json, "Write the run, the drives' events and the bus counters here");
+  cmd->add_option("--trace", trace, "Write the drives' estimates per cycle here (CSV: t, mu1..n)")->check(output_file());
+  cmd->add_option("--json", json, "Write the run, the drives' events and the bus counters here")->check(output_file());
   observer.add_to(cmd);
 }
 
@@ -165,7 +166,7 @@ int run_hil_command(const HilOptions& o) {
       mu_max.push_back(v);
     }
     j["external_torque_max"] = mu_max;
-    std::ofstream(o.json) << j.dump(2) << '\n';
+    io::write_json_atomic(o.json, j);
     std::printf("wrote %s\n", o.json.c_str());
   }
   return 0;

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "cli/common.hpp"
 #include "io/atomic_write.hpp"
 #include "dynamics/rigid_body_identification.hpp"
 #include "dynamics/uniform_grid.hpp"
@@ -35,7 +36,7 @@ void add_rigid_body_options(CLI::App* cmd, RigidBodyCliOptions& o) {
   cmd->add_flag("--rigid-body", o.enabled,
                 "Identify the whole arm's rigid-body parameters (+ payload, + per-joint friction) instead of LuGre;\n"
                 "example: jointguard identify rec.csv --model models/panda.yaml --rigid-body --torque-kind joint --model-out out/panda_id.yaml --json out/rbid.json");
-  cmd->add_option("--model-out", o.model_out, "With --rigid-body: write the corrected robot file here (YAML)");
+  cmd->add_option("--model-out", o.model_out, "With --rigid-body: write the corrected robot file here (YAML)")->check(output_file());
   cmd->add_option("--com-margin", o.com_margin_m,
                   "With --rigid-body: CoM bound = max(reach, |prior CoM|) + this [m]")
       ->capture_default_str()

@@ -117,7 +117,7 @@ Command add_identify(CLI::App& app) {
   cmd->add_option("recording", o->recording, "Recording (CSV)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--model", o->model, "Robot file (YAML or URDF)")->required()->check(CLI::ExistingFile);
   add_model_selection(cmd, o->model_options);
-  cmd->add_option("--json", o->json, "Write the identified parameters here (contract format)");
+  cmd->add_option("--json", o->json, "Write the identified parameters here (contract format)")->check(output_file());
   cmd->add_option("--seed", o->seed, "GA seed")->capture_default_str();
   cmd->add_option("--runs", o->runs, "GA runs (result = mean)")->capture_default_str()->check(CLI::Range(1, 100));
   o->input.add_to(cmd);
@@ -174,7 +174,7 @@ Command add_calibrate(CLI::App& app) {
   cmd->add_option("--model", o->model, "Robot file (YAML or URDF)")->required()->check(CLI::ExistingFile);
   add_model_selection(cmd, o->model_options);
   cmd->add_option("--friction", o->friction, "Friction JSON from identify")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--json", o->json, "Write the thresholds here (contract format)");
+  cmd->add_option("--json", o->json, "Write the thresholds here (contract format)")->check(output_file());
   cmd->add_option("--margin", o->margin, "Safety margin added to the band [N·m]")->capture_default_str()->check(finite_range(0.0, 1000.0));
   o->input.add_to(cmd);
   o->observer.add_to(cmd);
@@ -251,12 +251,12 @@ Command add_replay(CLI::App& app) {
   cmd->add_option("--scalar", o->scalar, "Firmware scalar")->check(CLI::IsMember({"float", "q"}))->capture_default_str();
   o->input.add_to(cmd, "Control/observer rate [Hz]: the recording is resampled to it by time stamp (default: its own median step, rounded)");
   cmd->add_option("--debounce", o->debounce, "Cycles over threshold before a detection")->capture_default_str()->check(CLI::Range(1, 50));
-  cmd->add_option("--json", o->json, "Write the events here (contract format)");
+  cmd->add_option("--json", o->json, "Write the events here (contract format)")->check(output_file());
   o->observer.add_to(cmd);
   auto hold = std::make_shared<HoldingCliOptions>();
   hold->add_to(cmd, true);
   auto trace = std::make_shared<std::string>();
-  cmd->add_option("--trace", *trace, "Write t and the estimate mu<j> per sample here (CSV, for plots)");
+  cmd->add_option("--trace", *trace, "Write t and the estimate mu<j> per sample here (CSV, for plots)")->check(output_file());
   return {cmd, [o, hold, trace]() {
             const auto model = robot::load_robot(o->model, o->model_options);
             const auto in = load_recording(o->recording, o->input);

@@ -7,6 +7,7 @@
 #include "detection/contact_estimate.hpp"
 #include "eval/distributed_estimator.hpp"
 #include "hil/socketcan_master.hpp"
+#include "io/atomic_write.hpp"
 
 namespace jg::hil {
 
@@ -91,21 +92,20 @@ HilResult run_hil(const sim::Scenario& scenario, const HilConfig& c) {
 }
 
 void write_trace_csv(const std::string& path, const eval::Trace& trace) {
-  std::ofstream f(path);
-  if (!f) throw std::runtime_error(path + ": cannot write");
-  f << 't';
-  for (std::size_t j = 0; j < trace.mu.size(); ++j) f << ",mu" << j + 1;
-  f << '\n';
+  std::string text = "t";
+  for (std::size_t j = 0; j < trace.mu.size(); ++j) text += ",mu" + std::to_string(j + 1);
+  text += '\n';
   char buf[64];
   for (std::size_t k = 0; k < trace.t.size(); ++k) {
     std::snprintf(buf, sizeof buf, "%.6f", trace.t[k]);
-    f << buf;
+    text += buf;
     for (const auto& m : trace.mu) {
       std::snprintf(buf, sizeof buf, ",%.9g", m[k]);
-      f << buf;
+      text += buf;
     }
-    f << '\n';
+    text += '\n';
   }
+  io::write_text_atomic(path, text);  // every write checked, nothing partial left behind
 }
 
 }  // namespace jg::hil

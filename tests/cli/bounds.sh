@@ -106,12 +106,12 @@ done
 expect 1 "latin1.yaml:1:7: field 'name': bytes that are not UTF-8 text" -- "$J" simulate "$W/latin1.yaml" --out "$W/never.csv"
 ! ls "$W"/never* > /dev/null 2>&1 || { echo "a refused scenario left files: $(ls "$W"/never*)"; exit 1; }
 # decode: a capture with an undecodable frame exits 1 and writes no JSON; a JSON that cannot
-# be written (missing folder) is an error, not "exit 0".
+# be written (missing folder) is refused when the command line is read (exit 2), not "exit 0".
 printf '(0.000000) vcan0 010##0AA\n' > "$W/short_sync.log"
 expect 1 "not written" -- "$J" decode "$W/short_sync.log" --json "$W/never.json"
 [ ! -e "$W/never.json" ] || { echo "decode wrote its JSON for an undecodable capture"; exit 1; }
 printf '(0.000000) vcan0 010##00000000000000000\n' > "$W/sync.log"
-expect 1 "nodir/t.json" -- "$J" decode "$W/sync.log" --json "$W/nodir/t.json"
+expect 2 "nodir/t.json. does not exist" -- "$J" decode "$W/sync.log" --json "$W/nodir/t.json"
 # LuGre parameters the firmware scalar cannot hold (sigma0 1.8e14, as the GA fits on 100 Hz
 # data): refused before the run, naming the friction file and the joint, not the recording.
 sed 's/98467.9088/1.8e14/' tests/can/hil/friction.json > "$W/huge_sigma0.json"

@@ -84,17 +84,31 @@ grep -q "held_arm.csv:1: field 'tau_m1'" "$W/tk.txt" || { bad "--torque-kind mot
 "$J" diagnose --model "$R3" --real "$D/shoulder_first_0.2s.csv" --torque-kind joint --json "$W/tj.json" > "$W/tj.txt" 2>&1 ||
   bad "--torque-kind joint on tau_m columns failed"
 grep -q '"torque": "tau_j"' "$W/tj.json" || bad "--torque-kind joint: JSON must say tau_j"
-# --json into a missing folder: exit 1, no "wrote".
-for c in replay calibrate diagnose; do
+# An output into a missing folder or onto a folder: refused when the command line is read
+# (exit 2 comes only from the command line's parser, so before any work, the option named);
+# no "wrote", nothing written.
+for c in replay calibrate diagnose identify bench simulate evaluate decode; do
   case $c in
     replay) args=("$D/held_arm.csv" --model "$R3" --friction "$F3" --threshold "$T3") ;;
     calibrate) args=("$D/held_arm.csv" --model "$R3" --friction "$F3") ;;
     diagnose) args=(--model "$R3" --real "$D/held_arm.csv") ;;
+    identify) args=("$D/held_arm.csv" --model "$R3") ;;
+    bench) args=(--firmware-only) ;;
+    simulate) args=(scenarios/paper_collision_shoulder.yaml --out "$W/s.csv" --bus sim --threshold "$T3") ;;
+    evaluate) args=(--scenario paper) ;;
+    decode) printf '(0.000000) vcan0 010#00\n' > "$W/cap.log"; args=("$W/cap.log") ;;
   esac
-  "$J" "$c" "${args[@]}" --json "$W/no/such/dir/e.json" > "$W/nd.txt" 2>&1
-  [ $? = 1 ] || bad "$c --json into a missing folder must fail"
-  grep -q "^wrote" "$W/nd.txt" && bad "$c --json into a missing folder must not say wrote"
+  for target in "$W/no/such/dir/e.json" "$W"; do
+    "$J" "$c" "${args[@]}" --json "$target" > "$W/nd.txt" 2>&1
+    rc=$?
+    [ $rc = 2 ] || { bad "$c --json $target must be refused as a bad command line (got $rc)"; cat "$W/nd.txt"; }
+    grep -q -- "--json: " "$W/nd.txt" || { bad "$c --json $target: the message must name the option"; cat "$W/nd.txt"; }
+    grep -q "^wrote" "$W/nd.txt" && bad "$c --json $target must not say wrote"
+  done
 done
+"$J" simulate scenarios/paper_collision_shoulder.yaml --out "$W/no/such/dir/s.csv" > "$W/nd.txt" 2>&1
+[ $? = 2 ] && grep -q -- "--out: the folder" "$W/nd.txt" || bad "simulate --out into a missing folder must be refused"
+[ ! -e "$W/s.csv" ] || bad "a refused simulate wrote its recording"
 
 # Friction and threshold files are matched by joint number, not by position.
 python3 - "$F3" "$W/fr_ordered.json" "$W/fr_reversed.json" "$W/fr_two.json" <<'PY' || bad "could not write the friction variants"
