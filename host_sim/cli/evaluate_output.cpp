@@ -13,25 +13,6 @@ nlohmann::json optional_json(const std::optional<double>& v) { return v ? nlohma
 nlohmann::json vector_json(const Eigen::Vector3d& v) { return nlohmann::json::array({v.x(), v.y(), v.z()}); }
 Eigen::Vector3d vector_of(const nlohmann::json& j) { return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()}; }
 
-/// The contact estimate of a run (link, point, force with their spread) and the truth beside it.
-nlohmann::json contact_json(const eval::ContactOutcome& c) {
-  const auto& e = c.estimate;
-  return {{"t", c.t}, {"link", e.link}, {"link_residual_chi2", e.link_chi2},
-          {"along_link", e.along_m}, {"along_link_sigma", e.along_sigma_m},
-          {"point_in_link", vector_json(e.point_in_link)}, {"point_base", vector_json(e.point_base)},
-          {"force", e.force_n}, {"force_sigma", e.force_sigma_n}, {"force_base", vector_json(e.force_base)},
-          {"determined_force_components", e.determined_components}, {"residual_chi2", e.residual_chi2},
-          {"torque", std::vector<double>(c.observation.tau_nm.data(), c.observation.tau_nm.data() + c.observation.tau_nm.size())},
-          {"torque_sigma", std::vector<double>(c.observation.sigma_nm.data(), c.observation.sigma_nm.data() + c.observation.sigma_nm.size())},
-          {"force_true_at_estimate", c.force_true_n}, {"along_link_true", c.along_true_m},
-          {"point_error", c.point_error_m >= 0.0 ? nlohmann::json(c.point_error_m) : nlohmann::json(nullptr)},
-          {"force_given_true_point", c.force_at_true_point_n}, {"peak_force", c.peak_force_n}, {"t_peak_force", c.t_peak},
-          {"torque_true", c.torque_true_nm}, {"force_true_observed", c.force_true_observed_n}, {"t_force", c.t_force},
-          {"force_given_true_link", c.force_given_true_link_n}, {"along_link_given_true_link", c.along_given_true_link_m},
-          {"point_error_given_true_link", c.point_error_given_true_link_m >= 0.0 ? nlohmann::json(c.point_error_given_true_link_m) : nlohmann::json(nullptr)},
-          {"point_true", vector_json(c.point_true)}};
-}
-
 eval::ContactOutcome contact_from_json(const nlohmann::json& j) {
   eval::ContactOutcome c;
   c.t = j.at("t").get<double>();
@@ -159,6 +140,25 @@ FreeRunTotals totals_of(const std::vector<eval::FreeRunSegment>& segments) {
   return t;
 }
 }  // namespace
+
+nlohmann::json contact_json(const eval::ContactOutcome& c) {
+  const auto& e = c.estimate;
+  return {{"t", c.t}, {"link", e.link}, {"link_residual_chi2", e.link_chi2},
+          {"along_link", e.along_m}, {"along_link_sigma", e.along_sigma_m},
+          {"point_in_link", vector_json(e.point_in_link)}, {"point_base", vector_json(e.point_base)},
+          {"force", e.force_n}, {"force_sigma", e.force_sigma_n}, {"force_base", vector_json(e.force_base)},
+          {"determined_force_components", e.determined_components}, {"residual_chi2", e.residual_chi2},
+          {"torque", std::vector<double>(c.observation.tau_nm.data(), c.observation.tau_nm.data() + c.observation.tau_nm.size())},
+          {"torque_sigma", std::vector<double>(c.observation.sigma_nm.data(), c.observation.sigma_nm.data() + c.observation.sigma_nm.size())},
+          {"force_true_at_estimate", c.force_true_n}, {"along_link_true", c.along_true_m},
+          {"point_error", c.point_error_m >= 0.0 ? nlohmann::json(c.point_error_m) : nlohmann::json(nullptr)},
+          {"force_given_true_point", c.force_at_true_point_n}, {"peak_force", c.peak_force_n}, {"t_peak_force", c.t_peak},
+          {"torque_true", c.torque_true_nm}, {"force_true_observed", c.force_true_observed_n}, {"t_force", c.t_force},
+          {"force_given_true_link", c.force_given_true_link_n}, {"along_link_given_true_link", c.along_given_true_link_m},
+          {"point_error_given_true_link", c.point_error_given_true_link_m >= 0.0 ? nlohmann::json(c.point_error_given_true_link_m) : nlohmann::json(nullptr)},
+          {"point_true", vector_json(c.point_true)}};
+}
+
 
 nlohmann::json evaluate_json(const EvaluateFigures& f) {
   const eval::Summary sum = eval::summarize(f.runs);

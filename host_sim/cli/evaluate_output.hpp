@@ -19,6 +19,10 @@ struct EvaluateFigures {
   nlohmann::json extra = nlohmann::json::object();  ///< further top-level fields (e.g. "safety")
 };
 
+/// The contact estimate of a run (link, point, force with their spread) and the truth beside
+/// it (`runs[i].contact_estimate` of evaluate and of the bus runs).
+nlohmann::json contact_json(const eval::ContactOutcome& c);
+
 /// The contract JSON (../shared/CONTRACT.md, `evaluate`).
 nlohmann::json evaluate_json(const EvaluateFigures& f);
 /// The table and figures on stdout.

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "cli/evaluate_output.hpp"
 #include "hil/fault_spec.hpp"
 #include "hil/hil_run.hpp"
 #include "hil/socketcan_master.hpp"
@@ -98,6 +99,11 @@ int run_hil_command(const HilOptions& o) {
   } else {
     std::printf("no detection\n");
   }
+  if (run.contact) {  // the master's contact estimate from the drives' estimates (eval/contact_window.hpp)
+    const auto& e = run.contact->estimate;
+    std::printf("contact estimate (at %.3f s): link %d, %.3f +- %.3f m along it, force %.1f +- %.1f N, peak %.1f N\n",
+                run.contact->t, e.link, e.along_m, e.along_sigma_m, e.force_n, e.force_sigma_n, run.contact->peak_force_n);
+  }
   if (run.t_comm_fault) std::printf("communication fault at %.3f s: the arm holds\n", *run.t_comm_fault);
   if (run.t_input_fault) std::printf("input fault at %.3f s: the arm holds\n", *run.t_input_fault);
   if (r.master.restarts > 0) std::printf("drives restarted mid-run: %llu\n", static_cast<unsigned long long>(r.master.restarts));
@@ -137,6 +143,8 @@ int run_hil_command(const HilOptions& o) {
     jr["link_drives_isolated"] = run.link_node_isolated;
     jr["t_comm_fault"] = run.t_comm_fault ? nlohmann::json(*run.t_comm_fault) : nlohmann::json(nullptr);
     jr["t_input_fault"] = run.t_input_fault ? nlohmann::json(*run.t_input_fault) : nlohmann::json(nullptr);
+    jr["force_estimate"] = run.contact ? nlohmann::json(run.contact->estimate.force_n) : nlohmann::json(nullptr);
+    jr["contact_estimate"] = run.contact ? contact_json(*run.contact) : nlohmann::json(nullptr);
     j["runs"] = nlohmann::json::array({jr});
     j["events"] = nlohmann::json::array();
     for (const auto& e : r.events) j["events"].push_back({{"joint", e.joint}, {"cycle", e.cycle}, {"external_torque", e.external_torque}});

@@ -34,6 +34,15 @@ grep -q '"effect": "none"' "$W/diag.json" || { echo "a recording against itself 
 "$J" simulate scenarios/paper_collision_shoulder.yaml --out "$W/shoulder_bus.csv" --bus sim --friction "$W/friction.json" \
   --threshold "$W/threshold.json" --json "$W/bus.json" > "$W/bus.txt"
 grep -q '"link_isolated": 2' "$W/bus.json" || { echo "drives on the bus did not isolate link 2"; cat "$W/bus.txt"; exit 1; }
+# The master's contact estimate from the drives' estimates: the shoulder collision's link
+# (60 N at 0.25 m along link 2), its force within 50 % of the true force at the same cycle.
+/usr/bin/python3 - "$W/bus.json" <<'PY' || { echo "the bus run's contact estimate"; cat "$W/bus.txt"; exit 1; }
+import json, sys
+c = json.load(open(sys.argv[1]))["runs"][0]["contact_estimate"]
+assert c is not None and c["link"] == 2, c
+assert abs(c["force"] - c["force_true_at_estimate"]) <= 0.5 * c["force_true_at_estimate"], c
+assert abs(c["along_link"] - 0.25) <= 0.1, c
+PY
 set +e
 "$J" node --joint 1 --iface jg-no-such-if0 --startup-timeout 1 2> "$W/err.txt"; rc=$?
 set -e
