@@ -138,19 +138,27 @@ nlohmann::json resampling_json(const io::RegularizeReport& r) {
   return j;
 }
 
-CLI::Validator output_file() {
+CLI::Validator output_file(bool creates_folders) {
   return CLI::Validator(
-      [](std::string& path) {
+      [creates_folders](std::string& path) {
         namespace fs = std::filesystem;
         std::error_code ec;
         if (path.empty()) return std::string("an empty path");
         if (fs::is_directory(path, ec)) return "'" + path + "' is a folder, not a file";
-        const fs::path folder = fs::path(path).has_parent_path() ? fs::path(path).parent_path() : fs::path(".");
-        if (!fs::is_directory(folder, ec)) return "the folder '" + folder.string() + "' of '" + path + "' does not exist";
+        fs::path folder = fs::path(path).has_parent_path() ? fs::path(path).parent_path() : fs::path(".");
+        if (creates_folders) {
+          // The writer creates the missing folders: the nearest existing one must be a
+          // writable folder (not a file in the way).
+          while (!fs::exists(folder, ec) && folder.has_parent_path() && folder.parent_path() != folder) folder = folder.parent_path();
+        }
+        if (!fs::is_directory(folder, ec)) {
+          return fs::exists(folder, ec) ? "'" + folder.string() + "' in '" + path + "' is a file, not a folder"
+                                        : "the folder '" + folder.string() + "' of '" + path + "' does not exist";
+        }
         if (::access(folder.c_str(), W_OK) != 0) return "the folder '" + folder.string() + "' of '" + path + "' is not writable";
         return std::string();
       },
-      "FILE (in an existing folder)");
+      creates_folders ? "FILE (missing folders are created)" : "FILE (in an existing folder)");
 }
 
 CLI::Validator finite_range(double lo, double hi) {

@@ -34,7 +34,9 @@ void add_model_selection(CLI::App* cmd, robot::LoadOptions& o);
 CLI::Validator finite_range(double lo, double hi);
 /// An output file: its folder exists and is writable, and the path is not a folder. Checked
 /// when the command line is read (exit 2, the option named), before any long run.
-CLI::Validator output_file();
+/// `creates_folders`: the writer creates missing folders (recordings, io::write_recording), so
+/// the nearest existing folder must be writable and no file may stand in the way.
+CLI::Validator output_file(bool creates_folders = false);
 
 /// How a subcommand reads a recording: --torque-kind, --rate, --max-gap. Every recording
 /// is regularized by time stamp (io/regularize.hpp) and the command says what was done.

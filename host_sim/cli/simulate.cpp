@@ -30,7 +30,7 @@ Command add_simulate(CLI::App& app) {
                                  "         jointguard simulate scenarios/paper_collision_shoulder.yaml --out out/shoulder_bus.csv --bus sim "
                                  "--friction out/friction.json --threshold out/threshold.json");
   cmd->add_option("scenario", opt->scenario, "Scenario file (YAML, see docs/scenarios.md)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--out", opt->out, "Recording to write (CSV; a .json side file is written beside it)")->check(output_file())->required();
+  cmd->add_option("--out", opt->out, "Recording to write (CSV; a .json side file is written beside it)")->check(output_file(true))->required();
   auto* seed = cmd->add_option("--seed", opt->seed, "Override the scenario's seed");
   cmd->add_option("--duration", opt->duration_s, "Override the duration [s]")->check(CLI::Range(1e-6, 2592000.0));
   cmd->add_option("--bus", opt->hil.bus,

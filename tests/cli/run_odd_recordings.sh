@@ -106,9 +106,14 @@ for c in replay calibrate diagnose identify bench simulate evaluate decode; do
     grep -q "^wrote" "$W/nd.txt" && bad "$c --json $target must not say wrote"
   done
 done
-"$J" simulate scenarios/paper_collision_shoulder.yaml --out "$W/no/such/dir/s.csv" > "$W/nd.txt" 2>&1
-[ $? = 2 ] && grep -q -- "--out: the folder" "$W/nd.txt" || bad "simulate --out into a missing folder must be refused"
-[ ! -e "$W/s.csv" ] || bad "a refused simulate wrote its recording"
+# A recording's missing folders are created (the README's first command writes into out/);
+# a file standing where a folder must be is refused before the run.
+"$J" simulate scenarios/paper_collision_shoulder.yaml --duration 0.2 --out "$W/new/dir/s.csv" > "$W/nd.txt" 2>&1 ||
+  bad "simulate --out into folders still to be made must create them"
+[ -s "$W/new/dir/s.csv" ] && [ -s "$W/new/dir/s.json" ] || bad "simulate --out: no recording in the new folders"
+touch "$W/a_file"
+"$J" simulate scenarios/paper_collision_shoulder.yaml --duration 0.2 --out "$W/a_file/s.csv" > "$W/nd.txt" 2>&1
+[ $? = 2 ] && grep -q -- "--out: '.*a_file' in '.*' is a file, not a folder" "$W/nd.txt" || { bad "simulate --out through a file must be refused"; cat "$W/nd.txt"; }
 
 # Friction and threshold files are matched by joint number, not by position.
 python3 - "$F3" "$W/fr_ordered.json" "$W/fr_reversed.json" "$W/fr_two.json" <<'PY' || bad "could not write the friction variants"
