@@ -268,7 +268,8 @@ Command add_evaluate(CLI::App& app) {
             std::string model_path = o->model;
             std::unique_ptr<sim::Scenario> scenario;
             if (o->scenario != "paper" && o->scenario != "campaign" && o->scenario != "safety" && o->scenario != "held") {
-              scenario = std::make_unique<sim::Scenario>(sim::load_scenario(o->scenario));
+              // The plant read as the estimator's model is (--base/--tip, --drive).
+              scenario = std::make_unique<sim::Scenario>(sim::load_scenario(o->scenario, 0, false, "", o->model_options));
               model_path = (std::filesystem::path(o->scenario).parent_path() /
                             io::YamlFields::load_file(o->scenario).text("model")).string();
             }

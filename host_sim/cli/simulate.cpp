@@ -51,7 +51,8 @@ Command add_simulate(CLI::App& app) {
       std::fprintf(stderr, "error: --fault acts on the joint drives' bus: add --bus sim (and --threshold)\n");
       return 2;
     }
-    sim::Scenario s = sim::load_scenario(opt->scenario, opt->seed, seed->count() > 0, opt->hil.model);
+    // The robot file as the command line reads it (--base/--tip, --drive): for the plant too.
+    sim::Scenario s = sim::load_scenario(opt->scenario, opt->seed, seed->count() > 0, opt->hil.model, opt->hil.model_options);
     for (const auto& a : s.effects.applied) std::printf("plant effect from the robot file: %s\n", a.c_str());
     for (const auto& a : s.effects.not_modelled) std::printf("plant effect not modelled: %s\n", a.c_str());
     if (opt->duration_s > 0.0) {

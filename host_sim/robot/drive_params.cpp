@@ -1,5 +1,7 @@
 #include "robot/drive_params.hpp"
 
+#include <cstdio>
+
 #include "io/yaml_fields.hpp"
 
 namespace jg::robot {
@@ -34,22 +36,29 @@ void apply_drive_file(RobotModel& model, const std::string& path) {
   if (!root.has("k_i") && !root.has("gear_ratio") && !root.has("rotor_inertia_kg_m2") && !root.has("current_limit_a")) {
     root.fail("", "no drive parameter given (k_i, gear_ratio, rotor_inertia_kg_m2, current_limit_a)");
   }
-  const auto apply = [&](const char* key, bool positive, auto set) {
+  const auto apply = [&](const char* key, bool positive, double max, auto set) {
     if (!root.has(key)) return;
     const std::vector<double> v = root.numbers(key, n);
     for (std::size_t k = 0; k < n; ++k) {
       if (positive ? !(v[k] > 0.0) : v[k] < 0.0) root.fail(key, positive ? "every value must be > 0" : "every value must be >= 0");
+      // Beyond any drive (robot_model.hpp): a typo or a unit slip, and a rotor inertia of
+      // 5e37 made the arm's mass matrix look singular at another joint of the robot file.
+      if (!(v[k] <= max)) {
+        char text[64];
+        std::snprintf(text, sizeof text, "%.3g is beyond any drive (at most %g)", v[k], max);
+        root.fail(key, "joint '" + names[k] + "': " + text);
+      }
       set(model.joints[static_cast<std::size_t>(index[k])], v[k]);
     }
   };
   // A URDF's <limit effort> is a torque: with a new K_I it becomes a new current limit.
-  apply("k_i", true, [](JointDescription& j, double k) {
+  apply("k_i", true, kMaxTorqueConstantNmPerA, [](JointDescription& j, double k) {
     j.link.torque_constant = k;
     if (j.effort_limit_nm > 0.0) j.link.current_limit = j.effort_limit_nm / k;
   });
-  apply("gear_ratio", true, [](JointDescription& j, double g) { j.gear_ratio = g; });
-  apply("rotor_inertia_kg_m2", false, [](JointDescription& j, double r) { j.link.rotor_inertia = r; });
-  apply("current_limit_a", true, [](JointDescription& j, double c) { j.link.current_limit = c; });
+  apply("gear_ratio", true, kMaxGearRatio, [](JointDescription& j, double g) { j.gear_ratio = g; });
+  apply("rotor_inertia_kg_m2", false, kMaxRotorInertiaKgM2, [](JointDescription& j, double r) { j.link.rotor_inertia = r; });
+  apply("current_limit_a", true, kMaxCurrentLimitA, [](JointDescription& j, double c) { j.link.current_limit = c; });
 }
 
 }  // namespace jg::robot

@@ -72,6 +72,7 @@ RobotModel load_yaml(const std::string& path) {
     }
     d.link.rotor_inertia = j.number("rotor_inertia_kg_m2", 0.0);
     if (d.link.rotor_inertia < 0.0) j.fail("rotor_inertia_kg_m2", "must be >= 0");
+    if (!(d.link.rotor_inertia <= kMaxRotorInertiaKgM2)) j.fail("rotor_inertia_kg_m2", "beyond any drive (at most 10000)");
     d.gear_ratio = j.number("gear_ratio", 100.0);
     if (!(d.gear_ratio > 0.0)) j.fail("gear_ratio", "must be > 0");
     d.link.torque_constant = j.number("torque_constant_nm_per_a", 10.0);

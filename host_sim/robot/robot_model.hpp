@@ -13,6 +13,16 @@
 
 namespace jg::robot {
 
+/// Upper bounds of the drive values a file may give (physically invalid beyond: refused naming
+/// the field). Reflected rotor inertia J_m N^2: a large industrial arm's is some 10-100 kg m^2
+/// (1e-3 kg m^2 behind a 1:200 gear is 40); 1e4 leaves room and keeps the mass matrix's joints
+/// within 1e12 of each other (sim check_simulatable). Link-side torque constant K_t N: up to
+/// about 3,000 N m/A (10 N m/A behind 1:300). Gear ratios and current limits likewise.
+inline constexpr double kMaxRotorInertiaKgM2 = 1e4;
+inline constexpr double kMaxTorqueConstantNmPerA = 1e5;
+inline constexpr double kMaxGearRatio = 1e5;
+inline constexpr double kMaxCurrentLimitA = 1e5;
+
 struct JointDescription {
   std::string name;
   LinkDescription link;

@@ -175,7 +175,7 @@ CollisionEvent parse_collision(const YamlFields& c, std::size_t n) {
 }  // namespace
 
 Scenario load_scenario(const std::string& path, unsigned long long seed_override, bool has_seed_override,
-                       const std::string& model_override) {
+                       const std::string& model_override, const robot::LoadOptions& model_options) {
   const YamlFields root = YamlFields::load_file(path);
   root.allow_only({"name", "model", "duration_s", "control_rate_hz", "plant_rate_hz", "seed", "trajectory",
                    "friction", "friction_enabled", "sensors", "controller", "collisions", "campaign", "elasticity",
@@ -194,7 +194,7 @@ Scenario load_scenario(const std::string& path, unsigned long long seed_override
     if (ext != ".yaml" && ext != ".yml" && ext != ".urdf") root.fail("model", "unknown robot file type (expected .yaml, .yml or .urdf)");
   }
   try {
-    s.model = load_plant_model(model_path.string());
+    s.model = load_plant_model(model_path.string(), model_options);
   } catch (const io::FormatError&) {
     throw;
   } catch (const std::exception& e) {
@@ -325,8 +325,8 @@ Scenario load_scenario(const std::string& path, unsigned long long seed_override
 
 namespace jg::sim {
 
-PlantModel load_plant_model(const std::string& path) {
-  const robot::RobotModel r = robot::load_robot(path);
+PlantModel load_plant_model(const std::string& path, const robot::LoadOptions& options) {
+  const robot::RobotModel r = robot::load_robot(path, options);
   robot::check_simulatable(r);  // a singular mass matrix would fill the recording with NaN
   PlantModel m;
   m.name = r.name;

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "robot/plant_effects.hpp"
+#include "robot/robot_model.hpp"
 #include "sim/apply_effects.hpp"
 #include "sim/simulation.hpp"
 
@@ -21,7 +22,8 @@ struct PlantModel {
 };
 
 /// Loads a robot file (the project's YAML or a URDF) for the plant.
-PlantModel load_plant_model(const std::string& path);
+/// `options`: the URDF chain (--base/--tip) and the drive file (--drive) the command line gave.
+PlantModel load_plant_model(const std::string& path, const robot::LoadOptions& options = {});
 
 struct Scenario {
   std::string file;
@@ -33,7 +35,8 @@ struct Scenario {
 /// Parses a scenario; `model` paths are relative to the scenario file's folder.
 /// `model_override`: a robot file used instead of the scenario's `model` (e.g. the one
 /// `diagnose --model-out` wrote); its plant_effects are applied to the plant last.
+/// `model_options`: how the robot file is read (URDF chain, drive file), for either.
 Scenario load_scenario(const std::string& path, unsigned long long seed_override = 0, bool has_seed_override = false,
-                       const std::string& model_override = "");
+                       const std::string& model_override = "", const robot::LoadOptions& model_options = {});
 
 }  // namespace jg::sim

@@ -42,6 +42,26 @@ sed 's/^control_rate_hz: 1000$/control_rate_hz: 1000\nelasticity: {stiffness_nm_
 sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/stiff.yaml"
 expect 1 "diverged" -- "$J" simulate "$W/stiff.yaml" --out "$W/never.csv"
 [ ! -e "$W/never.csv" ] || { echo "a refused run wrote its recording"; exit 1; }
+# A drive file's rotor inertia of 5e37 kg m^2 (the drive fuzzer's finding): refused naming the
+# drive file, line and field, not reported as a singular mass matrix of the robot file. And
+# `simulate --drive` acts on the plant (it was accepted and ignored without --bus): the
+# motor currents follow the drive file's K_I.
+expect 1 "huge_rotor_inertia.yaml:4:22: field 'rotor_inertia_kg_m2': joint 'elbow'" -- "$J" simulate \
+  scenarios/paper_collision_shoulder.yaml --drive tests/fuzz/regressions/drive/huge_rotor_inertia.yaml --out "$W/never.csv"
+[ ! -e "$W/never.csv" ] || { echo "a refused drive file let simulate write its recording"; exit 1; }
+printf 'joints: [waist, shoulder, elbow]\nk_i: [5.0, 10.0, 10.0]\n' > "$W/k5.yaml"
+printf 'joints: [waist, shoulder, elbow]\nk_i: [2.5, 10.0, 10.0]\n' > "$W/k2.yaml"
+for k in k5 k2; do
+  "$J" simulate scenarios/paper_collision_shoulder.yaml --drive "$W/$k.yaml" --duration 0.2 --out "$W/$k.csv" > /dev/null
+done
+/usr/bin/python3 - "$W/k5.csv" "$W/k2.csv" <<'PY' || { echo "simulate --drive: the waist's current must double with half its K_I"; exit 1; }
+import csv, sys
+a, b = (list(csv.DictReader(open(f))) for f in sys.argv[1:3])
+# Summed over the run (the current sensor's noise, 0.01 A rms, does not scale with K_I).
+ratio = sum(abs(float(r["i1"])) for r in b) / sum(abs(float(r["i1"])) for r in a)
+same = sum(abs(float(r["i2"])) for r in b) / sum(abs(float(r["i2"])) for r in a)
+assert 1.9 <= ratio <= 2.1 and 0.97 <= same <= 1.03, (ratio, same)
+PY
 # An extended identifier is not the 11-bit cycle sync; binary input is not echoed raw.
 printf '(0.000000) vcan0 00000010#00\n' > "$W/ext.log"
 set +e

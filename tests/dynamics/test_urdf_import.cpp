@@ -371,6 +371,16 @@ TEST(DriveFile, GivesDriveParametersByJointName) {
     o.drive_file = kData + bad;
     EXPECT_THROW((void)jg::robot::load_robot(kData + "skew_branch.urdf", o), jg::io::FormatError) << bad;
   }
+  // Beyond any drive (the drive fuzzer's rotor inertia of 5e37 kg m^2): refused naming the
+  // drive file, line, field and joint.
+  o.drive_file = std::string(JG_SOURCE_DIR) + "/tests/fuzz/regressions/drive/huge_rotor_inertia.yaml";
+  try {
+    (void)jg::robot::load_robot(std::string(JG_SOURCE_DIR) + "/models/ref3.yaml", o);
+    ADD_FAILURE() << "a rotor inertia of 5e37 kg m^2 was accepted";
+  } catch (const jg::io::FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find("huge_rotor_inertia.yaml:4:22: field 'rotor_inertia_kg_m2': joint 'elbow'"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(DriveFile, AcceptsTheUr10eVendorStyleFile) {
