@@ -30,6 +30,8 @@ TrajectorySample ExcitationTrajectory::at(double t) const {
 
 WaypointTrajectory::WaypointTrajectory(JointVector start, std::vector<Waypoint> waypoints)
     : start_(std::move(start)), waypoints_(std::move(waypoints)) {
+  move_end_.reserve(waypoints_.size());
+  dwell_end_.reserve(waypoints_.size());
   double t0 = 0.0;
   for (const auto& w : waypoints_) {
     if (w.q.size() != start_.size() || !(w.move_s > 0.0) || w.dwell_s < 0.0) {
@@ -86,6 +88,14 @@ std::unique_ptr<Trajectory> make_pick_task(const JointVector& home, const JointV
   return std::make_unique<WaypointTrajectory>(home, std::move(wps));
 }
 
+namespace {
+/// Every random move lasts at least 0.5 s: the most moves a motion of `total_s` holds (a
+/// reservation only, none beyond 10^7 s: the vector then grows as it must).
+std::size_t moves_upper_bound(double total_s) {
+  return total_s > 0.0 && total_s < 1.0e7 ? static_cast<std::size_t>(total_s / 0.5) + 1U : 0U;
+}
+}  // namespace
+
 std::unique_ptr<Trajectory> make_random_moves(const JointVector& start, const JointVector& lower,
                                               const JointVector& upper, double max_speed, double total_s,
                                               unsigned long long seed) {
@@ -95,6 +105,7 @@ std::unique_ptr<Trajectory> make_random_moves(const JointVector& start, const Jo
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::vector<WaypointTrajectory::Waypoint> wps;
+  wps.reserve(moves_upper_bound(total_s));
   JointVector from = start;
   double t = 0.0;
   while (t < total_s) {
@@ -103,9 +114,9 @@ std::unique_ptr<Trajectory> make_random_moves(const JointVector& start, const Jo
     const double distance = (target - from).cwiseAbs().maxCoeff();
     const double move = std::max(0.5, 1.875 * distance / max_speed);
     const double dwell = 0.2 * unit(rng);
-    wps.push_back({target, move, dwell});
-    t += move + dwell;
     from = target;
+    wps.push_back({std::move(target), move, dwell});  // one allocation per move, not two
+    t += move + dwell;
   }
   return std::make_unique<WaypointTrajectory>(start, std::move(wps));
 }
@@ -120,6 +131,7 @@ std::unique_ptr<Trajectory> make_random_moves_with_holds(const JointVector& star
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::vector<WaypointTrajectory::Waypoint> wps;
+  wps.reserve(moves_upper_bound(total_s));
   JointVector from = start;
   double t = 0.0;
   while (t < total_s) {
@@ -134,9 +146,9 @@ std::unique_ptr<Trajectory> make_random_moves_with_holds(const JointVector& star
     const double dwell = unit(rng) < holds.long_dwell_probability
                              ? holds.long_dwell_min_s + (holds.long_dwell_max_s - holds.long_dwell_min_s) * unit(rng)
                              : 0.2 * unit(rng);
-    wps.push_back({target, move, dwell});
-    t += move + dwell;
     from = target;
+    wps.push_back({std::move(target), move, dwell});
+    t += move + dwell;
   }
   return std::make_unique<WaypointTrajectory>(start, std::move(wps));
 }

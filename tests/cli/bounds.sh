@@ -88,6 +88,22 @@ expect 1 "dup_robot.yaml:13:5: field 'joints\[0\].a_prev_m': duplicate key (firs
 expect 1 "cyclic_robot.yaml:[0-9]*:[0-9]*: nested deeper than 64 levels" -- \
   "$J" replay tests/data/recordings/held_arm.csv --model "$W/cyclic_robot.yaml" \
   --friction tests/data/recordings/ref3_friction.json --threshold tests/data/recordings/ref3_threshold.json
+# Aliases that expand (a "billion laughs" document) are refused after 10,000 nodes, naming
+# the file; a document of about 9,000 nodes is checked through to its unknown key, one with a
+# list of 10,000 is refused by the count.
+{ cat models/ref3.yaml; echo 'notes: ['; seq -s , 1 8990; echo ']'; } > "$W/long_list_robot.yaml"
+expect 1 "long_list_robot.yaml:[0-9]*:[0-9]*: field 'notes': unknown key" -- \
+  "$J" replay tests/data/recordings/held_arm.csv --model "$W/long_list_robot.yaml" \
+  --friction tests/data/recordings/ref3_friction.json --threshold tests/data/recordings/ref3_threshold.json
+{ cat models/ref3.yaml; echo 'notes: ['; seq -s , 1 10000; echo ']'; } > "$W/longer_list_robot.yaml"
+expect 1 "longer_list_robot.yaml:[0-9]*:[0-9]*: more than 10000 YAML nodes" -- \
+  "$J" replay tests/data/recordings/held_arm.csv --model "$W/longer_list_robot.yaml" \
+  --friction tests/data/recordings/ref3_friction.json --threshold tests/data/recordings/ref3_threshold.json
+{ cat models/ref3.yaml; echo 'a: &a [1, 2, 3, 4, 5, 6, 7, 8, 9, 10]'; echo 'b: &b [*a, *a, *a, *a, *a, *a, *a, *a, *a, *a]';
+  echo 'c: &c [*b, *b, *b, *b, *b, *b, *b, *b, *b, *b]'; echo 'd: [*c, *c, *c, *c, *c, *c, *c, *c, *c, *c]'; } > "$W/laughs_robot.yaml"
+expect 1 "laughs_robot.yaml:[0-9]*:[0-9]*: more than 10000 YAML nodes" -- \
+  "$J" replay tests/data/recordings/held_arm.csv --model "$W/laughs_robot.yaml" \
+  --friction tests/data/recordings/ref3_friction.json --threshold tests/data/recordings/ref3_threshold.json
 sed 's/^seed: 1$/seed: 1\nseed: 2/' scenarios/paper_excitation.yaml > "$W/dup_scenario.yaml"
 sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/dup_scenario.yaml"
 expect 1 "dup_scenario.yaml:7:1: field 'seed': duplicate key (first given on line 6)" -- "$J" simulate "$W/dup_scenario.yaml" --out "$W/never.csv"
