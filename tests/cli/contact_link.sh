@@ -5,6 +5,7 @@
 # that link in its contact estimate, the estimate's link is right at least as often as the
 # isolation's, and the force within 20 % of what the observer sees is reached more often than
 # with the contact estimate's own link decision (the same runs without the flag).
+# Also scripts/contact_ceiling.py on the same JSON: no estimate above its bound.
 # Usage: contact_link.sh JOINTGUARD SOURCE_DIR
 set -euo pipefail
 J="$1"
@@ -27,4 +28,18 @@ print(f"link right {a['link_right']} -> {b['link_right']}; force within 20 % of 
       f"{a['force_within_20pct_of_observed']} -> {b['force_within_20pct_of_observed']} of {b['estimated']}")
 assert b["link_right"] >= a["link_right"]
 assert b["force_within_20pct_of_observed"] > a["force_within_20pct_of_observed"], "no gain in force from the isolated link"
+PY
+# The ceiling of any estimate from the joint torques (scripts/contact_ceiling.py, issue 15's
+# force and point figures): it runs on the campaign's JSON, and no estimate beats it.
+/usr/bin/python3 "$2/scripts/contact_ceiling.py" "${T}/iso.json" --link3-all > "${T}/ceiling.txt"
+cat "${T}/ceiling.txt"
+/usr/bin/python3 - "${T}/ceiling.txt" <<'PY'
+import re, sys
+text = open(sys.argv[1]).read()
+for what in ("force within 20 %", "point within 5 cm"):
+    m = re.search(re.escape(what) + r".*?the estimate (\d+)/(\d+).*?all (\d+)/(\d+)", text)
+    assert m, f"no '{what}' line"
+    est, n, bound, n2 = map(int, m.groups())
+    assert n == n2 and 0 < bound <= n, m.group(0)
+    assert est <= bound, f"{what}: the estimate ({est}) above the bound ({bound})"
 PY
