@@ -11,7 +11,13 @@
 # readers run side by side each need their own), JG_FUZZ_TIMEOUT, the seconds an input may
 # take before it counts as a hang (default 10; a niced run beside other work is starved of
 # the CPU for whole seconds, and an input of 0.1 s then "takes" more than 10).
+# ASAN_OPTIONS defaults to malloc_context_size=2: ASan records 2 frames, not 30, for each
+# allocation and free (the stack depot and unwinding were a fifth of the drive fuzzer's
+# time). Errors are detected as before and their inputs saved; replaying one through the
+# same binary without the option gives the full stacks. Not 0 or 1: LeakSanitizer then
+# reports no leak at all (checked with a 40-byte leak, clang 14).
 set -euo pipefail
+export ASAN_OPTIONS="${ASAN_OPTIONS:-malloc_context_size=2}"
 cd "$(dirname "$0")/.."
 SECONDS_PER_READER="${1:-600}"
 RUNS="${2:-10000000}"
