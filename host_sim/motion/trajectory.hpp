@@ -94,6 +94,8 @@ class ReversedTrajectory final : public Trajectory {
 };
 
 /// Pick task: from `home` to above a workpiece lower left, down to it, dwell, up, home.
+/// One repetition lasts kPickCycleS (its moves and dwells, make_pick_task).
+constexpr double kPickCycleS = 2.0 + 0.2 + 1.0 + 0.5 + 1.0 + 0.2 + 2.0 + 0.5;
 std::unique_ptr<Trajectory> make_pick_task(const JointVector& home, const JointVector& workpiece, int repetitions = 1);
 /// Random smooth point-to-point moves within [lower, upper], seeded; each move's duration
 /// keeps the peak joint speed (1.875 x mean for a quintic) under `max_speed`.

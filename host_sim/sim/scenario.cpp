@@ -41,7 +41,7 @@ std::shared_ptr<const Trajectory> parse_trajectory(const YamlFields& t, std::siz
     const double direction = t.number("direction", 1.0);
     if (direction != 1.0 && direction != -1.0) t.fail("direction", "expected 1 or -1");
     const long periods = t.integer("periods", 4);
-    if (periods < 1) t.fail("periods", "expected at least 1");
+    if (periods < 1 || periods > 1000000) t.fail("periods", "expected 1..1000000");  // before the cast to int
     const double freq = t.number("frequency_hz", 0.2), blend = t.number("blend_s", 2.5);
     if (!(freq > 0.0)) t.fail("frequency_hz", "expected > 0");
     if (!(blend > 0.0)) t.fail("blend_s", "expected > 0");
@@ -52,8 +52,13 @@ std::shared_ptr<const Trajectory> parse_trajectory(const YamlFields& t, std::siz
   }
   if (type == "pick") {
     t.allow_only({"type", "home_rad", "workpiece_rad", "repetitions"});
+    // Built in memory like a generated motion, so bounded alike (63 million repetitions ran
+    // the scenario fuzzer out of memory): at most 7 days of its 7.4 s cycle.
+    constexpr long kMaxPickRepetitions = static_cast<long>(kMaxGeneratedMotionS / kPickCycleS);
     const long reps = t.integer("repetitions", 1);
-    if (reps < 1) t.fail("repetitions", "expected at least 1");
+    if (reps < 1 || reps > kMaxPickRepetitions) {
+      t.fail("repetitions", "expected 1.." + std::to_string(kMaxPickRepetitions) + " (7 days)");
+    }
     return make_pick_task(to_joint_vector(t.numbers("home_rad", n)), to_joint_vector(t.numbers("workpiece_rad", n)),
                           static_cast<int>(reps));
   }
@@ -73,8 +78,12 @@ std::shared_ptr<const Trajectory> parse_trajectory(const YamlFields& t, std::siz
     c.accel = t.number("accel_rad_s2", c.accel);
     c.stop_decel = t.number("stop_decel_rad_s2", c.stop_decel);
     c.stop_share = t.number("stop_share", c.stop_share);
-    c.levels = static_cast<int>(t.integer("levels", c.levels));
-    c.speed_steps = static_cast<int>(t.integer("speed_steps", c.speed_steps));
+    // Range-checked as read: a long beyond int cast first would wrap into the range.
+    const long levels = t.integer("levels", c.levels), speed_steps = t.integer("speed_steps", c.speed_steps);
+    if (levels < 2 || levels > 100) t.fail("levels", "expected 2..100");
+    if (speed_steps < 1 || speed_steps > 10) t.fail("speed_steps", "expected 1..10");
+    c.levels = static_cast<int>(levels);
+    c.speed_steps = static_cast<int>(speed_steps);
     c.dwell_max_s = t.number("dwell_max_s", c.dwell_max_s);
     try {
       return make_calibration_motion(to_joint_vector(t.numbers("start_rad", n)), to_joint_vector(t.numbers("lower_rad", n)),

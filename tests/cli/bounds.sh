@@ -37,6 +37,12 @@ expect 2 "duration" -- "$J" simulate scenarios/paper_excitation.yaml --duration 
 sed 's/^  duration_s: .*/  duration_s: 6566666/' scenarios/free_motion.yaml > "$W/random_long.yaml"
 sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/random_long.yaml"
 expect 1 "random_long.yaml:.*duration_s.*7 days" -- "$J" simulate "$W/random_long.yaml" --out "$W/never.csv"
+# A pick task of 63 million repetitions (the scenario fuzzer's finding in the sixth session:
+# 2.7 GB of waypoints, out of memory): refused naming file, line and field, like a generated
+# motion beyond 7 days.
+sed 's/^  repetitions: .*/  repetitions: 63000000/' scenarios/paper_collision_shoulder.yaml > "$W/pick_long.yaml"
+sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/pick_long.yaml"
+expect 1 "pick_long.yaml:[0-9]*:[0-9]*: .*repetitions.*expected 1..81729 (7 days)" -- "$J" simulate "$W/pick_long.yaml" --out "$W/never.csv"
 # Gears of 3e6 N·m/rad at the default plant rate diverge: exit 1, no NaN recording.
 sed 's/^control_rate_hz: 1000$/control_rate_hz: 1000\nelasticity: {stiffness_nm_per_rad: [3e6, 3e6, 3e6]}/' scenarios/paper_excitation.yaml > "$W/stiff.yaml"
 sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/stiff.yaml"
