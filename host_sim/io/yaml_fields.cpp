@@ -45,7 +45,8 @@ void check_keys(const std::string& file, const YAML::Node& node, const std::stri
   }
   if (node.IsSequence()) {
     // Iterated, not indexed: yaml-cpp's size() of a sequence counts its entries each time,
-    // so `i < node.size()` made a long list quadratic (44 % of the robot fuzzer's time).
+    // so `i < node.size()` made a long list quadratic. (The robot fuzzer's 44 % in this
+    // check was the node count of alias expansions, kMaxNodes above, not this.)
     std::size_t i = 0;
     for (const auto& item : node) check_keys(file, item, path + "[" + std::to_string(i++) + "]", visited, depth + 1);
   } else if (node.IsMap()) {
