@@ -77,8 +77,8 @@ class CalibrationTrajectory final : public Trajectory {
   double duration_ = 0.0;
 };
 
-void check(bool ok, const char* name, const std::string& what) {
-  if (!ok) throw std::invalid_argument(std::string("calibration motion: ") + name + ": " + what);
+void check(bool ok, const char* name, const char* what) {
+  if (!ok) throw CalibrationMotionError(name, what);
 }
 }  // namespace
 

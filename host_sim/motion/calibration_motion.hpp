@@ -13,14 +13,16 @@
 #pragma once
 
 #include <memory>
+#include <stdexcept>
+#include <string>
 
 #include "motion/trajectory.hpp"
 
 namespace jg::sim {
 
 struct CalibrationMotion {
-  int levels = 5;                  ///< slices per joint range (>= 2)
-  int speed_steps = 3;             ///< peak speeds max_speed x k / speed_steps, k = 1..speed_steps
+  long levels = 5;                 ///< slices per joint range (2..100; long so a reader passes what it read, one check)
+  long speed_steps = 3;            ///< peak speeds max_speed x k / speed_steps, k = 1..speed_steps
   double max_speed = 1.0;          ///< [rad/s] the fastest joint's peak speed, fastest moves
   double accel = 4.0;              ///< [rad/s^2] acceleration of the trapezoidal (stop) moves
   double stop_decel = 20.0;        ///< [rad/s^2] deceleration of the abrupt stops
@@ -28,7 +30,20 @@ struct CalibrationMotion {
   double dwell_max_s = 1.0;        ///< [s] dwell after each move: 0.1 .. this
 };
 
-/// Throws std::invalid_argument naming the parameter when one is out of range.
+/// A parameter out of range. `field` is its name in a scenario file, so a reader can point at
+/// the line that set it; `problem` says what was expected.
+class CalibrationMotionError : public std::invalid_argument {
+ public:
+  CalibrationMotionError(const std::string& field, const std::string& problem)
+      : std::invalid_argument("calibration motion: " + field + ": " + problem), field_(field), problem_(problem) {}
+  [[nodiscard]] const std::string& field() const noexcept { return field_; }
+  [[nodiscard]] const std::string& problem() const noexcept { return problem_; }
+
+ private:
+  std::string field_, problem_;
+};
+
+/// Throws CalibrationMotionError naming the parameter when one is out of range.
 std::unique_ptr<Trajectory> make_calibration_motion(const JointVector& start, const JointVector& lower,
                                                     const JointVector& upper, const CalibrationMotion& c,
                                                     double total_s, unsigned long long seed);

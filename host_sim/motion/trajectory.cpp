@@ -79,11 +79,12 @@ std::unique_ptr<Trajectory> make_pick_task(const JointVector& home, const JointV
     above(2) -= 0.10;
   }
   std::vector<WaypointTrajectory::Waypoint> wps;
+  using P = PickPhases;
   for (int r = 0; r < repetitions; ++r) {
-    wps.push_back({above, 2.0, 0.2});
-    wps.push_back({workpiece, 1.0, 0.5});
-    wps.push_back({above, 1.0, 0.2});
-    wps.push_back({home, 2.0, 0.5});
+    wps.push_back({above, P::kToAboveMoveS, P::kAboveDwellS});
+    wps.push_back({workpiece, P::kDownMoveS, P::kGraspDwellS});
+    wps.push_back({above, P::kUpMoveS, P::kLiftedDwellS});
+    wps.push_back({home, P::kHomeMoveS, P::kHomeDwellS});
   }
   return std::make_unique<WaypointTrajectory>(home, std::move(wps));
 }

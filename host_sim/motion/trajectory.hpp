@@ -94,8 +94,17 @@ class ReversedTrajectory final : public Trajectory {
 };
 
 /// Pick task: from `home` to above a workpiece lower left, down to it, dwell, up, home.
-/// One repetition lasts kPickCycleS (its moves and dwells, make_pick_task).
-constexpr double kPickCycleS = 2.0 + 0.2 + 1.0 + 0.5 + 1.0 + 0.2 + 2.0 + 0.5;
+/// Each repetition: move above the workpiece, down to it, up, home; each move then its dwell.
+struct PickPhases {
+  static constexpr double kToAboveMoveS = 2.0, kAboveDwellS = 0.2;
+  static constexpr double kDownMoveS = 1.0, kGraspDwellS = 0.5;
+  static constexpr double kUpMoveS = 1.0, kLiftedDwellS = 0.2;
+  static constexpr double kHomeMoveS = 2.0, kHomeDwellS = 0.5;
+};
+/// One repetition's duration (7.4 s), summed from the phases make_pick_task uses.
+constexpr double kPickCycleS = PickPhases::kToAboveMoveS + PickPhases::kAboveDwellS + PickPhases::kDownMoveS +
+                               PickPhases::kGraspDwellS + PickPhases::kUpMoveS + PickPhases::kLiftedDwellS +
+                               PickPhases::kHomeMoveS + PickPhases::kHomeDwellS;
 std::unique_ptr<Trajectory> make_pick_task(const JointVector& home, const JointVector& workpiece, int repetitions = 1);
 /// Random smooth point-to-point moves within [lower, upper], seeded; each move's duration
 /// keeps the peak joint speed (1.875 x mean for a quintic) under `max_speed`.

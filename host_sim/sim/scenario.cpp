@@ -78,18 +78,15 @@ std::shared_ptr<const Trajectory> parse_trajectory(const YamlFields& t, std::siz
     c.accel = t.number("accel_rad_s2", c.accel);
     c.stop_decel = t.number("stop_decel_rad_s2", c.stop_decel);
     c.stop_share = t.number("stop_share", c.stop_share);
-    // Range-checked as read: a long beyond int cast first would wrap into the range.
-    const long levels = t.integer("levels", c.levels), speed_steps = t.integer("speed_steps", c.speed_steps);
-    if (levels < 2 || levels > 100) t.fail("levels", "expected 2..100");
-    if (speed_steps < 1 || speed_steps > 10) t.fail("speed_steps", "expected 1..10");
-    c.levels = static_cast<int>(levels);
-    c.speed_steps = static_cast<int>(speed_steps);
+    // Passed on as read (long, never cast): make_calibration_motion checks their range.
+    c.levels = t.integer("levels", c.levels);
+    c.speed_steps = t.integer("speed_steps", c.speed_steps);
     c.dwell_max_s = t.number("dwell_max_s", c.dwell_max_s);
     try {
       return make_calibration_motion(to_joint_vector(t.numbers("start_rad", n)), to_joint_vector(t.numbers("lower_rad", n)),
                                      to_joint_vector(t.numbers("upper_rad", n)), c, generated_duration(t), seed);
-    } catch (const std::invalid_argument& e) {
-      t.fail("type", e.what());
+    } catch (const CalibrationMotionError& e) {
+      t.fail(e.field(), e.problem());  // at the field's line when the file set it
     }
   }
   if (type == "move") {

@@ -43,6 +43,14 @@ expect 1 "random_long.yaml:.*duration_s.*7 days" -- "$J" simulate "$W/random_lon
 sed 's/^  repetitions: .*/  repetitions: 63000000/' scenarios/paper_collision_shoulder.yaml > "$W/pick_long.yaml"
 sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/pick_long.yaml"
 expect 1 "pick_long.yaml:[0-9]*:[0-9]*: .*repetitions.*expected 1..81729 (7 days)" -- "$J" simulate "$W/pick_long.yaml" --out "$W/never.csv"
+# A calibration motion's levels beyond int (once cast before their check, so they could wrap
+# into range) and speed_steps out of range: refused at the field's own line.
+sed 's/^  levels: .*/  levels: 4294967298/' scenarios/calibration_motion.yaml > "$W/levels.yaml"
+sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/levels.yaml"
+expect 1 "levels.yaml:18:[0-9]*: field 'trajectory.levels': expected 2..100" -- "$J" simulate "$W/levels.yaml" --out "$W/never.csv"
+sed 's/^  speed_steps: .*/  speed_steps: 11/' scenarios/calibration_motion.yaml > "$W/steps.yaml"
+sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/steps.yaml"
+expect 1 "steps.yaml:19:[0-9]*: field 'trajectory.speed_steps': expected 1..10" -- "$J" simulate "$W/steps.yaml" --out "$W/never.csv"
 # Gears of 3e6 N·m/rad at the default plant rate diverge: exit 1, no NaN recording.
 sed 's/^control_rate_hz: 1000$/control_rate_hz: 1000\nelasticity: {stiffness_nm_per_rad: [3e6, 3e6, 3e6]}/' scenarios/paper_excitation.yaml > "$W/stiff.yaml"
 sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/stiff.yaml"
