@@ -11,6 +11,10 @@
 # readers run side by side each need their own), JG_FUZZ_TIMEOUT, the seconds an input may
 # take before it counts as a hang (default 10; a niced run beside other work is starved of
 # the CPU for whole seconds, and an input of 0.1 s then "takes" more than 10).
+# JG_FUZZ_FORK=N (N >= 2): one run of libFuzzer's fork mode, N worker processes on N cores
+# that share one corpus; the parent counts the executions of all of them and stops the run at
+# RUNS. Timeouts and out-of-memory count as findings, as in the default mode (fork mode
+# ignores them unless told otherwise). Without it: one process.
 # ASAN_OPTIONS defaults to malloc_context_size=2: ASan records 2 frames, not 30, for each
 # allocation and free (the stack depot and unwinding were a fifth of the drive fuzzer's
 # time). Errors are detected as before and their inputs saved; replaying one through the
@@ -31,6 +35,12 @@ ROOT="$PWD"
 if [ -z "${JG_FUZZ_TMP:-}" ] && [ -w /dev/shm ]; then export JG_FUZZ_TMP=/dev/shm; fi
 OUT="${JG_FUZZ_OUT:-$ROOT/build/fuzz/long}"
 TIMEOUT="${JG_FUZZ_TIMEOUT:-10}"
+FORK="${JG_FUZZ_FORK:-1}"
+if [ "$FORK" -ge 2 ]; then
+  MODE=(-fork="$FORK" -ignore_timeouts=0 -ignore_ooms=0 -ignore_crashes=0)
+else
+  MODE=(-jobs=1 -workers=1)
+fi
 mkdir -p "$OUT"
 status=0
 printf '%-12s %12s %8s %s\n' reader executions seconds result | tee "$OUT/summary.txt"
@@ -40,19 +50,24 @@ for r in "${READERS[@]}"; do
   cp tests/fuzz/corpus/"$r"/* "$W/corpus/"
   start=$(date +%s)
   set +e
-  # -jobs=1: one worker process (its output in $W/fuzz-0.log), restarted never; -timeout:
+  # -jobs=1: one worker process (its output in $W/fuzz-0.log), restarted never (fork mode:
+  # driver.log has the parent's progress); -timeout:
   # an input taking $TIMEOUT s (10 by default) is a finding (a reader must refuse, not hang); -max_len: inputs up
   # to 8 kB (the seeds are smaller; the 23 kB DBC and 40 kB regression only start them).
   (cd "$W" && nice -n 10 "$ROOT/build/fuzz/tests/fuzz/fuzz_$r" corpus "$ROOT/tests/fuzz/regressions/$r" \
-     -jobs=1 -workers=1 -max_total_time="$SECONDS_PER_READER" -runs="$RUNS" -timeout="$TIMEOUT" -max_len=8192 -seed=1 \
+     "${MODE[@]}" -max_total_time="$SECONDS_PER_READER" -runs="$RUNS" -timeout="$TIMEOUT" -max_len=8192 -seed=1 \
      -print_final_stats=1 -artifact_prefix="$W/" > driver.log 2>&1)
   rc=$?
   set -e
   secs=$(( $(date +%s) - start ))
-  runs=$(grep -ho "stat::number_of_executed_units: *[0-9]*" "$W"/fuzz-0.log | grep -o "[0-9]*$" | tail -1 || true)
+  if [ "$FORK" -ge 2 ]; then  # the parent's last progress line, "#<executions>: cov: ..."
+    runs=$(grep -ao "#[0-9]*: cov" "$W"/driver.log | grep -o "[0-9]*" | tail -1 || true)
+  else
+    runs=$(grep -ho "stat::number_of_executed_units: *[0-9]*" "$W"/fuzz-0.log | grep -o "[0-9]*$" | tail -1 || true)
+  fi
   if compgen -G "$W/crash-*" > /dev/null || compgen -G "$W/leak-*" > /dev/null || compgen -G "$W/timeout-*" > /dev/null ||
      compgen -G "$W/oom-*" > /dev/null; then rc=${rc/#0/1}; fi
-  if [ "$rc" = 0 ]; then result=ok; else result="FINDING (exit $rc, see $W/fuzz-0.log)"; status=1; fi
+  if [ "$rc" = 0 ]; then result=ok; else result="FINDING (exit $rc, see $W/fuzz-0.log or driver.log)"; status=1; fi
   printf '%-12s %12s %8s %s\n' "$r" "${runs:-?}" "$secs" "$result" | tee -a "$OUT/summary.txt"
 done
 exit $status
