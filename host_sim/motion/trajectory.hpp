@@ -93,8 +93,7 @@ class ReversedTrajectory final : public Trajectory {
   std::shared_ptr<const Trajectory> base_;
 };
 
-/// Pick task: from `home` to above a workpiece lower left, down to it, dwell, up, home.
-/// Each repetition: move above the workpiece, down to it, up, home; each move then its dwell.
+/// The pick task's moves and dwells [s]: each move is followed by its dwell.
 struct PickPhases {
   static constexpr double kToAboveMoveS = 2.0, kAboveDwellS = 0.2;
   static constexpr double kDownMoveS = 1.0, kGraspDwellS = 0.5;
@@ -105,6 +104,7 @@ struct PickPhases {
 constexpr double kPickCycleS = PickPhases::kToAboveMoveS + PickPhases::kAboveDwellS + PickPhases::kDownMoveS +
                                PickPhases::kGraspDwellS + PickPhases::kUpMoveS + PickPhases::kLiftedDwellS +
                                PickPhases::kHomeMoveS + PickPhases::kHomeDwellS;
+/// Pick task: from `home` to above a workpiece lower left, down to it, dwell, up, home.
 std::unique_ptr<Trajectory> make_pick_task(const JointVector& home, const JointVector& workpiece, int repetitions = 1);
 /// Random smooth point-to-point moves within [lower, upper], seeded; each move's duration
 /// keeps the peak joint speed (1.875 x mean for a quintic) under `max_speed`.

@@ -23,37 +23,35 @@ expect() {  # expect RC NEEDLE -- command...
     exit 1
   fi
 }
+# variant SED_EXPR SCENARIO OUT: a shipped scenario edited by SED_EXPR, written to $W/OUT with
+# its model path made absolute (the copy is read from $W).
+variant() {
+  sed "$1" "scenarios/$2" | sed "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" > "$W/$3"
+}
 { echo 'VERSION ""'; echo 'BO_ 16 sync: 8 master'; printf ' SG_ x : 0|8@1+ (1,0) [0|1] "'; head -c 40000 /dev/zero | tr '\0' 'a'; echo '" node'; } > "$W/long.dbc"
 echo "(0.000000) vcan0 010#00" > "$W/capture.log"
 expect 1 "long.dbc:3" -- "$J" decode "$W/capture.log" --dbc "$W/long.dbc"
-sed 's/^control_rate_hz: 1000$/control_rate_hz: 1000\nplant_rate_hz: 1e9/' scenarios/paper_excitation.yaml > "$W/fast.yaml"
-sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/fast.yaml"
+variant 's/^control_rate_hz: 1000$/control_rate_hz: 1000\nplant_rate_hz: 1e9/' paper_excitation.yaml fast.yaml
 expect 1 "plant_rate_hz" -- "$J" simulate "$W/fast.yaml" --out "$W/never.csv"
-sed 's/^control_rate_hz: 1000$/control_rate_hz: 1000\nduration_s: 1e12/' scenarios/paper_excitation.yaml > "$W/long.yaml"
-sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/long.yaml"
+variant 's/^control_rate_hz: 1000$/control_rate_hz: 1000\nduration_s: 1e12/' paper_excitation.yaml long.yaml
 expect 1 "duration_s" -- "$J" simulate "$W/long.yaml" --out "$W/never.csv"
 expect 2 "duration" -- "$J" simulate scenarios/paper_excitation.yaml --duration 1e12 --out "$W/never.csv"
 # A generated motion of 76 days (found by the scenario fuzzer: its moves filled the memory).
-sed 's/^  duration_s: .*/  duration_s: 6566666/' scenarios/free_motion.yaml > "$W/random_long.yaml"
-sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/random_long.yaml"
+variant 's/^  duration_s: .*/  duration_s: 6566666/' free_motion.yaml random_long.yaml
 expect 1 "random_long.yaml:.*duration_s.*7 days" -- "$J" simulate "$W/random_long.yaml" --out "$W/never.csv"
 # A pick task of 63 million repetitions (the scenario fuzzer's finding in the sixth session:
 # 2.7 GB of waypoints, out of memory): refused naming file, line and field, like a generated
 # motion beyond 7 days.
-sed 's/^  repetitions: .*/  repetitions: 63000000/' scenarios/paper_collision_shoulder.yaml > "$W/pick_long.yaml"
-sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/pick_long.yaml"
+variant 's/^  repetitions: .*/  repetitions: 63000000/' paper_collision_shoulder.yaml pick_long.yaml
 expect 1 "pick_long.yaml:[0-9]*:[0-9]*: .*repetitions.*expected 1..81729 (7 days)" -- "$J" simulate "$W/pick_long.yaml" --out "$W/never.csv"
 # A calibration motion's levels beyond int (once cast before their check, so they could wrap
 # into range) and speed_steps out of range: refused at the field's own line.
-sed 's/^  levels: .*/  levels: 4294967298/' scenarios/calibration_motion.yaml > "$W/levels.yaml"
-sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/levels.yaml"
+variant 's/^  levels: .*/  levels: 4294967298/' calibration_motion.yaml levels.yaml
 expect 1 "levels.yaml:18:[0-9]*: field 'trajectory.levels': expected 2..100" -- "$J" simulate "$W/levels.yaml" --out "$W/never.csv"
-sed 's/^  speed_steps: .*/  speed_steps: 11/' scenarios/calibration_motion.yaml > "$W/steps.yaml"
-sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/steps.yaml"
+variant 's/^  speed_steps: .*/  speed_steps: 11/' calibration_motion.yaml steps.yaml
 expect 1 "steps.yaml:19:[0-9]*: field 'trajectory.speed_steps': expected 1..10" -- "$J" simulate "$W/steps.yaml" --out "$W/never.csv"
 # Gears of 3e6 N·m/rad at the default plant rate diverge: exit 1, no NaN recording.
-sed 's/^control_rate_hz: 1000$/control_rate_hz: 1000\nelasticity: {stiffness_nm_per_rad: [3e6, 3e6, 3e6]}/' scenarios/paper_excitation.yaml > "$W/stiff.yaml"
-sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/stiff.yaml"
+variant 's/^control_rate_hz: 1000$/control_rate_hz: 1000\nelasticity: {stiffness_nm_per_rad: [3e6, 3e6, 3e6]}/' paper_excitation.yaml stiff.yaml
 expect 1 "diverged" -- "$J" simulate "$W/stiff.yaml" --out "$W/never.csv"
 [ ! -e "$W/never.csv" ] || { echo "a refused run wrote its recording"; exit 1; }
 # A drive file's rotor inertia of 5e37 kg m^2 (the drive fuzzer's finding): refused naming the
@@ -118,8 +116,7 @@ expect 1 "longer_list_robot.yaml:[0-9]*:[0-9]*: more than 10000 YAML nodes" -- \
 expect 1 "laughs_robot.yaml:[0-9]*:[0-9]*: more than 10000 YAML nodes" -- \
   "$J" replay tests/data/recordings/held_arm.csv --model "$W/laughs_robot.yaml" \
   --friction tests/data/recordings/ref3_friction.json --threshold tests/data/recordings/ref3_threshold.json
-sed 's/^seed: 1$/seed: 1\nseed: 2/' scenarios/paper_excitation.yaml > "$W/dup_scenario.yaml"
-sed -i "s#model: ../models/ref3.yaml#model: $SRC/models/ref3.yaml#" "$W/dup_scenario.yaml"
+variant 's/^seed: 1$/seed: 1\nseed: 2/' paper_excitation.yaml dup_scenario.yaml
 expect 1 "dup_scenario.yaml:7:1: field 'seed': duplicate key (first given on line 6)" -- "$J" simulate "$W/dup_scenario.yaml" --out "$W/never.csv"
 # Friction/threshold JSON: file, line or field named, never nlohmann's "type_error.302" or
 # "out_of_range"; a joint number beyond int is not wrapped onto joint 1; width 0 refused.
