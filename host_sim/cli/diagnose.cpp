@@ -1,6 +1,7 @@
 // `jointguard diagnose`: where simulation and a real recording differ, which physics is
 // missing, its fitted parameters, and the held-out improvement. JSON per the contract,
 // a human summary, and SVG plots.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -68,6 +69,51 @@ void report_rigid_body(const dyn::RigidBodyIdResult& r, const robot::RobotModel&
   if (r.accepted) arm["findings"].push_back(f);
   for (const auto& n : r.notes) arm["notes"].push_back(n);
 }
+/// One finding in the contract's form, with its evidence against the recording's own
+/// variation (the null the tool computes: docs/diagnosis.md).
+nlohmann::json finding_json(const diag::Finding& f) {
+  nlohmann::json out{{"effect", f.effect}, {"params", f.params}, {"confidence", f.confidence}, {"delta_bic", f.delta_bic},
+                     {"description", f.text}};
+  if (f.null_z > 0.0) {
+    out["evidence"] = {{"null", "delete-one-block jackknife over the recording's contiguous blocks"},
+                       {"z", f.null_z},
+                       {"needed", diag::DiagnoseOptions{}.min_null_z}};
+  }
+  return out;
+}
+
+/// The per-joint signals of the model's prediction over the real motion (every uniform
+/// segment, one after the other), with `friction_file`'s LuGre when given.
+std::vector<diag::JointSignals> model_signals(const LoadedRecording& real, const robot::RobotModel& m,
+                                              const robot::RobotModel& nominal, const std::string& friction_file) {
+  const sim::ArmDynamics arm = m.dynamics();
+  diag::ModelContext ctx;
+  ctx.arm = &arm;
+  for (const auto& jd : m.joints) ctx.torque_constant.push_back(jd.link.torque_constant);
+  for (const auto& jd : nominal.joints) ctx.rotor_inertia.push_back(jd.link.rotor_inertia);
+  if (!friction_file.empty()) ctx.friction = eval::read_friction_json(friction_file, real.longest().joint_ids);
+  std::vector<std::vector<diag::JointSignals>> parts;
+  for (const auto& seg : real.data.segments) parts.push_back(diag::signals_from_model(seg, ctx));
+  auto signals = diag::concatenate_signals(parts);
+  for (auto& s : signals) s.joint_torque_sensor = real.torque == io::TorqueKind::tau_j;
+  return signals;
+}
+
+/// The causes named against the robot file (before the rigid-body refit) joined to those
+/// found after it: one list of arm-level findings, each cause once. (The named causes' model
+/// is in the links the rest was fitted with, and written back from there.)
+void merge_named(const diag::ArmDiagnosis& named, diag::ArmDiagnosis& after) {
+  for (std::size_t i = 0; i < named.findings.size(); ++i) {
+    const auto& f = named.findings[i];
+    const bool again = std::any_of(after.findings.begin(), after.findings.end(), [&](const diag::Finding& g) {
+      return g.effect == f.effect && g.params.count("link") != 0U && f.params.count("link") != 0U && g.params.at("link") == f.params.at("link");
+    });
+    if (again) continue;
+    after.findings.insert(after.findings.begin(), f);
+  }
+  after.unexplained.insert(after.unexplained.end(), named.unexplained.begin(), named.unexplained.end());
+  for (const auto& n : named.notes) after.notes.insert(after.notes.begin(), "against the robot file: " + n);
+}
 }  // namespace
 
 Command add_diagnose(CLI::App& app) {
@@ -109,8 +155,24 @@ Command add_diagnose(CLI::App& app) {
             robot::RobotModel used = model;
             // A robot file written by --model-out carries what an earlier diagnosis found: in the
             // prediction too (arm-level effects folded into the links, per-joint ones below).
-            const auto model_effect_notes = diag::fold_arm_effects(used);
+            std::vector<robot::PlantEffect> folded;  // arm-level effects held in the links, written back as effects
+            const auto model_effect_notes = diag::fold_arm_effects(used, &folded);
+            diag::ArmDiagnosisOptions arm_options;
+            if (!used.joints.empty()) arm_options.com_bound_m = std::max(arm_options.com_bound_m, used.joints.back().reach_m + 0.5);
+            arm_options.max_payload_kg = model.rated_payload_kg;
             std::optional<dyn::RigidBodyIdResult> rb;
+            // Named causes first, against the robot file itself (a payload nobody declared, a
+            // link's mass): the rigid-body refit below then explains only what they leave,
+            // never a payload in 40 base parameters.
+            diag::ArmDiagnosis named;
+            if (o->sim.empty() && !o->no_rigid_body) {
+              const sim::ArmDynamics prior_arm = used.dynamics();
+              const auto prior_signals = model_signals(real, used, nominal, o->friction);
+              named = diag::diagnose_arm(prior_signals, arm_options, &prior_arm);
+              for (const auto& e : diag::plant_effects_of(named, {})) used.plant_effects.push_back(e);
+              const auto notes = diag::fold_arm_effects(used, &folded);
+              for (const auto& n : notes) j["arm"]["notes"].push_back(n);
+            }
             if (o->sim.empty() && !o->no_rigid_body) {
               dyn::RigidBodyIdOptions ro;
               ro.joint_torque_sensor = real.torque == io::TorqueKind::tau_j;
@@ -172,14 +234,17 @@ Command add_diagnose(CLI::App& app) {
             }
             // Causes that are one thing in the world (a payload, a link's mass) next, once
             // for the arm, then each joint.
-            diag::ArmDiagnosisOptions arm_options;
-            if (!used.joints.empty()) arm_options.com_bound_m = std::max(arm_options.com_bound_m, used.joints.back().reach_m + 0.5);
-            const diag::ArmDiagnosis arm_diag = diag::diagnose_arm(signals, arm_options, &arm);
+            diag::ArmDiagnosis arm_diag = diag::diagnose_arm(signals, arm_options, &arm);
             signals = diag::without_arm_causes(signals, arm_diag);
+            merge_named(named, arm_diag);
             for (const auto& n : arm_diag.notes) j["arm"]["notes"].push_back(n);
+            j["arm"]["unexplained"] = nlohmann::json::array();
+            for (const auto& f : arm_diag.unexplained) {
+              j["arm"]["unexplained"].push_back({{"effect", f.effect}, {"params", f.params}, {"description", f.text}});
+              std::printf("arm: unexplained: %s\n", f.text.c_str());
+            }
             for (const auto& f : arm_diag.findings) {
-              j["arm"]["findings"].push_back({{"effect", f.effect}, {"params", f.params}, {"confidence", f.confidence},
-                                              {"delta_bic", f.delta_bic}, {"description", f.text}});
+              j["arm"]["findings"].push_back(finding_json(f));
               std::printf("arm: %s: %s\n", f.effect.c_str(), f.text.c_str());
             }
             if (arm_diag.findings.empty()) std::printf("arm: no payload or link mass error found\n");
@@ -197,8 +262,7 @@ Command add_diagnose(CLI::App& app) {
                                 {"noise_rms", d.noise_rms}, {"whiteness_ljung_box", d.whiteness_q}, {"whiteness_p", d.whiteness_p}};
               jj["findings"] = nlohmann::json::array();
               for (const auto& f : d.findings) {
-                jj["findings"].push_back({{"effect", f.effect}, {"params", f.params}, {"confidence", f.confidence},
-                                          {"delta_bic", f.delta_bic}, {"description", f.text}});
+                jj["findings"].push_back(finding_json(f));
               }
               if (d.findings.empty()) jj["findings"].push_back({{"effect", "none"}, {"params", nlohmann::json::object()}, {"confidence", 1.0}});
               jj["location"] = {{"segments", d.location.segments.size()}, {"dependence", d.location.dependence},
@@ -243,14 +307,18 @@ Command add_diagnose(CLI::App& app) {
             if (!o->model_out.empty()) {
               // The named physics written back where the simulation lives (robot file +
               // plant_effects): `simulate --model` and a new diagnosis include it.
-              robot::RobotModel out_model = used;
+              // Arm-level effects held in the links (the file's own and those named here) are
+              // taken back out and written as effects; the same cause found again is one entry.
+              robot::RobotModel out_model = rb && rb->accepted ? rb->model : used;
+              out_model.plant_effects = used.plant_effects;
+              for (const auto& n : diag::unfold_arm_effects(out_model, folded)) j["arm"]["notes"].push_back(n);
               const auto effects = diag::plant_effects_of(arm_diag, diagnoses);
-              out_model.plant_effects.insert(out_model.plant_effects.end(), effects.begin(), effects.end());
+              out_model.plant_effects = diag::merge_plant_effects(out_model.plant_effects, effects);
               robot::write_robot(o->model_out, out_model,
                                  "Written by jointguard diagnose --model " + o->model + " --real " + o->real +
                                      (o->sim.empty() ? "" : " --sim " + o->sim) + " --model-out " + o->model_out);
-              j["model_out"] = {{"file", o->model_out}, {"plant_effects", effects.size()}, {"rigid_body_identified", rb && rb->accepted}};
-              std::printf("wrote %s: %zu plant effect(s)%s\n", o->model_out.c_str(), effects.size(),
+              j["model_out"] = {{"file", o->model_out}, {"plant_effects", out_model.plant_effects.size()}, {"rigid_body_identified", rb && rb->accepted}};
+              std::printf("wrote %s: %zu plant effect(s)%s\n", o->model_out.c_str(), out_model.plant_effects.size(),
                           rb && rb->accepted ? ", identified rigid body" : "");
             }
             if (!o->json.empty()) {

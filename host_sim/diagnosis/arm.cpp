@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <sstream>
 
 #include "dynamics/sensitivity.hpp"
@@ -115,6 +116,79 @@ std::vector<double> joint_rms(const VectorXd& e, const Stack& st) {
   return out;
 }
 
+/// A cause's evidence against the recording's own variation, and its uncertainty.
+struct JackknifedCause {
+  double z = 0.0;                 ///< its torque over the jackknife standard error of it
+  double mass_sigma = 0.0;        ///< [kg]
+  Eigen::Vector3d com_sigma = Eigen::Vector3d::Zero();  ///< of first moment / mass [m]
+};
+
+double jackknife_se(const std::vector<double>& v) {
+  const double b = static_cast<double>(v.size());
+  double mean = 0.0;
+  for (const double x : v) mean += x / b;
+  double ss = 0.0;
+  for (const double x : v) ss += (x - mean) * (x - mean);
+  return std::sqrt((b - 1.0) / b * ss);
+}
+
+/// Delete-one-block jackknife of the shared coefficients of `cs` (fit(cs, stack) returns
+/// them, causes first, 4 per cause): contiguous blocks keep the residual's slow, correlated
+/// part together, so the spread is what the recording's own variation gives. Per cause, z
+/// is 1 over the standard error of each refit's torque projected on the full fit's.
+template <class Fit>
+std::vector<JackknifedCause> jackknife_causes(const std::vector<const ArmCandidate*>& cs, std::size_t n, int blocks, Fit fit,
+                                              const Stack& all, const std::vector<double>& weight) {
+  const VectorXd full_b = fit(cs, all);
+  const auto count = static_cast<std::size_t>(std::max(blocks, 2));
+  std::vector<VectorXd> reps;
+  for (std::size_t blk = 0; blk < count; ++blk) {
+    Stack st;
+    st.joints = all.joints;
+    st.weight = weight;
+    for (std::size_t k = 0; k < n; ++k) {
+      if (k * count / n != blk) st.rows.push_back(k);
+    }
+    reps.push_back(fit(cs, st));
+  }
+  std::vector<JackknifedCause> out;
+  Eigen::Index at = 0;
+  for (const auto* c : cs) {
+    const auto p = static_cast<Eigen::Index>(c->columns.size());
+    const MatrixXd X = shared(*c, all);
+    const VectorXd full = X * full_b.segment(at, p);
+    std::vector<double> proj, mass;
+    std::vector<std::vector<double>> com(3);
+    for (const auto& r : reps) {
+      proj.push_back(full.squaredNorm() > 0.0 ? full.dot(X * r.segment(at, p)) / full.squaredNorm() : 0.0);
+      mass.push_back(r(at));
+      for (Eigen::Index a = 0; a < 3 && a + 1 < p; ++a) com[static_cast<std::size_t>(a)].push_back(r(at + 1 + a) / r(at));
+    }
+    JackknifedCause j;
+    const double se = jackknife_se(proj);
+    j.z = se > 0.0 ? 1.0 / se : 1e9;
+    j.mass_sigma = jackknife_se(mass);
+    for (int a = 0; a < 3; ++a) j.com_sigma(a) = com[static_cast<std::size_t>(a)].empty() ? 0.0 : jackknife_se(com[static_cast<std::size_t>(a)]);
+    out.push_back(j);
+    at += p;
+  }
+  return out;
+}
+
+/// A payload the fit asks for but the robot's description rules out, as a report.
+Finding implausible_payload(double mass_kg, const Eigen::Vector3d& first_moment, double bound_kg, const std::string& why) {
+  Finding f;
+  f.effect = "payload";
+  f.params["mass_kg"] = mass_kg;
+  f.params["bound_kg"] = bound_kg;
+  const Eigen::Vector3d com = first_moment / mass_kg;
+  f.params["com_x_m"] = com.x();
+  f.params["com_y_m"] = com.y();
+  f.params["com_z_m"] = com.z();
+  f.text = why;
+  return f;
+}
+
 /// Payload: carried throughout, or picked up during the recording (a step at pickup_s,
 /// on a 5 % grid of the recording): the model's sensitivities to the last link's mass
 /// and first moment.
@@ -193,6 +267,10 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
   const std::size_t n = js.front().size();
   if (n < 200 || std::any_of(js.begin(), js.end(), [n](const JointSignals& s) { return s.size() != n; })) {
     d.notes.push_back("too few samples for the arm-level fit");
+    return d;
+  }
+  if (const std::string why = too_short_to_judge(js.front().t, o.joint); !why.empty()) {
+    d.notes.push_back("arm: " + why);
     return d;
   }
   const auto held = heldout_mask(n, o.joint);
@@ -297,6 +375,17 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
   auto name_of = [](const ArmCandidate& c) {
     return c.effect == "payload" ? std::string("payload") : "link " + std::to_string(c.link) + " mass error";
   };
+  // The robot's own description bounds a payload: its rating, else its own mass.
+  double payload_bound_kg = o.max_payload_kg;
+  std::string payload_bound_name = "the arm's rated payload";
+  if (!(payload_bound_kg > 0.0)) {
+    payload_bound_kg = std::numeric_limits<double>::infinity();
+    if (arm != nullptr) {
+      payload_bound_kg = 0.0;
+      for (int l = 0; l < arm->joints(); ++l) payload_bound_kg += arm->link(l).mass;
+      payload_bound_name = "the arm's own mass (no rated_payload_kg given)";
+    }
+  }
   // Why a subset cannot be claimed (empty: it can).
   auto reject = [&](const Subset& sub) -> std::string {
     std::ostringstream why;
@@ -315,6 +404,10 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
       at += static_cast<Eigen::Index>(c.columns.size());
       if (c.effect == "payload" && !(mass > o.min_mass_kg)) {
         why << "payload fit gives a mass of " << mass << " kg (must be positive): not claimed";
+      } else if (c.effect == "payload" && mass > payload_bound_kg) {
+        why << "payload fit gives " << mass << " kg, above " << payload_bound_name << " (" << payload_bound_kg
+            << " kg): implausible, not claimed; an unexplained mismatch of that size";
+        if (d.unexplained.empty()) d.unexplained.push_back(implausible_payload(mass, first, payload_bound_kg, why.str()));
       } else if (c.effect == "payload" && first.norm() > o.com_bound_m * mass) {
         why << "payload fit puts its centre of mass " << first.norm() / mass << " m from the last link's origin (bound "
             << o.com_bound_m << " m): not claimed";
@@ -396,6 +489,24 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
   all.joints = js.size();
   all.weight = train.weight;
   for (std::size_t k = 0; k < n; ++k) all.rows.push_back(k);
+  // The null every cause must beat: the recording's own block-to-block variation
+  // (delete-one-block jackknife); a cause below it is dropped, the rest refitted.
+  std::vector<JackknifedCause> jack;
+  for (;;) {
+    jack = jackknife_causes(chosen, n, o.joint.blocks, [&](const std::vector<const ArmCandidate*>& cs, const Stack& st) {
+      return VectorXd(lsq(design(cs, st), target(js, st)));
+    }, all, train.weight);
+    const auto weakest = std::min_element(jack.begin(), jack.end(), [](const auto& a, const auto& b) { return a.z < b.z; });
+    if (weakest == jack.end() || weakest->z >= o.joint.min_null_z) break;
+    std::ostringstream why;
+    why.precision(3);
+    const auto i = static_cast<std::size_t>(weakest - jack.begin());
+    why << name_of(*chosen[i]) << " does not beat the recording's own block-to-block variation (jackknife z = " << weakest->z
+        << ", needs " << o.joint.min_null_z << "): not claimed";
+    d.notes.push_back(why.str());
+    chosen.erase(chosen.begin() + static_cast<std::ptrdiff_t>(i));
+    if (chosen.empty()) return d;
+  }
   const VectorXd ba = lsq(design(chosen, all), target(js, all));
   Eigen::Index at = 0;
   for (std::size_t ci = 0; ci < chosen.size(); ++ci) {
@@ -413,6 +524,8 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
     f.confidence = 1.0 / (1.0 + std::exp(-(f.delta_bic - o.joint.min_delta_bic) / 10.0));
     const double m = ba(at);
     const Eigen::Vector3d h(ba(at + 1), ba(at + 2), ba(at + 3));
+    f.null_z = jack[ci].z;
+    f.params["mass_kg_sigma"] = jack[ci].mass_sigma;
     FittedEffect fe;
     fe.effect = c.effect;
     fe.setting["link"] = c.link;
@@ -427,8 +540,11 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
       f.params["com_x_m"] = com.x();
       f.params["com_y_m"] = com.y();
       f.params["com_z_m"] = com.z();
+      f.params["com_x_m_sigma"] = jack[ci].com_sigma.x();
+      f.params["com_y_m_sigma"] = jack[ci].com_sigma.y();
+      f.params["com_z_m_sigma"] = jack[ci].com_sigma.z();
       if (c.pickup_s >= 0.0) f.params["picked_up_at_s"] = c.pickup_s;
-      text << "payload on the last link: " << m << " kg, centre of mass (" << com.x() << ", " << com.y() << ", " << com.z()
+      text << "payload on the last link: " << m << " +/- " << jack[ci].mass_sigma << " kg, centre of mass (" << com.x() << ", " << com.y() << ", " << com.z()
            << ") m in its frame";
       if (c.pickup_s >= 0.0) text << ", picked up at t = " << c.pickup_s << " s";
     } else {

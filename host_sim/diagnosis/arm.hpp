@@ -30,6 +30,10 @@ struct ArmDiagnosisOptions {
   /// arm a link's gravity change has 30 % outside over +/-0.6 rad of motion (it is a rotor
   /// inertia there) and 52 % over +/-1.5 rad; a payload 51 %.
   double min_separable = 0.4;
+  /// The arm's rated payload [kg] (RobotModel::rated_payload_kg): a heavier payload is not
+  /// claimed but reported as an unexplained mismatch of that size. 0 = no rating given: the
+  /// bound is then the arm's own mass (no arm carries more than itself).
+  double max_payload_kg = 0.0;
 };
 
 struct ArmDiagnosis {
@@ -38,6 +42,9 @@ struct ArmDiagnosis {
   /// Torque each joint carries from the arm-level causes, over the recording [joint][sample].
   std::vector<std::vector<double>> explained;
   std::vector<double> explained_rms;         ///< per joint [N·m]
+  /// Causes the data asked for but that are implausible by the robot's description (a
+  /// payload above its rating): not claimed, reported with their size.
+  std::vector<Finding> unexplained;
   std::vector<std::string> notes;
 };
 

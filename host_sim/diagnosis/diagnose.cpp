@@ -311,7 +311,61 @@ void deflection_channel(const JointSignals& s, const Split& split, const Diagnos
     d.findings.push_back(f);
   }
 }
+/// The recording's own block-to-block variation, the null every claim must beat: the chosen
+/// effects refitted with one contiguous block of the recording left out at a time
+/// (delete-one-block jackknife over `blocks` blocks). Per effect, each refit's contribution
+/// is projected on the full fit's (1 = the same torque); z is 1 over the jackknife standard
+/// error of that projection. Contiguous blocks keep the residual's slow, correlated part
+/// (drift, a motion's own cycle) inside each block, where the information criterion
+/// counts every sample as independent. Returns one z per chosen effect.
+std::vector<double> block_jackknife_z(const std::vector<std::vector<const std::vector<double>*>>& effect_columns,
+                                      const std::vector<double>& residual, int blocks) {
+  const std::size_t n = residual.size();
+  std::vector<const std::vector<double>*> cols;
+  for (const auto& e : effect_columns) cols.insert(cols.end(), e.begin(), e.end());
+  std::vector<std::size_t> all(n);
+  std::iota(all.begin(), all.end(), 0U);
+  const MatrixXd X = rows_of(cols, all);
+  const VectorXd b = solve(X, vec_of(residual, all));
+  const auto count = static_cast<std::size_t>(std::max(blocks, 2));
+  std::vector<std::vector<double>> projection(effect_columns.size());
+  for (std::size_t blk = 0; blk < count; ++blk) {
+    std::vector<std::size_t> rows;
+    for (std::size_t k = 0; k < n; ++k) {
+      if (k * count / n != blk) rows.push_back(k);
+    }
+    const VectorXd bk = solve(rows_of(cols, rows), vec_of(residual, rows));
+    Eigen::Index at = 0;
+    for (std::size_t i = 0; i < effect_columns.size(); ++i) {
+      const auto m = static_cast<Eigen::Index>(effect_columns[i].size());
+      const MatrixXd Xi = X.middleCols(at, m);
+      const VectorXd full = Xi * b.segment(at, m);
+      const double norm2 = full.squaredNorm();
+      projection[i].push_back(norm2 > 0.0 ? full.dot(Xi * bk.segment(at, m)) / norm2 : 0.0);
+      at += m;
+    }
+  }
+  std::vector<double> z;
+  const double bb = static_cast<double>(count);
+  for (const auto& p : projection) {
+    const double mean = std::accumulate(p.begin(), p.end(), 0.0) / bb;
+    double ss = 0.0;
+    for (const double v : p) ss += (v - mean) * (v - mean);
+    const double se = std::sqrt((bb - 1.0) / bb * ss);
+    z.push_back(se > 0.0 ? 1.0 / se : 1e9);
+  }
+  return z;
+}
 }  // namespace
+
+std::string too_short_to_judge(const std::vector<double>& t, const DiagnoseOptions& o) {
+  const double span = t.empty() ? 0.0 : t.back() - t.front();
+  if (span >= o.min_duration_s) return {};
+  std::ostringstream why;
+  why.precision(3);
+  why << "recording too short to judge (" << span << " s, needs " << o.min_duration_s << " s): nothing claimed";
+  return why.str();
+}
 
 std::vector<bool> heldout_mask(std::size_t n, const DiagnoseOptions& o) {
   std::vector<bool> held(n, false);
@@ -504,6 +558,30 @@ JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
       dropped = true;
     }
   }
+  if (const std::string why = too_short_to_judge(s.t, o); !why.empty() && !chosen.empty()) {
+    d.notes.push_back(why);
+    chosen.clear();
+    d.heldout_rms_after = d.heldout_rms_before;
+  }
+  // Every claim must beat the recording's own block-to-block variation (the null): the
+  // weakest effect below it is dropped and the rest refitted, until all beat it.
+  std::vector<double> null_z;
+  for (bool dropped = true; dropped && !chosen.empty();) {
+    dropped = false;
+    std::vector<std::vector<const std::vector<double>*>> per_effect;
+    for (const auto* c : chosen) per_effect.push_back(columns_of({c}));
+    null_z = block_jackknife_z(per_effect, s.residual, o.blocks);
+    const auto weakest = static_cast<std::size_t>(std::min_element(null_z.begin(), null_z.end()) - null_z.begin());
+    if (null_z[weakest] >= o.min_null_z) break;
+    std::ostringstream why;
+    why.precision(3);
+    why << chosen[weakest]->effect << " does not beat the recording's own block-to-block variation (jackknife z = "
+        << null_z[weakest] << ", needs " << o.min_null_z << "): not claimed";
+    d.notes.push_back(why.str());
+    chosen.erase(chosen.begin() + static_cast<std::ptrdiff_t>(weakest));
+    d.heldout_rms_after = chosen.empty() ? d.heldout_rms_before : heldout_rms(chosen);
+    dropped = true;
+  }
   d.rms_before = rms(y);
   d.fitted.assign(n, 0.0);
   if (chosen.empty()) {
@@ -535,6 +613,7 @@ JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
       f.delta_bic = bic(rss_without, n, param_count(without)) - full_bic;
       f.confidence = 1.0 / (1.0 + std::exp(-(f.delta_bic - o.min_delta_bic) / 10.0));
       f.params = describe(c, coef, s, f.text);
+      f.null_z = i < null_z.size() ? null_z[i] : 0.0;
       d.findings.push_back(f);
     }
   }

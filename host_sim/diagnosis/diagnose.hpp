@@ -19,6 +19,10 @@ struct Finding {
   double confidence = 0.0;   ///< 0..1, from the evidence for keeping it (information criterion)
   double delta_bic = 0.0;    ///< BIC increase when it is removed from the final model
   std::string text;          ///< human description
+  /// Evidence against the recording's own variation: the effect's size over the standard
+  /// error of its refits with one block of the recording left out at a time (delete-one-block
+  /// jackknife); claimed only at DiagnoseOptions::min_null_z or more. 0: not computed.
+  double null_z = 0.0;
 };
 
 /// A selected effect with its setting and fitted coefficients: enough to predict it on
@@ -71,7 +75,15 @@ struct DiagnoseOptions {
   /// An effect in the gear-deflection channel must move the deflection by at least this
   /// many noise levels of that channel (RMS of its fitted contribution).
   double min_deflection_snr = 3.0;
+  /// A claim's size over its block-jackknife standard error (Finding::null_z) at least this.
+  double min_null_z = 3.0;
+  /// A recording shorter than this is too short to tell an effect from the recording's own
+  /// variation (each of the blocks a fraction of a second): nothing is claimed, and it says so.
+  double min_duration_s = 2.0;
 };
+
+/// Why a recording is too short to judge (empty: long enough).
+std::string too_short_to_judge(const std::vector<double>& t, const DiagnoseOptions& o);
 
 /// Per sample: true where it lies in a held-out block.
 std::vector<bool> heldout_mask(std::size_t n, const DiagnoseOptions& o);

@@ -1,6 +1,7 @@
 #include "diagnosis/model_out.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "dynamics/sensitivity.hpp"
@@ -44,34 +45,97 @@ sim::EffectsReport apply_findings(const ArmDiagnosis& arm, const std::vector<Joi
   return sim::apply_plant_effects(plant_effects_of(arm, joints), dt, s);
 }
 
-std::vector<std::string> fold_arm_effects(robot::RobotModel& m) {
+namespace {
+/// Link `l`'s description set from a plant link's mass, centre and inertia.
+void set_link(robot::JointDescription& j, const sim::PlantLink& changed) {
+  auto& d = j.link;
+  d.mass = changed.mass;
+  for (int k = 0; k < 3; ++k) d.com[k] = changed.com(k);
+  const Eigen::Matrix3d& I = changed.inertia_com;
+  const double six[6] = {I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2)};
+  for (int k = 0; k < 6; ++k) d.inertia_com[k] = six[k];
+}
+
+/// An arm-level effect a link's parameters can hold: a payload carried throughout, a link's
+/// mass error. Its link (0-based), or -1.
+int foldable_link(const robot::PlantEffect& e, std::size_t links) {
+  const bool payload = e.effect == "payload" && e.setting.count("picked_up_at_s") == 0U;
+  const bool link = e.effect == "link_inertial_error" && e.setting.count("link") != 0U;
+  if (e.joint != 0 || !(payload || link) || e.coefficients.size() < 4 || links == 0) return -1;
+  if (payload) return !(e.coefficients[0] > 0.0) ? -1 : static_cast<int>(links) - 1;
+  const double at = e.setting.at("link");
+  return at >= 1.0 && at <= static_cast<double>(links) && at == std::floor(at) ? static_cast<int>(at) - 1 : -1;
+}
+
+/// The link with the effect added (sign +1) or taken back out (-1): a payload as a point mass
+/// (as the plant applies it), a link's mass error with the inertia about its origin kept (as
+/// the diagnosis fits it).
+sim::PlantLink changed_link(const sim::PlantLink& link, const robot::PlantEffect& e, double sign) {
+  const Eigen::Vector3d h(e.coefficients[1], e.coefficients[2], e.coefficients[3]);
+  if (e.effect == "payload") return sim::with_point_mass(link, sign * e.coefficients[0], h / e.coefficients[0]);
+  return sim::with_mass_first_moment_change(link, sign * e.coefficients[0], sign * h);
+}
+
+bool same_cause(const robot::PlantEffect& a, const robot::PlantEffect& b) {
+  return a.effect == b.effect && a.joint == b.joint && a.setting == b.setting && a.coefficients.size() == b.coefficients.size();
+}
+}  // namespace
+
+std::vector<std::string> fold_arm_effects(robot::RobotModel& m) { return fold_arm_effects(m, nullptr); }
+
+std::vector<std::string> fold_arm_effects(robot::RobotModel& m, std::vector<robot::PlantEffect>* folded) {
   std::vector<std::string> notes;
-  const auto links = m.plant_links();
   std::vector<robot::PlantEffect> kept;
   for (const auto& e : m.plant_effects) {
-    const bool payload = e.effect == "payload" && e.setting.count("picked_up_at_s") == 0U;
-    const bool link = e.effect == "link_inertial_error" && e.setting.count("link") != 0U;
-    if (e.joint != 0 || !(payload || link) || e.coefficients.size() < 4) {
-      if (e.joint == 0) notes.push_back("arm: " + e.effect + " (picked up during the recording) stays out of the prediction");
+    const int l = foldable_link(e, m.joints.size());
+    if (l < 0) {
+      if (e.joint == 0) notes.push_back("arm: " + e.effect + " (picked up during the recording, or on a link the model does not have) stays out of the prediction");
       kept.push_back(e);
       continue;
     }
-    const std::size_t l = payload ? links.size() - 1 : static_cast<std::size_t>(e.setting.at("link")) - 1;
-    if (l >= links.size()) {
-      notes.push_back("arm: " + e.effect + " on a link the model does not have");
-      continue;
-    }
-    const sim::PlantLink changed = sim::with_mass_first_moment_change(
-        links[l], e.coefficients[0], Eigen::Vector3d(e.coefficients[1], e.coefficients[2], e.coefficients[3]));
-    auto& d = m.joints[l].link;
-    d.mass = changed.mass;
-    for (int k = 0; k < 3; ++k) d.com[k] = changed.com(k);
-    const Eigen::Matrix3d& I = changed.inertia_com;
-    const double six[6] = {I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2)};
-    for (int k = 0; k < 6; ++k) d.inertia_com[k] = six[k];
+    set_link(m.joints[static_cast<std::size_t>(l)], changed_link(m.plant_links()[static_cast<std::size_t>(l)], e, 1.0));
+    if (folded != nullptr) folded->push_back(e);
   }
   m.plant_effects = kept;
   return notes;
+}
+
+std::vector<std::string> unfold_arm_effects(robot::RobotModel& m, const std::vector<robot::PlantEffect>& folded) {
+  std::vector<std::string> notes;
+  for (auto it = folded.rbegin(); it != folded.rend(); ++it) {
+    const int l = foldable_link(*it, m.joints.size());
+    if (l < 0) continue;
+    const sim::PlantLink back = changed_link(m.plant_links()[static_cast<std::size_t>(l)], *it, -1.0);
+    if (!(back.mass > 1e-6) || !sim::physical_link_inertia(back)) {
+      notes.push_back("arm: " + it->effect + " kept inside link " + std::to_string(l + 1) +
+                      " (taken back out, the identified link would not be a body)");
+      continue;
+    }
+    set_link(m.joints[static_cast<std::size_t>(l)], back);
+    m.plant_effects.push_back(*it);
+  }
+  return notes;
+}
+
+std::vector<robot::PlantEffect> merge_plant_effects(std::vector<robot::PlantEffect> existing, const std::vector<robot::PlantEffect>& found) {
+  for (const auto& f : found) {
+    const auto it = std::find_if(existing.begin(), existing.end(), [&](const robot::PlantEffect& e) { return same_cause(e, f); });
+    if (it == existing.end()) {
+      existing.push_back(f);
+      continue;
+    }
+    // The same cause found again on top of itself: one entry, coefficients added (exact for
+    // a payload's mass and first moment; to first order for a scale such as K_I).
+    for (std::size_t k = 0; k < f.coefficients.size(); ++k) it->coefficients[k] += f.coefficients[k];
+    it->params = f.params;
+    if (it->effect == "payload" && it->coefficients.size() >= 4 && it->coefficients[0] != 0.0) {
+      it->params["mass_kg"] = it->coefficients[0];
+      it->params["com_x_m"] = it->coefficients[1] / it->coefficients[0];
+      it->params["com_y_m"] = it->coefficients[2] / it->coefficients[0];
+      it->params["com_z_m"] = it->coefficients[3] / it->coefficients[0];
+    }
+  }
+  return existing;
 }
 
 std::vector<std::string> add_joint_effects(const std::vector<robot::PlantEffect>& effects, std::vector<JointSignals>& signals) {

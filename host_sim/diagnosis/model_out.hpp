@@ -27,6 +27,18 @@ sim::EffectsReport apply_findings(const ArmDiagnosis& arm, const std::vector<Joi
 /// carried throughout, a link's mass) are folded into the links and removed from the list;
 /// returns notes on what stays out of the prediction.
 std::vector<std::string> fold_arm_effects(robot::RobotModel& model);
+/// The same, listing the effects folded (in order) in `folded`.
+std::vector<std::string> fold_arm_effects(robot::RobotModel& model, std::vector<robot::PlantEffect>* folded);
+
+/// fold_arm_effects undone: each folded effect taken back out of its link (a payload as the
+/// point mass it was folded as) and listed in the model's plant_effects again, so that a
+/// written robot file holds a payload as a payload. An effect whose removal would leave the
+/// link without a body's inertia (the link was re-identified meanwhile) stays inside; notes say so.
+std::vector<std::string> unfold_arm_effects(robot::RobotModel& model, const std::vector<robot::PlantEffect>& folded);
+
+/// `found` added to `existing`: the same cause (effect, joint, setting) found again is one
+/// entry with its coefficients added, never a second entry (the loop converges in the file).
+std::vector<robot::PlantEffect> merge_plant_effects(std::vector<robot::PlantEffect> existing, const std::vector<robot::PlantEffect>& found);
 
 /// The per-joint plant_effects' torque added to each joint's predicted torque (and taken off
 /// its residual); returns notes on effects that cannot be predicted on these signals.

@@ -1,6 +1,8 @@
 #include "dynamics/sensitivity.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <cmath>
 
 namespace jg::sim {
 
@@ -49,6 +51,25 @@ PlantLink with_mass_first_moment_change(const PlantLink& link, double dm, const 
   out.com = (link.mass * link.com + dh) / out.mass;
   out.inertia_com = inertia_origin - out.mass * (out.com.squaredNorm() * eye - out.com * out.com.transpose());
   return out;
+}
+
+PlantLink with_point_mass(const PlantLink& link, double mass_kg, const Eigen::Vector3d& at_m) {
+  const Eigen::Matrix3d eye = Eigen::Matrix3d::Identity();
+  auto about_origin = [&](double m, const Eigen::Vector3d& c) { return Eigen::Matrix3d(m * (c.squaredNorm() * eye - c * c.transpose())); };
+  const Eigen::Matrix3d inertia_origin = link.inertia_com + about_origin(link.mass, link.com) + about_origin(mass_kg, at_m);
+  PlantLink out = link;
+  out.mass = std::max(1e-9, link.mass + mass_kg);
+  out.com = (link.mass * link.com + mass_kg * at_m) / out.mass;
+  out.inertia_com = inertia_origin - about_origin(out.mass, out.com);
+  return out;
+}
+
+bool physical_link_inertia(const PlantLink& link) {
+  const Eigen::Matrix3d& i = link.inertia_com;
+  const double tol = 1e-12 * (std::abs(i.trace()) + 1e-300);
+  // The second moment of the mass, tr(I)/2 - I, is positive semi-definite exactly for a body.
+  const Eigen::Matrix3d second = 0.5 * i.trace() * Eigen::Matrix3d::Identity() - i;
+  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(second).eigenvalues().minCoeff() >= -tol;
 }
 
 }  // namespace jg::sim

@@ -20,4 +20,13 @@ std::array<JointVector, 4> mass_first_moment_sensitivity(const ArmDynamics& arm,
 /// about the link origin kept: what the columns above fit (a payload, a link's mass error).
 [[nodiscard]] PlantLink with_mass_first_moment_change(const PlantLink& link, double dm, const Eigen::Vector3d& dh);
 
+/// The link with a point mass added at `at_m` [link frame] (a negative mass takes one back
+/// out): mass, centre of mass and the inertia about the new centre by the parallel-axis
+/// theorem, as the plant applies a payload. Adding keeps a physical inertia physical.
+[[nodiscard]] PlantLink with_point_mass(const PlantLink& link, double mass_kg, const Eigen::Vector3d& at_m);
+
+/// Whether the link's inertia about its centre of mass is a body's (positive semi-definite,
+/// each principal moment at most the sum of the other two), to a rounding tolerance.
+[[nodiscard]] bool physical_link_inertia(const PlantLink& link);
+
 }  // namespace jg::sim

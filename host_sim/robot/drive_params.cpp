@@ -10,7 +10,9 @@ void apply_drive_file(RobotModel& model, const std::string& path) {
   const io::YamlFields root = io::YamlFields::load_file(path);
   // `robot` and `controller_ratio` are informational in vendor-style files (see
   // ../shared/data/real/ur10e-static/drive.yaml) and are not used.
-  root.allow_only({"robot", "joints", "k_i", "gear_ratio", "rotor_inertia_kg_m2", "current_limit_a", "controller_ratio"});
+  root.allow_only({"robot", "joints", "k_i", "gear_ratio", "rotor_inertia_kg_m2", "current_limit_a", "controller_ratio",
+                   "rated_payload_kg"});
+  if (root.has("rated_payload_kg")) model.rated_payload_kg = read_rated_payload(root);
   const std::vector<io::YamlFields> listed = root.sequence("joints");
   std::vector<std::string> names;
   for (const auto& j : listed) {
@@ -33,7 +35,8 @@ void apply_drive_file(RobotModel& model, const std::string& path) {
     for (const auto& name : names) listed_here = listed_here || name == j.name;
     if (!listed_here) root.fail("joints", "the model's joint '" + j.name + "' is missing");
   }
-  if (!root.has("k_i") && !root.has("gear_ratio") && !root.has("rotor_inertia_kg_m2") && !root.has("current_limit_a")) {
+  if (!root.has("k_i") && !root.has("gear_ratio") && !root.has("rotor_inertia_kg_m2") && !root.has("current_limit_a") &&
+      !root.has("rated_payload_kg")) {
     root.fail("", "no drive parameter given (k_i, gear_ratio, rotor_inertia_kg_m2, current_limit_a)");
   }
   const auto apply = [&](const char* key, bool positive, double max, auto set) {

@@ -31,13 +31,26 @@ bool physical_inertia(const double (&i)[6]) {
                      s[0][2] * (s[0][1] * s[1][2] - s[1][1] * s[0][2]);
   return det >= -tol * tol * tol;
 }
+}  // namespace
 
+double read_rated_payload(const io::YamlFields& root) {
+  if (!root.has("rated_payload_kg")) return 0.0;
+  const double kg = root.number("rated_payload_kg", 0.0);
+  // Beyond any arm's rating: a unit slip (grams) or a typo.
+  if (!(kg > 0.0 && kg <= kMaxRatedPayloadKg)) {
+    root.fail("rated_payload_kg", "must be > 0 and at most " + std::to_string(static_cast<int>(kMaxRatedPayloadKg)) + " kg");
+  }
+  return kg;
+}
+
+namespace {
 RobotModel load_yaml(const std::string& path) {
   const io::YamlFields root = io::YamlFields::load_file(path);
-  root.allow_only({"name", "description", "gravity_m_s2", "joints", "sources", "plant_effects"});
+  root.allow_only({"name", "description", "gravity_m_s2", "joints", "sources", "plant_effects", "rated_payload_kg"});
   RobotModel m;
   m.source = path;
   m.name = root.text("name");
+  m.rated_payload_kg = read_rated_payload(root);
   if (root.has("gravity_m_s2")) {
     const auto g = root.numbers("gravity_m_s2", 3);
     for (int k = 0; k < 3; ++k) m.gravity[k] = g[static_cast<std::size_t>(k)];

@@ -22,6 +22,9 @@ inline constexpr double kMaxRotorInertiaKgM2 = 1e4;
 inline constexpr double kMaxTorqueConstantNmPerA = 1e5;
 inline constexpr double kMaxGearRatio = 1e5;
 inline constexpr double kMaxCurrentLimitA = 1e5;
+/// The heaviest rated payload of any arm the tool may meet [kg] (the largest industrial arms
+/// are rated about 2,300 kg): beyond it a value is a unit slip (grams) or a typo.
+inline constexpr double kMaxRatedPayloadKg = 5000.0;
 
 struct JointDescription {
   std::string name;
@@ -40,6 +43,9 @@ struct RobotModel {
   /// Effects found by `diagnose` and written back (`--model-out`): the plant's truth on top
   /// of the scenario's nominal setting when this file is simulated.
   std::vector<PlantEffect> plant_effects;
+  /// The maker's rated payload [kg] (`rated_payload_kg`, in the robot file or in drive.yaml
+  /// beside a URDF); 0 = not given. The diagnosis claims no payload above it.
+  double rated_payload_kg = 0.0;
 
   [[nodiscard]] std::vector<sim::PlantLink> plant_links() const;
   /// The arm's rigid-body dynamics with this model's gravity (gravity_m_s2).
@@ -58,6 +64,10 @@ struct LoadOptions {
   std::string tip_link;    ///< URDF: last link of the chain (default: the deepest tip)
   std::string drive_file;  ///< drive parameters by joint name (robot/drive_params.hpp), any model
 };
+
+/// The optional `rated_payload_kg` of a robot or drive file (0 when absent), range-checked
+/// naming the file, line and field.
+double read_rated_payload(const io::YamlFields& root);
 
 /// Reads a robot file: .yaml/.yml in the project's format or .urdf. Errors name the file,
 /// line and field (io::FormatError).

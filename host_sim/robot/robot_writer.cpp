@@ -38,6 +38,7 @@ std::string robot_yaml(const RobotModel& m, const std::string& header) {
   for (std::string line; std::getline(h, line);) o << "# " << line << "\n";
   o << "name: " << quoted(m.name) << "\n";
   o << "gravity_m_s2: [" << num(m.gravity[0]) << ", " << num(m.gravity[1]) << ", " << num(m.gravity[2]) << "]\n";
+  if (m.rated_payload_kg > 0.0) o << "rated_payload_kg: " << num(m.rated_payload_kg) << "\n";
   o << "joints:\n";
   for (const auto& j : m.joints) {
     const LinkDescription& l = j.link;
