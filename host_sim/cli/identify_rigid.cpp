@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/common.hpp"
+#include "diagnosis/model_out.hpp"
 #include "io/atomic_write.hpp"
 #include "dynamics/rigid_body_identification.hpp"
 #include "dynamics/uniform_grid.hpp"
@@ -70,8 +71,18 @@ int run_identify_rigid(const io::Recording& rec, const std::string& recording, c
   opt.friction_eps = o.friction_eps;
   opt.slow_speed_rad_s = o.slow_speed;
   dyn::RigidBodyIdResult r;
+  // The prior's arm-level plant_effects (a payload, a link's mass) are part of the arm the
+  // fit starts from, and are written back as themselves, once: never fitted as if absent and
+  // then added on top.
+  robot::RobotModel start = prior;
+  std::vector<robot::PlantEffect> folded;
+  for (const auto& n : diag::fold_arm_effects(start, &folded)) std::printf("%s\n", n.c_str());
+  if (!start.plant_effects.empty()) {
+    std::printf("note: %zu per-joint plant_effects of the robot file are not in the fit; they are written back as read\n",
+                start.plant_effects.size());
+  }
   try {
-    r = dyn::identify_rigid_body(rec, prior, opt);
+    r = dyn::identify_rigid_body(rec, start, opt);
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "%s: %s\n", recording.c_str(), e.what());
     return 1;
@@ -165,6 +176,8 @@ int run_identify_rigid(const io::Recording& rec, const std::string& recording, c
   // Write only after everything is computed: model first, then the JSON, each atomically.
   if (!o.model_out.empty()) {
     robot::RobotModel m = r.model;
+    m.plant_effects = start.plant_effects;
+    for (const auto& n : diag::unfold_arm_effects(m, folded)) std::printf("%s\n", n.c_str());
     robot::write_robot(o.model_out, m,
                        "Identified by: jointguard identify " + recording + " --model " + model_path +
                            " --rigid-body (torque kind " + (opt.joint_torque_sensor ? "joint" : "motor") +

@@ -46,6 +46,18 @@ assert len(re.findall(r"effect: payload", m3)) == 1, "the payload must be writte
 print("round 2: no new payload; m3.yaml holds it once")
 PYEOF
 "$J" diagnose --model "$W/m3.yaml" --real "$W/resim.csv" --no-rigid-body --json "$W/d3.json" > /dev/null
+# identify --rigid-body from a robot file that carries the payload: fitted on top of it,
+# written once (link 3 is 2.0 kg in the robot file; counted twice it would be 2.8).
+"$J" identify "$W/real.csv" --model "$W/truth.yaml" --rigid-body --model-out "$W/id.yaml" > /dev/null
+"$J" simulate scenarios/paper_excitation.yaml --model "$W/id.yaml" --out "$W/id_sim.csv" > /dev/null
+"$PY" - "$W/id.yaml" <<'PYEOF'
+import re, sys
+text = open(sys.argv[1]).read()
+assert len(re.findall(r"effect: payload", text)) == 1, "identify --rigid-body must write the payload once"
+masses = [float(m) for m in re.findall(r"mass_kg: ([-0-9.e+]+)", text)]
+assert abs(masses[2] - 2.0) < 0.4, f"link 3 written at {masses[2]} kg beside the payload (robot file 2.0 kg)"
+print(f"identify --rigid-body on top of the payload: link 3 {masses[2]:.3f} kg, payload written once")
+PYEOF
 
 # Rated below the payload: reported as unexplained, not claimed.
 sed 's/^name: \(.*\)$/name: \1\nrated_payload_kg: 0.5/' models/ref3.yaml > "$W/rated.yaml"
