@@ -23,6 +23,7 @@ Command add_replay(CLI::App& app);
 Command add_evaluate(CLI::App& app);
 Command add_merge(CLI::App& app);
 Command add_diagnose(CLI::App& app);
+Command add_inject(CLI::App& app);
 Command add_bench(CLI::App& app);
 Command add_node(CLI::App& app);
 Command add_plant(CLI::App& app);

@@ -1,0 +1,45 @@
+// What a list of plant effects adds to a recording's torque reading over its measured
+// motion, computed on the recording's uniform segments (io/regularize.hpp) with the
+// diagnosis's own signals and effect columns, so that an injected effect is the effect the
+// diagnosis would fit.
+#pragma once
+
+#include <vector>
+
+#include "io/recording.hpp"
+#include "jointguard/friction/lugre.hpp"
+#include "robot/plant_effects.hpp"
+#include "robot/robot_model.hpp"
+
+namespace jg::inject {
+
+/// The model the effects are computed with.
+struct InjectModel {
+  const robot::RobotModel* model = nullptr;      ///< nominal arm (for the recording's torque kind)
+  std::vector<double> torque_constant;           ///< K_I per joint [N·m/A]: currents read as N·m
+  std::vector<LuGreParams<double>> friction;     ///< nominal friction per joint (optional: model-curve effects)
+};
+
+/// The torque the effects add on one uniform segment, before the sensor's scale and offset.
+struct SegmentAddition {
+  std::vector<double> t;                      ///< the segment's uniform grid [s]
+  std::vector<std::vector<double>> added_nm;  ///< [joint][sample] [N·m]
+};
+
+/// Per joint: the reading becomes scale * (reading + added) + offset_nm (the drive's current
+/// channel: the scale error acts on the torque the motor produced, the offset is added to it).
+struct SensorChange {
+  std::vector<double> scale;
+  std::vector<double> offset_nm;
+};
+
+/// Arm-level effects (inverse dynamics of the changed arm minus the nominal one on the
+/// measured q, dq and the signals' acceleration), per-joint effects (predict_effects over the
+/// segments one after the other, as diagnose sees them) and the reading's delay, per segment.
+std::vector<SegmentAddition> physics_added(const std::vector<io::Recording>& segments, const InjectModel& m,
+                                           const std::vector<robot::PlantEffect>& effects);
+
+/// torque_constant (scale 1 + b, several multiply) and current_offset (b [N·m], several add).
+SensorChange sensor_change(const std::vector<robot::PlantEffect>& effects, std::size_t joints);
+
+}  // namespace jg::inject

@@ -1,0 +1,136 @@
+#include "injection/inject.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+
+#include "injection/csv_edit.hpp"
+#include "injection/effects_file.hpp"
+#include "io/sha256.hpp"
+
+namespace jg::inject {
+namespace {
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw io::FormatError(path + ": cannot open");
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+/// The column prefix the reader took the torque from (tau_m<j> re-read as a torque sensor's
+/// under --torque-kind joint when the file has no tau_j<j>).
+std::string torque_prefix(io::TorqueKind kind, const std::string& text, const std::vector<int>& joint_ids) {
+  if (kind == io::TorqueKind::current) return "i";
+  if (kind == io::TorqueKind::tau_m) return "tau_m";
+  const std::string header = text.substr(0, text.find('\n'));
+  return has_joint_column(header, joint_ids, "tau_j") ? "tau_j" : "tau_m";
+}
+
+/// Linear interpolation on a uniform segment's grid, held at its ends.
+double on_grid(const SegmentAddition& a, std::size_t j, double t) {
+  const auto& g = a.t;
+  if (t <= g.front()) return a.added_nm[j].front();
+  if (t >= g.back()) return a.added_nm[j].back();
+  const auto i = static_cast<std::size_t>(std::upper_bound(g.begin(), g.end(), t) - g.begin()) - 1;
+  const double w = (t - g[i]) / (g[i + 1] - g[i]);
+  return a.added_nm[j][i] + w * (a.added_nm[j][i + 1] - a.added_nm[j][i]);
+}
+
+/// Whether any effect needs N·m turned into the column's unit (all but a pure scale).
+bool needs_torque_constant(const std::vector<robot::PlantEffect>& effects) {
+  return std::any_of(effects.begin(), effects.end(), [](const auto& e) { return channel_of(e) != Channel::scale; });
+}
+
+/// Per row: the segment whose span holds its time, the added torque interpolated there, the
+/// sensor's scale and offset; in A for currents (divided by K_I).
+RowRule row_rule(const InjectRequest& r, const std::vector<SegmentAddition>& added, const SensorChange& sensor) {
+  const auto& spans = r.data->report.segments;
+  const bool current = r.torque == io::TorqueKind::current;
+  return [&r, &added, &sensor, &spans, current](double t, const std::vector<double>& old, std::vector<double>& out) {
+    std::size_t s = 0;
+    while (s < spans.size() && !(t >= spans[s].t_begin && t <= spans[s].t_end)) ++s;
+    if (s == spans.size() || s >= added.size()) return false;
+    for (std::size_t j = 0; j < old.size(); ++j) {
+      const double unit = current ? r.model.torque_constant[j] : 1.0;  // N·m per column unit
+      out[j] = sensor.scale[j] * (old[j] + on_grid(added[s], j, t) / unit) + sensor.offset_nm[j] / unit;
+    }
+    return true;
+  };
+}
+
+}  // namespace
+
+std::string side_file_path(const std::string& csv_path) {
+  const std::filesystem::path p(csv_path);
+  return (p.parent_path() / (p.stem().string() + ".json")).string();
+}
+
+InjectResult inject(const InjectRequest& r) {
+  InjectResult res;
+  const std::string text = read_text(r.recording_path);
+  res.source_sha256 = io::sha256_hex(text);
+  res.unit = r.torque == io::TorqueKind::current ? "A" : "N·m";
+  if (r.data == nullptr || r.data->segments.empty()) throw std::invalid_argument("no uniform segment to work on");
+  if (r.effects.empty()) {
+    res.text = text;  // `plant_effects: []`: the recording as it was, byte for byte
+    res.data_rows = r.data->report.rows_in;
+    return res;
+  }
+  const io::Recording& first = r.data->segments.front();
+  if (r.torque == io::TorqueKind::current && !r.torque_constant_known && needs_torque_constant(r.effects)) {
+    throw std::invalid_argument("its torque is motor current (i<j>) and the URDF gives no torque constant to turn the effects' "
+                                "N·m into A: give --drive FILE with k_i");
+  }
+  const std::vector<SegmentAddition> added = physics_added(r.data->segments, r.model, r.effects);
+  const SensorChange sensor = sensor_change(r.effects, first.joints());
+  // Where the regularizer dropped rows repeating a state (a jittered logger's), they must stay repeats.
+  res.repeats_follow_state = r.data->report.method.rfind("none", 0) != 0 && r.data->report.repeats_dropped > 0;
+  const EditedCsv e = edit_torque_columns(text, r.recording_path, first.joint_ids, torque_prefix(r.torque, text, first.joint_ids),
+                                          res.repeats_follow_state, row_rule(r, added, sensor));
+  res.text = e.text;
+  res.data_rows = e.data_rows;
+  res.rows_outside = e.rows_outside;
+  for (std::size_t j = 0; j < e.columns.size(); ++j) {
+    res.joints.push_back({first.joint_ids[j], e.columns[j], e.rows_changed[j], e.max_abs_change[j], e.rms_change[j]});
+  }
+  return res;
+}
+
+nlohmann::json side_file(const InjectRequest& r, const InjectResult& result,
+                         const std::vector<std::pair<std::string, std::string>>& inputs) {
+  nlohmann::json j = nlohmann::json::object();
+  const std::string source_side = side_file_path(r.recording_path);
+  if (std::filesystem::exists(source_side)) j = nlohmann::json::parse(read_text(source_side));  // the reader checked it
+  nlohmann::json effects = nlohmann::json::array();
+  for (const auto& e : r.effects) {
+    effects.push_back(
+        {{"effect", e.effect}, {"joint", e.joint}, {"setting", e.setting}, {"coefficients", e.coefficients}, {"params", e.params}});
+  }
+  nlohmann::json files = nlohmann::json::object();
+  for (const auto& [name, path] : inputs) {
+    if (!path.empty()) files[name] = {{"path", path}, {"sha256", io::sha256_hex(read_text(path))}};
+  }
+  nlohmann::json changed = nlohmann::json::array();
+  for (const auto& c : result.joints) {
+    changed.push_back({{"joint", c.joint}, {"column", c.column}, {"rows_changed", c.rows_changed},
+                       {"max_abs_change", c.max_abs_change}, {"rms_change", c.rms_change}});
+  }
+  nlohmann::json entry{{"tool", "jointguard inject"},
+                       {"source", {{"path", r.recording_path}, {"sha256", result.source_sha256}}},
+                       {"source_side_file", std::filesystem::exists(source_side) ? source_side : ""},
+                       {"inputs", files},
+                       {"torque", io::to_string(r.torque)},
+                       {"unit", result.unit},
+                       {"plant_effects", effects},
+                       {"columns_changed", changed},
+                       {"data_rows", result.data_rows},
+                       {"rows_outside_segments", result.rows_outside},
+                       {"number_format", "changed fields: %.9g, or the source field's significant digits when more"}};
+  if (!j.contains("injections") || !j["injections"].is_array()) j["injections"] = nlohmann::json::array();
+  j["injections"].push_back(entry);
+  return j;
+}
+
+}  // namespace jg::inject
