@@ -7,7 +7,7 @@ SRC="$2"
 W=$(mktemp -d)
 trap 'rm -rf "$W"' EXIT
 cd "$SRC"
-for c in simulate identify calibrate evaluate replay diagnose bench demo node plant decode; do
+for c in simulate identify calibrate evaluate replay diagnose inject bench demo node plant decode; do
   "$J" "$c" --help > /dev/null
 done
 "$J" simulate scenarios/paper_excitation.yaml --out "$W/excitation.csv"
@@ -29,6 +29,8 @@ grep -q '"link": 2' "$W/events.json" || { echo "replay did not isolate link 2"; 
 grep -q '"detection_rate": 1.0' "$W/paper.json" || { echo "paper scenarios not all detected"; exit 1; }
 "$J" diagnose --model models/ref3.yaml --real "$W/shoulder.csv" --sim "$W/shoulder.csv" --json "$W/diag.json" > "$W/diag.txt"
 grep -q '"effect": "none"' "$W/diag.json" || { echo "a recording against itself must show nothing missing"; exit 1; }
+# A known payload added to a recording's torque columns (tests/cli/inject.sh checks it).
+"$J" inject "$W/free.csv" --model models/ref3.yaml --effects models/effects/ref3_payload.yaml --out "$W/free_payload.csv" > /dev/null
 # The drives in the loop on the simulated CAN FD bus (in-process; the SocketCAN processes
 # run in tests/can/hil).
 "$J" simulate scenarios/paper_collision_shoulder.yaml --out "$W/shoulder_bus.csv" --bus sim --friction "$W/friction.json" \
