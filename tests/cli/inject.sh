@@ -154,6 +154,21 @@ for r0, r1 in zip(rows0[1:], rows1[1:]):
 print("current columns: torque_constant x1.05, current_offset +0.025 A, coulomb +-0.0333 A as expected")
 PYEOF
 
+# Rows outside every uniform segment (a 2-row island between long gaps): left as they are.
+"$PY" - "$W/gappy.csv" <<'PYEOF'
+import math, sys
+with open(sys.argv[1], "w") as f:
+    f.write("t,q1,q2,q3,dq1,dq2,dq3,i1,i2,i3,extra\n")
+    for t in [k * 0.001 for k in range(1000)] + [2.0, 2.001] + [3.0 + k * 0.001 for k in range(800)]:
+        w = math.pi
+        f.write(f"{t:.4f},{0.3 * math.sin(w * t):.6f},{0.6 + 0.3 * math.sin(w * t):.6f},-0.8,{0.3 * w * math.cos(w * t):.6f},"
+                f"{0.3 * w * math.cos(w * t):.6f},0,0.1,1.0,0.2,7\n")
+PYEOF
+"$J" inject "$W/gappy.csv" --model models/ref3.yaml --effects "$W/payload.yaml" --out "$W/gappy_out.csv" > "$W/gappy.txt"
+grep -q "2 rows outside every uniform segment" "$W/gappy.txt" || { echo "rows outside the segments not reported"; cat "$W/gappy.txt"; exit 1; }
+diff <(sed -n '1002,1003p' "$W/gappy.csv") <(sed -n '1002,1003p' "$W/gappy_out.csv") > /dev/null || { echo "the island's rows changed"; exit 1; }
+! diff <(sed -n '1004p' "$W/gappy.csv") <(sed -n '1004p' "$W/gappy_out.csv") > /dev/null || { echo "the segment after the gap unchanged"; exit 1; }
+
 # (e) bad inputs: exit code, the message naming the file (line, field), no output.
 expect() {  # expect RC TEXT ARGS...: the command exits RC, stderr contains TEXT, out.csv not written
   local rc=$1 text=$2

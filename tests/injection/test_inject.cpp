@@ -136,8 +136,9 @@ struct Injected {
   std::vector<std::vector<double>> before, after;  ///< rows of numbers
 };
 
-Injected run(const std::vector<PlantEffect>& effects) {
-  const std::string path = write_recording("jg_inject_test.csv");
+/// `name`: a file of its own per test (ctest runs the tests in parallel).
+Injected run(const std::vector<PlantEffect>& effects, const std::string& name) {
+  const std::string path = write_recording(name);
   const jg::io::Regularized data = jg::io::regularize(jg::io::read_recording(path));
   const jg::robot::RobotModel model = jg::robot::load_robot(std::string(JG_SOURCE_DIR) + "/models/ref3.yaml");
   jg::inject::InjectRequest r;
@@ -168,7 +169,7 @@ Injected run(const std::vector<PlantEffect>& effects) {
 
 TEST(InjectSensor, TimeDelayShiftsTheReading) {
   // time_delay's coefficient is the diagnosis's (b dtau/dt): b = -0.02 is a 20 ms lag.
-  const Injected x = run({{"time_delay", 1, {}, {-0.02}, {}}});
+  const Injected x = run({{"time_delay", 1, {}, {-0.02}, {}}}, "jg_inject_delay.csv");
   for (std::size_t k = 0; k < x.after.size(); ++k) {
     const double t = x.before[k][0];
     const double want = t >= 0.02 ? std::sin(M_PI * (t - 0.02)) : 0.0;  // held at the first sample before
@@ -178,7 +179,7 @@ TEST(InjectSensor, TimeDelayShiftsTheReading) {
 }
 
 TEST(InjectArm, PayloadPickedUpActsFromThen) {
-  const Injected x = run({{"payload", 0, {{"picked_up_at_s", 1.0}}, {1.0, 0.2, 0.0, 0.0}, {}}});
+  const Injected x = run({{"payload", 0, {{"picked_up_at_s", 1.0}}, {1.0, 0.2, 0.0, 0.0}, {}}}, "jg_inject_pickup.csv");
   for (std::size_t k = 0; k < x.after.size(); ++k) {
     const double t = x.before[k][0];
     if (t < 1.0) {
