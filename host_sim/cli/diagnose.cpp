@@ -82,37 +82,51 @@ nlohmann::json finding_json(const diag::Finding& f) {
   return out;
 }
 
-/// The per-joint signals of the model's prediction over the real motion (every uniform
-/// segment, one after the other), with `friction_file`'s LuGre when given.
-std::vector<diag::JointSignals> model_signals(const LoadedRecording& real, const robot::RobotModel& m,
-                                              const robot::RobotModel& nominal, const std::string& friction_file) {
-  const sim::ArmDynamics arm = m.dynamics();
+/// What the signals need of the model: `arm` (its dynamics; must outlive the context), the
+/// torque constants of `model` (as read for this torque kind), the nominal rotor inertias,
+/// and `friction_file`'s LuGre when one is given.
+diag::ModelContext model_context(const sim::ArmDynamics& arm, const robot::RobotModel& model, const robot::RobotModel& nominal,
+                                 const std::string& friction_file, const LoadedRecording& real) {
   diag::ModelContext ctx;
   ctx.arm = &arm;
-  for (const auto& jd : m.joints) ctx.torque_constant.push_back(jd.link.torque_constant);
+  for (const auto& jd : model.joints) ctx.torque_constant.push_back(jd.link.torque_constant);
   for (const auto& jd : nominal.joints) ctx.rotor_inertia.push_back(jd.link.rotor_inertia);
   if (!friction_file.empty()) ctx.friction = eval::read_friction_json(friction_file, real.longest().joint_ids);
+  return ctx;
+}
+
+/// The per-joint signals of the model's prediction over the real motion: every uniform
+/// segment, its derivatives taken within it, one after the other.
+std::vector<diag::JointSignals> model_signals(const LoadedRecording& real, const std::string& path, const diag::ModelContext& ctx) {
   std::vector<std::vector<diag::JointSignals>> parts;
-  for (const auto& seg : real.data.segments) parts.push_back(diag::signals_from_model(seg, ctx));
-  auto signals = diag::concatenate_signals(parts);
-  for (auto& s : signals) s.joint_torque_sensor = real.torque == io::TorqueKind::tau_j;
-  return signals;
+  for (const auto& seg : real.data.segments) {
+    parts.push_back(about_recording(path, [&] { return diag::signals_from_model(seg, ctx); }));
+  }
+  return diag::concatenate_signals(parts);
 }
 
 /// The causes named against the robot file (before the rigid-body refit) joined to those
 /// found after it: one list of arm-level findings, each cause once. (The named causes' model
 /// is in the links the rest was fitted with, and written back from there.)
 void merge_named(const diag::ArmDiagnosis& named, diag::ArmDiagnosis& after) {
-  for (std::size_t i = 0; i < named.findings.size(); ++i) {
-    const auto& f = named.findings[i];
-    const bool again = std::any_of(after.findings.begin(), after.findings.end(), [&](const diag::Finding& g) {
-      return g.effect == f.effect && g.params.count("link") != 0U && f.params.count("link") != 0U && g.params.at("link") == f.params.at("link");
-    });
-    if (again) continue;
-    after.findings.insert(after.findings.begin(), f);
-  }
-  after.unexplained.insert(after.unexplained.end(), named.unexplained.begin(), named.unexplained.end());
-  for (const auto& n : named.notes) after.notes.insert(after.notes.begin(), "against the robot file: " + n);
+  // A cause found again after the refit is the remainder on top of the named one (both are
+  // written back, added): both are listed, the named one first.
+  after.findings.insert(after.findings.begin(), named.findings.begin(), named.findings.end());
+  after.unexplained.insert(after.unexplained.begin(), named.unexplained.begin(), named.unexplained.end());
+  std::vector<std::string> notes;
+  for (const auto& n : named.notes) notes.push_back("against the robot file: " + n);
+  after.notes.insert(after.notes.begin(), notes.begin(), notes.end());
+}
+
+/// Only the named causes a link can hold (carried throughout) go into the model before the
+/// refit; a payload picked up during the recording is left to the arm level after it, so
+/// that it is fitted, and written, once.
+void keep_carried_throughout(diag::ArmDiagnosis& named) {
+  auto& m = named.model;
+  m.erase(std::remove_if(m.begin(), m.end(), [](const diag::FittedEffect& e) { return e.setting.count("picked_up_at_s") != 0U; }),
+          m.end());
+  auto& f = named.findings;
+  f.erase(std::remove_if(f.begin(), f.end(), [](const diag::Finding& x) { return x.params.count("picked_up_at_s") != 0U; }), f.end());
 }
 }  // namespace
 
@@ -167,11 +181,15 @@ Command add_diagnose(CLI::App& app) {
             diag::ArmDiagnosis named;
             if (o->sim.empty() && !o->no_rigid_body) {
               const sim::ArmDynamics prior_arm = used.dynamics();
-              const auto prior_signals = model_signals(real, used, nominal, o->friction);
-              named = diag::diagnose_arm(prior_signals, arm_options, &prior_arm);
-              for (const auto& e : diag::plant_effects_of(named, {})) used.plant_effects.push_back(e);
-              const auto notes = diag::fold_arm_effects(used, &folded);
-              for (const auto& n : notes) j["arm"]["notes"].push_back(n);
+              const auto prior_ctx = model_context(prior_arm, model, nominal, o->friction, real);
+              named = diag::diagnose_arm(model_signals(real, o->real, prior_ctx), arm_options, &prior_arm);
+              keep_carried_throughout(named);
+              // Folded alone: the file's own effects were folded (or kept) above.
+              robot::RobotModel with_named = used;
+              with_named.plant_effects = diag::plant_effects_of(named, {});
+              diag::fold_arm_effects(with_named, &folded);
+              with_named.plant_effects = used.plant_effects;
+              used = with_named;
             }
             if (o->sim.empty() && !o->no_rigid_body) {
               dyn::RigidBodyIdOptions ro;
@@ -186,15 +204,12 @@ Command add_diagnose(CLI::App& app) {
               if (rb && rb->accepted) used = rb->model;
             }
             const sim::ArmDynamics arm = used.dynamics();
-            diag::ModelContext ctx;
-            ctx.arm = &arm;
-            for (const auto& jd : model.joints) ctx.torque_constant.push_back(jd.link.torque_constant);
-            for (const auto& jd : nominal.joints) ctx.rotor_inertia.push_back(jd.link.rotor_inertia);
             // With the arm identified, its friction is the identified one (below), not --friction's.
-            if (!o->friction.empty() && !rb) ctx.friction = eval::read_friction_json(o->friction, real.longest().joint_ids);
+            const diag::ModelContext ctx = model_context(arm, model, nominal, rb ? std::string() : o->friction, real);
             // Every uniform segment of the real recording, its derivatives taken within it.
-            std::vector<std::vector<diag::JointSignals>> parts;
+            std::vector<diag::JointSignals> signals;
             if (!o->sim.empty()) {
+              std::vector<std::vector<diag::JointSignals>> parts;
               RecordingOptions sim_input;
               sim_input.max_gap_s = o->input.max_gap_s;
               const LoadedRecording simulated = load_recording(o->sim, sim_input);
@@ -207,13 +222,12 @@ Command add_diagnose(CLI::App& app) {
                 }
                 parts.push_back(about_recording(o->real, [&] { return diag::signals_from_pair(seg, *s, ctx); }));
               }
+              signals = diag::concatenate_signals(parts);
             } else {
-              for (const auto& seg : real.data.segments) {
-                parts.push_back(about_recording(o->real, [&] { return diag::signals_from_model(seg, ctx); }));
-              }
+              signals = model_signals(real, o->real, ctx);
             }
-            if (parts.size() > 1) std::printf("diagnosis over all %zu segments, one after the other\n", parts.size());
-            std::vector<diag::JointSignals> signals = diag::concatenate_signals(parts);
+            const std::size_t segments = real.data.segments.size();
+            if (segments > 1) std::printf("diagnosis over all %zu segments, one after the other\n", segments);
             for (auto& s : signals) s.joint_torque_sensor = real.torque == io::TorqueKind::tau_j;
             if (!used.plant_effects.empty() && o->sim.empty()) {
               auto notes = diag::add_joint_effects(used.plant_effects, signals);
@@ -251,7 +265,7 @@ Command add_diagnose(CLI::App& app) {
             std::vector<diag::JointDiagnosis> diagnoses;
             j["resampling"] = resampling_json(real.data.report);
             j["torque"] = io::to_string(real.torque);
-            j["segments_used"] = parts.size();
+            j["segments_used"] = segments;
             j["joints"] = nlohmann::json::array();
             if (!o->out.empty()) std::filesystem::create_directories(o->out);
             for (const auto& s : signals) {

@@ -627,6 +627,7 @@ JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
     }
     for (const auto& [k, v] : f.params) it->params.emplace(k, v);
     it->delta_bic += f.delta_bic;
+    it->null_z = std::max(it->null_z, f.null_z);
     it->confidence = 1.0 / (1.0 + std::exp(-(it->delta_bic - o.min_delta_bic) / 10.0));
     it->text += "; " + f.text;
   }

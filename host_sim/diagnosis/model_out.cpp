@@ -81,8 +81,6 @@ bool same_cause(const robot::PlantEffect& a, const robot::PlantEffect& b) {
 }
 }  // namespace
 
-std::vector<std::string> fold_arm_effects(robot::RobotModel& m) { return fold_arm_effects(m, nullptr); }
-
 std::vector<std::string> fold_arm_effects(robot::RobotModel& m, std::vector<robot::PlantEffect>* folded) {
   std::vector<std::string> notes;
   std::vector<robot::PlantEffect> kept;

@@ -26,9 +26,8 @@ sim::EffectsReport apply_findings(const ArmDiagnosis& arm, const std::vector<Joi
 /// closed on real recordings): the arm-level ones a link's parameters can hold (a payload
 /// carried throughout, a link's mass) are folded into the links and removed from the list;
 /// returns notes on what stays out of the prediction.
-std::vector<std::string> fold_arm_effects(robot::RobotModel& model);
-/// The same, listing the effects folded (in order) in `folded`.
-std::vector<std::string> fold_arm_effects(robot::RobotModel& model, std::vector<robot::PlantEffect>* folded);
+/// `folded`, when given, receives the effects folded, in order (for unfold_arm_effects).
+std::vector<std::string> fold_arm_effects(robot::RobotModel& model, std::vector<robot::PlantEffect>* folded = nullptr);
 
 /// fold_arm_effects undone: each folded effect taken back out of its link (a payload as the
 /// point mass it was folded as) and listed in the model's plant_effects again, so that a
