@@ -22,21 +22,6 @@ sim::JointVector at(const Signals& s, std::size_t k, std::vector<double> diag::J
   return v;
 }
 
-/// A point mass added to a link, as the plant adds a payload (plant/plant.cpp,
-/// apply_payload_if_due): masses and centres combined, each inertia moved to the new centre.
-sim::PlantLink with_payload(const sim::PlantLink& link, double mass_kg, const Eigen::Vector3d& at_m) {
-  const double m0 = link.mass;
-  const Eigen::Vector3d c = (m0 * link.com + mass_kg * at_m) / (m0 + mass_kg);
-  auto shift = [](double m, const Eigen::Vector3d& d) {
-    return Eigen::Matrix3d(m * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose()));
-  };
-  sim::PlantLink out = link;
-  out.inertia_com = link.inertia_com + shift(m0, link.com - c) + shift(mass_kg, at_m - c);
-  out.com = c;
-  out.mass = m0 + mass_kg;
-  return out;
-}
-
 /// When an arm-level effect starts acting [s, the recording's clock]: a payload picked up
 /// during the recording from then on, everything else throughout.
 double start_s(const robot::PlantEffect& e) {
@@ -58,7 +43,8 @@ std::vector<ArmStage> arm_stages(const sim::ArmDynamics& nominal, std::vector<ro
   for (const auto& e : arm) {
     const Eigen::Vector3d h(e.coefficients[1], e.coefficients[2], e.coefficients[3]);
     if (e.effect == "payload") {
-      links.back() = with_payload(links.back(), e.coefficients[0], h / e.coefficients[0]);
+      // A point mass, as the plant adds a payload (plant/plant.cpp, apply_payload_if_due).
+      links.back() = sim::with_point_mass(links.back(), e.coefficients[0], h / e.coefficients[0]);
     } else {
       // A link's mass and first moment changed, its inertia about the link origin kept: as
       // the plant (sim/apply_effects.cpp) and the diagnosis's columns have it.
