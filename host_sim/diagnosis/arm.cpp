@@ -386,6 +386,18 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
       payload_bound_name = "the arm's own mass (no rated_payload_kg given)";
     }
   }
+  Stack all;
+  all.joints = js.size();
+  all.weight = train.weight;
+  for (std::size_t k = 0; k < n; ++k) all.rows.push_back(k);
+  // The null every cause must beat: the recording's own block-to-block variation
+  // (delete-one-block jackknife), judged last, for the subset being judged: a pair whose
+  // causes share the load (a payload and the wrist link it sits beside) fails it, and the
+  // next subset (either cause alone) is judged instead.
+  std::vector<JackknifedCause> jack;
+  const auto fit_shared = [&](const std::vector<const ArmCandidate*>& cs, const Stack& st) {
+    return VectorXd(lsq(design(cs, st), target(js, st)));
+  };
   // Why a subset cannot be claimed (empty: it can).
   auto reject = [&](const Subset& sub) -> std::string {
     std::ostringstream why;
@@ -464,6 +476,13 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
       }
       at2 += p;
     }
+    jack = jackknife_causes(sub.cs, n, o.joint.blocks, fit_shared, all, train.weight);
+    for (std::size_t i = 0; i < sub.cs.size(); ++i) {
+      if (jack[i].z >= o.joint.min_null_z) continue;
+      why << name_of(*sub.cs[i]) << " does not beat the recording's own block-to-block variation (jackknife z = " << jack[i].z
+          << ", needs " << o.joint.min_null_z << "): not claimed";
+      return why.str();
+    }
     return {};
   };
   const bool trace = std::getenv("JG_DIAG_TRACE") != nullptr;
@@ -485,28 +504,8 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
   if (chosen.empty() && d.notes.empty()) d.notes.push_back("no arm-level cause (payload, link mass) with evidence on the training blocks");
   if (chosen.empty()) return d;
   // Final shared coefficients on all samples (nuisance alongside, not kept).
-  Stack all;
-  all.joints = js.size();
-  all.weight = train.weight;
-  for (std::size_t k = 0; k < n; ++k) all.rows.push_back(k);
   // The null every cause must beat: the recording's own block-to-block variation
   // (delete-one-block jackknife); a cause below it is dropped, the rest refitted.
-  std::vector<JackknifedCause> jack;
-  for (;;) {
-    jack = jackknife_causes(chosen, n, o.joint.blocks, [&](const std::vector<const ArmCandidate*>& cs, const Stack& st) {
-      return VectorXd(lsq(design(cs, st), target(js, st)));
-    }, all, train.weight);
-    const auto weakest = std::min_element(jack.begin(), jack.end(), [](const auto& a, const auto& b) { return a.z < b.z; });
-    if (weakest == jack.end() || weakest->z >= o.joint.min_null_z) break;
-    std::ostringstream why;
-    why.precision(3);
-    const auto i = static_cast<std::size_t>(weakest - jack.begin());
-    why << name_of(*chosen[i]) << " does not beat the recording's own block-to-block variation (jackknife z = " << weakest->z
-        << ", needs " << o.joint.min_null_z << "): not claimed";
-    d.notes.push_back(why.str());
-    chosen.erase(chosen.begin() + static_cast<std::ptrdiff_t>(i));
-    if (chosen.empty()) return d;
-  }
   const VectorXd ba = lsq(design(chosen, all), target(js, all));
   Eigen::Index at = 0;
   for (std::size_t ci = 0; ci < chosen.size(); ++ci) {
