@@ -118,16 +118,6 @@ void merge_named(const diag::ArmDiagnosis& named, diag::ArmDiagnosis& after) {
   after.notes.insert(after.notes.begin(), notes.begin(), notes.end());
 }
 
-/// Only the named causes a link can hold (carried throughout) go into the model before the
-/// refit; a payload picked up during the recording is left to the arm level after it, so
-/// that it is fitted, and written, once.
-void keep_carried_throughout(diag::ArmDiagnosis& named) {
-  auto& m = named.model;
-  m.erase(std::remove_if(m.begin(), m.end(), [](const diag::FittedEffect& e) { return e.setting.count("picked_up_at_s") != 0U; }),
-          m.end());
-  auto& f = named.findings;
-  f.erase(std::remove_if(f.begin(), f.end(), [](const diag::Finding& x) { return x.params.count("picked_up_at_s") != 0U; }), f.end());
-}
 }  // namespace
 
 Command add_diagnose(CLI::App& app) {
@@ -182,8 +172,10 @@ Command add_diagnose(CLI::App& app) {
             if (o->sim.empty() && !o->no_rigid_body) {
               const sim::ArmDynamics prior_arm = used.dynamics();
               const auto prior_ctx = model_context(prior_arm, model, nominal, o->friction, real);
-              named = diag::diagnose_arm(model_signals(real, o->real, prior_ctx), arm_options, &prior_arm);
-              keep_carried_throughout(named);
+              // Carried throughout only: a link holds it, and a step is found after the refit.
+              diag::ArmDiagnosisOptions named_options = arm_options;
+              named_options.payload_picked_up = false;
+              named = diag::diagnose_arm(model_signals(real, o->real, prior_ctx), named_options, &prior_arm);
               // Folded alone: the file's own effects were folded (or kept) above.
               robot::RobotModel with_named = used;
               with_named.plant_effects = diag::plant_effects_of(named, {});

@@ -192,11 +192,11 @@ Finding implausible_payload(double mass_kg, const Eigen::Vector3d& first_moment,
 /// Payload: carried throughout, or picked up during the recording (a step at pickup_s,
 /// on a 5 % grid of the recording): the model's sensitivities to the last link's mass
 /// and first moment.
-std::vector<ArmCandidate> payload_candidates(const std::vector<JointSignals>& js) {
+std::vector<ArmCandidate> payload_candidates(const std::vector<JointSignals>& js, bool picked_up) {
   std::vector<ArmCandidate> out;
   const auto& t = js.front().t;
   const double t0 = t.front(), span = t.back() - t.front();
-  for (int i = 0; i <= 17; ++i) {
+  for (int i = 0; i <= (picked_up ? 17 : 0); ++i) {
     ArmCandidate c;
     c.effect = "payload";
     c.link = static_cast<int>(js.size());
@@ -292,7 +292,7 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
   const std::size_t n_train = static_cast<std::size_t>(y_train.size());
 
   // Candidate groups: the payload (its pick-up time on a grid), each inner link's error.
-  std::vector<std::vector<ArmCandidate>> all_groups{payload_candidates(js)};
+  std::vector<std::vector<ArmCandidate>> all_groups{payload_candidates(js, o.payload_picked_up)};
   if (arm != nullptr && arm->joints() == static_cast<int>(js.size())) {
     for (int l = 0; l + 1 < arm->joints(); ++l) all_groups.push_back({link_candidate(js, *arm, l)});
   }

@@ -34,6 +34,11 @@ struct ArmDiagnosisOptions {
   /// claimed but reported as an unexplained mismatch of that size. 0 = no rating given: the
   /// bound is then the arm's own mass (no arm carries more than itself).
   double max_payload_kg = 0.0;
+  /// Offer a payload picked up during the recording (a step on a 5 % grid) besides one carried
+  /// throughout. Off where the model's friction is unknown (against the robot file alone): the
+  /// standstill before a motion, where static friction holds any torque, is then fitted as
+  /// "not yet picked up".
+  bool payload_picked_up = true;
 };
 
 struct ArmDiagnosis {
