@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Known causes injected into the real recordings (issue 30 item 5), the small version of
+# scripts/injection_bench.py (the full run and its table: docs/results.md). Skipped with a
+# message when ../shared/data/real is absent; the recordings are never copied.
+#  - Panda (0.3 and 1.5 kg at the flange + 2 zero-size cases): 1.5 kg named within 20 % (0.3 kg
+#    is below what the full run names), no payload claim off by more than 20 %,
+#    no claim on a zero-size case beyond the untouched recording's;
+#  - UR10e motion_free (16 payloads, 0.5-12 kg, + 2 zero-size): the figures of the last
+#    measured run as a floor (named >= 5, payload claims off by more than 20 % <= 2), no
+#    claim on a zero-size case beyond the untouched recording's.
+# Usage: injection_bench.sh <jointguard> <source dir>
+set -euo pipefail
+J="$1"
+SRC="$2"
+DATA="$SRC/../shared/data/real"
+if [ ! -d "$DATA/panda-excitation" ] || [ ! -d "$DATA/ur10e-static" ]; then
+  echo "skipped: real recordings not found in $DATA"
+  exit 77
+fi
+W=$(mktemp -d)
+trap 'rm -rf "$W"' EXIT
+cd "$SRC"
+PY=/usr/bin/python3
+"$PY" scripts/injection_bench.py "$J" "$DATA" panda --cases 2 --json "$W/panda.json" > /dev/null
+"$PY" scripts/injection_bench.py "$J" "$DATA" ur10e --json "$W/ur10e.json" > /dev/null
+"$PY" - "$W/panda.json" "$W/ur10e.json" <<'PYEOF'
+import json, sys
+p, u = (json.load(open(f))["summary"] for f in sys.argv[1:3])
+print("panda:", p)
+print("ur10e:", u)
+assert p["named_within_20pct"] >= 1 and p["wrong_claims"] == 0, p  # 0.3 kg (below the floor) and 1.5 kg
+assert u["named_within_20pct"] >= 5 and u["wrong_claims"] <= 2, u
+for s in (p, u):
+    assert s["zero_size_cases"] == 2 and s["zero_size_with_extra_claims"] == 0, s
+PYEOF
+echo "injection bench: ok"
