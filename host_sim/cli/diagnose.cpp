@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
+#include "diagnosis/cross_motion.hpp"
 #include "cli/common.hpp"
 #include "diagnosis/arm.hpp"
 #include "diagnosis/diagnose.hpp"
@@ -26,7 +27,8 @@
 namespace jg::cli {
 namespace {
 struct DiagnoseCliOptions {
-  std::string model, real, sim, json, friction, out, model_out;
+  std::string model, json, friction, out, model_out;
+  std::vector<std::string> real, sim;  ///< several recordings of one arm; --sim one per --real when given
   bool no_rigid_body = false;
   robot::LoadOptions model_options;
   RecordingOptions input;  ///< for --real; --sim is read as it is (its torque is what the simulation wrote)
@@ -95,14 +97,90 @@ diag::ModelContext model_context(const sim::ArmDynamics& arm, const robot::Robot
   return ctx;
 }
 
-/// The per-joint signals of the model's prediction over the real motion: every uniform
-/// segment, its derivatives taken within it, one after the other.
-std::vector<diag::JointSignals> model_signals(const LoadedRecording& real, const std::string& path, const diag::ModelContext& ctx) {
+/// The recordings' per-joint signals one after the other: `per_segment(r, segment)` for every
+/// uniform segment of every recording (derivatives taken within it). With several
+/// recordings, each follows the one before on the time axis (each has its own clock), and
+/// `spans` gets each one's samples.
+template <class PerSegment>
+std::vector<diag::JointSignals> signals_of(const std::vector<LoadedRecording>& reals, PerSegment&& per_segment,
+                                           std::vector<diag::SampleSpan>* spans = nullptr) {
   std::vector<std::vector<diag::JointSignals>> parts;
-  for (const auto& seg : real.data.segments) {
-    parts.push_back(about_recording(path, [&] { return diag::signals_from_model(seg, ctx); }));
+  std::size_t samples = 0;
+  double t_next = 0.0;
+  for (std::size_t r = 0; r < reals.size(); ++r) {
+    const std::size_t begin = samples;
+    const double shift = r == 0 ? 0.0 : t_next - reals[r].data.segments.front().t.front();
+    for (const auto& seg : reals[r].data.segments) {
+      auto part = about_recording(reals[r].path, [&] { return per_segment(r, seg); });
+      for (auto& js : part) {
+        for (auto& t : js.t) t += shift;
+      }
+      if (!part.empty() && !part.front().t.empty()) {
+        samples += part.front().size();
+        t_next = part.front().t.back() + part.front().dt;
+      }
+      parts.push_back(std::move(part));
+    }
+    if (spans != nullptr) spans->push_back({begin, samples});
   }
   return diag::concatenate_signals(parts);
+}
+
+/// The per-joint signals of the model's prediction over the real motion.
+std::vector<diag::JointSignals> model_signals(const std::vector<LoadedRecording>& reals, const diag::ModelContext& ctx,
+                                              std::vector<diag::SampleSpan>* spans = nullptr) {
+  return signals_of(reals, [&](std::size_t, const io::Recording& seg) { return diag::signals_from_model(seg, ctx); }, spans);
+}
+
+/// Real against simulated, each --real with its --sim (the simulated part that covers each
+/// real segment).
+std::vector<diag::JointSignals> paired_signals(const std::vector<LoadedRecording>& reals, const std::vector<std::string>& sims,
+                                               double max_gap_s, const diag::ModelContext& ctx, nlohmann::json& j,
+                                               std::vector<diag::SampleSpan>* spans) {
+  std::vector<LoadedRecording> simulated;
+  RecordingOptions sim_input;
+  sim_input.max_gap_s = max_gap_s;
+  for (const auto& path : sims) simulated.push_back(load_recording(path, sim_input));
+  j["simulated"] = {{"resampling", resampling_json(simulated.front().data.report)}, {"torque", io::to_string(simulated.front().torque)}};
+  return signals_of(
+      reals,
+      [&](std::size_t r, const io::Recording& seg) {
+        const io::Recording* s = covering(simulated[r].data.segments, seg.t.front(), seg.t.back(), seg.meta.sample_time);
+        if (s == nullptr) {
+          throw std::invalid_argument(sims[r] + ": no continuous part covers the real recording's t = " + std::to_string(seg.t.front()) +
+                                      " .. " + std::to_string(seg.t.back()) + " s");
+        }
+        return diag::signals_from_pair(seg, *s, ctx);
+      },
+      spans);
+}
+
+/// The recording whose longest segment is the longest of all (rigid-body identification,
+/// joint names).
+const LoadedRecording& primary(const std::vector<LoadedRecording>& reals) {
+  std::size_t best = 0;
+  for (std::size_t r = 1; r < reals.size(); ++r) {
+    if (reals[r].longest().t.size() > reals[best].longest().t.size()) best = r;
+  }
+  return reals[best];
+}
+
+/// Reads every --real; they must be of one arm (joint count and torque kind) and fit the model.
+std::vector<LoadedRecording> load_reals(const DiagnoseCliOptions& o, std::size_t model_joints) {
+  std::vector<LoadedRecording> reals;
+  for (const auto& path : o.real) {
+    reals.push_back(load_recording(path, o.input));
+    const auto& r = reals.back();
+    if (r.longest().joints() != model_joints) {
+      throw std::invalid_argument(path + ": " + std::to_string(r.longest().joints()) + " joints, the model has " +
+                                  std::to_string(model_joints));
+    }
+    if (r.torque != reals.front().torque) {
+      throw std::invalid_argument(path + ": torque columns of kind " + io::to_string(r.torque) + ", " + o.real.front() +
+                                  " has " + io::to_string(reals.front().torque) + ": give --torque-kind");
+    }
+  }
+  return reals;
 }
 
 /// The causes named against the robot file (before the rigid-body refit) joined to those
@@ -118,6 +196,302 @@ void merge_named(const diag::ArmDiagnosis& named, diag::ArmDiagnosis& after) {
   after.notes.insert(after.notes.begin(), notes.begin(), notes.end());
 }
 
+/// What the diagnosis reports for the recordings as a whole.
+struct DiagnoseRun {
+  std::vector<LoadedRecording> reals;
+  std::vector<std::string> names;  ///< the --real paths
+  robot::RobotModel nominal, model, used;
+  std::vector<robot::PlantEffect> folded;  ///< arm-level effects held in the links, written back as effects
+  std::vector<std::string> model_effect_notes;
+  diag::ArmDiagnosisOptions arm_options;
+  std::optional<dyn::RigidBodyIdResult> rb;
+  diag::ArmDiagnosis named;  ///< causes named against the robot file, before the refit
+  nlohmann::json j;
+};
+
+/// An arm-level diagnosis whose causes did not transfer between recordings: nothing claimed,
+/// what it found reported as unexplained.
+void withdraw_arm_causes(diag::ArmDiagnosis& a, const std::string& why) {
+  for (auto f : a.findings) {
+    f.text += " (" + why + ")";
+    a.unexplained.push_back(f);
+  }
+  a.findings.clear();
+  a.model.clear();
+  for (auto& e : a.explained) std::fill(e.begin(), e.end(), 0.0);
+  std::fill(a.explained_rms.begin(), a.explained_rms.end(), 0.0);
+  a.notes.push_back(why);
+}
+
+/// Named causes first, against the robot file itself (a payload nobody declared, a link's
+/// mass): the rigid-body refit then explains only what they leave, never a payload in 40 base
+/// parameters. Folded into `run.used`.
+void name_causes_against_file(const DiagnoseCliOptions& o, DiagnoseRun& run) {
+  const sim::ArmDynamics prior_arm = run.used.dynamics();
+  const auto prior_ctx = model_context(prior_arm, run.model, run.nominal, o.friction, primary(run.reals));
+  // Carried throughout only: a link holds it, and a step is found after the refit.
+  diag::ArmDiagnosisOptions named_options = run.arm_options;
+  named_options.payload_picked_up = false;
+  std::vector<diag::SampleSpan> spans;
+  const auto signals = model_signals(run.reals, prior_ctx, &spans);
+  run.named = diag::diagnose_arm(signals, named_options, &prior_arm);
+  if (spans.size() > 1 && !run.named.findings.empty()) {
+    // Several recordings: what is named must hold for each of them, fitted on the others.
+    const auto folds = diag::cross_motion_folds(signals, spans, named_options, &prior_arm, false);
+    run.j["cross_motion_named"] = nlohmann::json::array();
+    for (const auto& f : folds) {
+      run.j["cross_motion_named"].push_back(
+          {{"left_out", run.names[f.left_out]}, {"arm_causes", f.arm_causes}, {"arm_mse_ratio", f.arm_mse_ratio}});
+    }
+    if (const std::string why = diag::arm_not_transferring(folds, run.names); !why.empty()) withdraw_arm_causes(run.named, why);
+  }
+  // Folded alone: the file's own effects were folded (or kept) before.
+  robot::RobotModel with_named = run.used;
+  with_named.plant_effects = diag::plant_effects_of(run.named, {});
+  diag::fold_arm_effects(with_named, &run.folded);
+  with_named.plant_effects = run.used.plant_effects;
+  run.used = with_named;
+}
+
+/// The whole arm's rigid body and friction identified on the training blocks of the longest
+/// segment (one cause, the arm's inertial parameters, fitted once); the diagnosis then works
+/// on what that model leaves.
+void refit_rigid_body(DiagnoseRun& run) {
+  const LoadedRecording& real = primary(run.reals);
+  dyn::RigidBodyIdOptions ro;
+  ro.joint_torque_sensor = real.torque == io::TorqueKind::tau_j;
+  try {
+    run.rb = dyn::identify_rigid_body(real.longest(), run.used, ro);
+  } catch (const std::invalid_argument& e) {
+    std::printf("arm: rigid body not identified (%s): the robot file's is used\n", e.what());
+    run.j["arm"]["notes"].push_back(std::string("rigid body not identified: ") + e.what());
+  }
+  if (run.rb) report_rigid_body(*run.rb, run.used, run.j["arm"]);
+  if (run.rb && run.rb->accepted) run.used = run.rb->model;
+}
+
+/// The signals the diagnosis works on: real against simulated, or against the model's
+/// prediction with the file's per-joint effects and the identified friction in it.
+std::vector<diag::JointSignals> diagnosis_signals(const DiagnoseCliOptions& o, const sim::ArmDynamics& arm, DiagnoseRun& run,
+                                                  std::vector<diag::SampleSpan>& spans) {
+  const LoadedRecording& real = primary(run.reals);
+  // With the arm identified, its friction is the identified one (below), not --friction's.
+  const diag::ModelContext ctx = model_context(arm, run.model, run.nominal, run.rb ? std::string() : o.friction, real);
+  std::vector<diag::JointSignals> signals = o.sim.empty() ? model_signals(run.reals, ctx, &spans)
+                                                          : paired_signals(run.reals, o.sim, o.input.max_gap_s, ctx, run.j, &spans);
+  std::size_t segments = 0;
+  for (const auto& r : run.reals) segments += r.data.segments.size();
+  if (segments > 1) std::printf("diagnosis over all %zu segments, one after the other\n", segments);
+  for (auto& s : signals) s.joint_torque_sensor = real.torque == io::TorqueKind::tau_j;
+  if (!run.used.plant_effects.empty() && o.sim.empty()) {
+    auto notes = diag::add_joint_effects(run.used.plant_effects, signals);
+    notes.insert(notes.begin(), run.model_effect_notes.begin(), run.model_effect_notes.end());
+    std::printf("the robot file's plant_effects are in the model's prediction (%zu)\n", run.used.plant_effects.size());
+    run.j["model_plant_effects"] = {{"count", run.used.plant_effects.size()}, {"notes", notes}};
+  }
+  if (run.rb) {  // the identified friction is part of the model's prediction
+    for (std::size_t jj = 0; jj < signals.size() && jj < run.rb->friction.size(); ++jj) {
+      auto& s = signals[jj];
+      for (std::size_t k = 0; k < s.size(); ++k) {
+        const double f = run.rb->friction[jj].torque(s.dq[k]);
+        s.tau_model[k] += f;
+        s.residual[k] -= f;
+      }
+    }
+  }
+  run.j["segments_used"] = segments;
+  return signals;
+}
+
+/// What transfers between the recordings (leave-one-recording-out); with one recording
+/// nothing to do. Returns the (joint, effect) pairs that do not transfer; the arm's reason,
+/// if its causes do not, in `arm_why`.
+std::vector<diag::NotTransferring> cross_motion(const std::vector<diag::JointSignals>& signals,
+                                                const std::vector<diag::SampleSpan>& spans, const sim::ArmDynamics& arm,
+                                                DiagnoseRun& run, std::string& arm_why) {
+  if (spans.size() < 2) return {};
+  const auto folds = diag::cross_motion_folds(signals, spans, run.arm_options, &arm);
+  nlohmann::json cm = nlohmann::json::array();
+  for (const auto& f : folds) {
+    nlohmann::json jf{{"left_out", run.names[f.left_out]}, {"arm_causes", f.arm_causes}, {"arm_mse_ratio", f.arm_mse_ratio}};
+    jf["joints"] = nlohmann::json::array();
+    std::printf("cross-motion: fitted on the others, %s: RMS per joint before -> after", run.names[f.left_out].c_str());
+    for (const auto& cj : f.joints) {
+      jf["joints"].push_back({{"joint", cj.joint}, {"rms_before", cj.rms_before}, {"rms_after_arm", cj.rms_after_arm},
+                              {"rms_after", cj.rms_after}, {"effects", cj.effects}, {"worse_effects", cj.worse_effects}});
+      std::printf(" %.3f->%.3f", cj.rms_before, cj.rms_after);
+    }
+    std::printf(" N·m\n");
+    cm.push_back(jf);
+  }
+  run.j["cross_motion"] = cm;
+  arm_why = diag::arm_not_transferring(folds, run.names);
+  return diag::effects_not_transferring(folds, run.names);
+}
+
+void report_arm(const diag::ArmDiagnosis& arm_diag, nlohmann::json& j) {
+  for (const auto& n : arm_diag.notes) j["arm"]["notes"].push_back(n);
+  j["arm"]["unexplained"] = nlohmann::json::array();
+  for (const auto& f : arm_diag.unexplained) {
+    j["arm"]["unexplained"].push_back({{"effect", f.effect}, {"params", f.params}, {"description", f.text}});
+    std::printf("arm: unexplained: %s\n", f.text.c_str());
+  }
+  for (const auto& f : arm_diag.findings) {
+    j["arm"]["findings"].push_back(finding_json(f));
+    std::printf("arm: %s: %s\n", f.effect.c_str(), f.text.c_str());
+  }
+  if (arm_diag.findings.empty()) std::printf("arm: no payload or link mass error found\n");
+}
+
+nlohmann::json joint_json(const diag::JointDiagnosis& d) {
+  nlohmann::json jj{{"joint", d.joint}, {"rms_before", d.rms_before}, {"rms_after", d.rms_after},
+                    {"heldout_rms_before", d.heldout_rms_before}, {"heldout_rms_after", d.heldout_rms_after},
+                    {"noise_rms", d.noise_rms}, {"whiteness_ljung_box", d.whiteness_q}, {"whiteness_p", d.whiteness_p}};
+  jj["findings"] = nlohmann::json::array();
+  for (const auto& f : d.findings) jj["findings"].push_back(finding_json(f));
+  if (d.findings.empty()) jj["findings"].push_back({{"effect", "none"}, {"params", nlohmann::json::object()}, {"confidence", 1.0}});
+  jj["location"] = {{"segments", d.location.segments.size()}, {"dependence", d.location.dependence},
+                    {"best_periods_per_rev", d.location.best_periods_per_rev}, {"lag_s", d.location.lag_s},
+                    {"reversal_rms", d.location.reversal_rms}, {"elsewhere_rms", d.location.elsewhere_rms}};
+  jj["notes"] = d.notes;
+  return jj;
+}
+
+void print_joint(const diag::JointDiagnosis& d) {
+  std::printf("joint %d: ", d.joint);
+  if (d.findings.empty()) {
+    std::printf("nothing missing beyond the noise (%.3f N·m); RMS %.3f N·m\n", d.noise_rms, d.rms_before);
+    return;
+  }
+  for (std::size_t i = 0; i < d.findings.size(); ++i) {
+    std::printf("%s%s: %s", i ? "; " : "missing ", d.findings[i].effect.c_str(), d.findings[i].text.c_str());
+  }
+  std::printf("; RMS %.3f -> %.3f N·m on held-out data (noise %.3f)\n", d.heldout_rms_before, d.heldout_rms_after, d.noise_rms);
+}
+
+void plot_joint(const std::string& out, const diag::JointSignals& s, const diag::JointDiagnosis& d) {
+  report::Plot p;
+  p.title = "joint " + std::to_string(d.joint) + ": residual and fitted effects";
+  p.x_label = "t [s]";
+  p.y_label = "torque [N·m]";
+  p.series.push_back({"residual (real - model)", s.t, s.residual, "#9aa7b8", 0.8});
+  p.series.push_back({"fitted effects", s.t, d.fitted, "#d62728", 1.4});
+  io::write_text_atomic((std::filesystem::path(out) / ("joint" + std::to_string(d.joint) + "_residual.svg")).string(),
+                        report::render_svg(p));
+  if (d.findings.empty()) return;
+  report::Plot v;  // residual against the strongest finding's variable
+  v.title = "joint " + std::to_string(d.joint) + ": residual against velocity";
+  v.x_label = "dq [rad/s]";
+  v.y_label = "torque [N·m]";
+  std::vector<double> after(s.size());
+  for (std::size_t k = 0; k < s.size(); ++k) after[k] = s.residual[k] - d.fitted[k];
+  v.series.push_back({"before", s.dq, s.residual, "#9aa7b8", 0.6});
+  v.series.push_back({"after", s.dq, after, "#2ca02c", 0.6});
+  io::write_text_atomic((std::filesystem::path(out) / ("joint" + std::to_string(d.joint) + "_velocity.svg")).string(),
+                        report::render_svg(v));
+}
+
+/// The named physics written back where the simulation lives (robot file + plant_effects):
+/// `simulate --model` and a new diagnosis include it. Arm-level effects held in the links
+/// (the file's own and those named here) are taken back out and written as effects; the same
+/// cause found again is one entry.
+void write_model_out(const DiagnoseCliOptions& o, DiagnoseRun& run, const diag::ArmDiagnosis& arm_diag,
+                     const std::vector<diag::JointDiagnosis>& diagnoses) {
+  const bool identified = run.rb && run.rb->accepted;
+  robot::RobotModel out_model = identified ? run.rb->model : run.used;
+  out_model.plant_effects = run.used.plant_effects;
+  for (const auto& n : diag::unfold_arm_effects(out_model, run.folded)) run.j["arm"]["notes"].push_back(n);
+  const auto effects = diag::plant_effects_of(arm_diag, diagnoses);
+  out_model.plant_effects = diag::merge_plant_effects(out_model.plant_effects, effects);
+  std::string how = "Written by jointguard diagnose --model " + o.model;
+  for (const auto& r : o.real) how += " --real " + r;
+  for (const auto& s : o.sim) how += " --sim " + s;
+  robot::write_robot(o.model_out, out_model, how + " --model-out " + o.model_out);
+  run.j["model_out"] = {{"file", o.model_out}, {"plant_effects", out_model.plant_effects.size()}, {"rigid_body_identified", identified}};
+  std::printf("wrote %s: %zu plant effect(s)%s\n", o.model_out.c_str(), out_model.plant_effects.size(),
+              identified ? ", identified rigid body" : "");
+}
+
+/// The effects of `joint` that did not transfer, and the notes saying so.
+diag::DiagnoseOptions joint_options(int joint, const std::vector<diag::NotTransferring>& not_transferring,
+                                    std::vector<std::string>& notes) {
+  diag::DiagnoseOptions jo;
+  for (const auto& n : not_transferring) {
+    if (n.joint != joint) continue;
+    jo.excluded_effects.push_back(n.effect);
+    notes.push_back(n.why);
+  }
+  return jo;
+}
+
+int run_diagnose(const DiagnoseCliOptions& o) {
+  if (!o.sim.empty() && o.sim.size() != o.real.size()) {
+    std::fprintf(stderr, "jointguard diagnose: error: --sim: give one per --real (%zu, in their order), or none; got %zu\n",
+                 o.real.size(), o.sim.size());
+    return 2;
+  }
+  DiagnoseRun run;
+  run.names = o.real;
+  run.nominal = robot::load_robot(o.model, o.model_options);
+  run.reals = load_reals(o, run.nominal.joints.size());
+  const LoadedRecording& real = primary(run.reals);
+  // A joint torque sensor does not see the rotor: no reflected rotor inertia then.
+  run.model = robot::for_torque_kind(run.nominal, real.torque);
+  run.j["arm"] = {{"findings", nlohmann::json::array()}, {"notes", nlohmann::json::array()}};
+  run.used = run.model;
+  // A robot file written by --model-out carries what an earlier diagnosis found: in the
+  // prediction too (arm-level effects folded into the links, per-joint ones below).
+  run.model_effect_notes = diag::fold_arm_effects(run.used, &run.folded);
+  if (!run.used.joints.empty()) run.arm_options.com_bound_m = std::max(run.arm_options.com_bound_m, run.used.joints.back().reach_m + 0.5);
+  run.arm_options.max_payload_kg = run.model.rated_payload_kg;
+  // Each recording has its own clock: a payload picked up "when" is not one thing across them.
+  if (run.reals.size() > 1) run.arm_options.payload_picked_up = false;
+  if (o.sim.empty() && !o.no_rigid_body) {
+    name_causes_against_file(o, run);
+    refit_rigid_body(run);
+  }
+  const sim::ArmDynamics arm = run.used.dynamics();
+  std::vector<diag::SampleSpan> spans;
+  std::vector<diag::JointSignals> signals = diagnosis_signals(o, arm, run, spans);
+  std::string arm_why;
+  const auto not_transferring = cross_motion(signals, spans, arm, run, arm_why);
+  // Causes that are one thing in the world (a payload, a link's mass) next, once for the
+  // arm, then each joint.
+  diag::ArmDiagnosis arm_diag = diag::diagnose_arm(signals, run.arm_options, &arm);
+  if (!arm_why.empty() && !arm_diag.findings.empty()) withdraw_arm_causes(arm_diag, arm_why);
+  signals = diag::without_arm_causes(signals, arm_diag);
+  merge_named(run.named, arm_diag);
+  report_arm(arm_diag, run.j);
+  run.j["resampling"] = resampling_json(real.data.report);
+  run.j["torque"] = io::to_string(real.torque);
+  if (run.reals.size() > 1) {
+    run.j["recordings"] = nlohmann::json::array();
+    for (std::size_t r = 0; r < run.reals.size(); ++r) {
+      run.j["recordings"].push_back({{"file", run.names[r]}, {"samples", spans[r].end - spans[r].begin},
+                                     {"resampling", resampling_json(run.reals[r].data.report)}});
+    }
+  }
+  run.j["joints"] = nlohmann::json::array();
+  if (!o.out.empty()) std::filesystem::create_directories(o.out);
+  std::vector<diag::JointDiagnosis> diagnoses;
+  for (const auto& s : signals) {
+    std::vector<std::string> notes;
+    const diag::DiagnoseOptions jo = joint_options(s.joint, not_transferring, notes);
+    diag::JointDiagnosis d = about_recording(real.path, [&] { return diag::diagnose_joint(s, jo); });
+    d.notes.insert(d.notes.end(), notes.begin(), notes.end());
+    diagnoses.push_back(d);
+    run.j["joints"].push_back(joint_json(d));
+    print_joint(d);
+    if (!o.out.empty()) plot_joint(o.out, s, d);
+  }
+  if (!o.model_out.empty()) write_model_out(o, run, arm_diag, diagnoses);
+  if (!o.json.empty()) {
+    write_json_file(o.json, run.j);
+    std::printf("wrote %s\n", o.json.c_str());
+  }
+  return 0;
+}
+
 }  // namespace
 
 Command add_diagnose(CLI::App& app) {
@@ -125,11 +499,19 @@ Command add_diagnose(CLI::App& app) {
   auto* cmd = app.add_subcommand("diagnose",
                                  "Locate where a real recording and the simulation disagree, name the missing physics,\n"
                                  "fit it and show the held-out improvement. Without --sim the model predicts the torque\n"
-                                 "over the real motion (inverse dynamics + --friction).\n"
+                                 "over the real motion (inverse dynamics + --friction). Several --real recordings of one\n"
+                                 "arm: one fit across them, and each recording in turn predicted from the others (what does\n"
+                                 "not transfer is not claimed).\n"
                                  "Example: jointguard diagnose --model models/ref3.yaml --real out/real.csv --sim out/sim.csv --json out/diagnosis.json --out out/diagnosis");
   cmd->add_option("--model", o->model, "Robot file (YAML or URDF)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--real", o->real, "Real recording (CSV)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--sim", o->sim, "Simulated recording of the same motion (CSV)")->check(CLI::ExistingFile);
+  cmd->add_option("--real", o->real, "Real recording (CSV); repeat for several recordings of the same arm")
+      ->required()
+      ->check(CLI::ExistingFile)
+      ->take_all()
+      ->allow_extra_args(false);
+  cmd->add_option("--sim", o->sim, "Simulated recording of the same motion (CSV); one per --real, in their order")
+      ->check(CLI::ExistingFile)
+      ->allow_extra_args(false);
   cmd->add_option("--friction", o->friction, "Nominal friction JSON (identify) for the model's prediction")->check(CLI::ExistingFile);
   cmd->add_option("--json", o->json, "Write findings here (contract format)")->check(output_file());
   cmd->add_option("--out", o->out, "Folder for the plots (SVG) and summary");
@@ -142,197 +524,7 @@ Command add_diagnose(CLI::App& app) {
                 "friction on the training blocks first, an arm-level finding, then diagnose what remains)");
   add_model_selection(cmd, o->model_options);
   o->input.add_to(cmd);
-  return {cmd, [o]() {
-            const LoadedRecording real = load_recording(o->real, o->input);
-            const auto nominal = robot::load_robot(o->model, o->model_options);
-            // A joint torque sensor does not see the rotor: no reflected rotor inertia then.
-            const auto model = robot::for_torque_kind(nominal, real.torque);
-            if (real.longest().joints() != model.joints.size()) {
-              throw std::invalid_argument(o->real + ": " + std::to_string(real.longest().joints()) + " joints, the model has " +
-                                          std::to_string(model.joints.size()));
-            }
-            nlohmann::json j;
-            j["arm"] = {{"findings", nlohmann::json::array()}, {"notes", nlohmann::json::array()}};
-            // Model against real: the whole arm's rigid body and friction identified first on
-            // the training blocks (one cause, the arm's inertial parameters, fitted once), the
-            // diagnosis then works on what that model leaves.
-            robot::RobotModel used = model;
-            // A robot file written by --model-out carries what an earlier diagnosis found: in the
-            // prediction too (arm-level effects folded into the links, per-joint ones below).
-            std::vector<robot::PlantEffect> folded;  // arm-level effects held in the links, written back as effects
-            const auto model_effect_notes = diag::fold_arm_effects(used, &folded);
-            diag::ArmDiagnosisOptions arm_options;
-            if (!used.joints.empty()) arm_options.com_bound_m = std::max(arm_options.com_bound_m, used.joints.back().reach_m + 0.5);
-            arm_options.max_payload_kg = model.rated_payload_kg;
-            std::optional<dyn::RigidBodyIdResult> rb;
-            // Named causes first, against the robot file itself (a payload nobody declared, a
-            // link's mass): the rigid-body refit below then explains only what they leave,
-            // never a payload in 40 base parameters.
-            diag::ArmDiagnosis named;
-            if (o->sim.empty() && !o->no_rigid_body) {
-              const sim::ArmDynamics prior_arm = used.dynamics();
-              const auto prior_ctx = model_context(prior_arm, model, nominal, o->friction, real);
-              // Carried throughout only: a link holds it, and a step is found after the refit.
-              diag::ArmDiagnosisOptions named_options = arm_options;
-              named_options.payload_picked_up = false;
-              named = diag::diagnose_arm(model_signals(real, o->real, prior_ctx), named_options, &prior_arm);
-              // Folded alone: the file's own effects were folded (or kept) above.
-              robot::RobotModel with_named = used;
-              with_named.plant_effects = diag::plant_effects_of(named, {});
-              diag::fold_arm_effects(with_named, &folded);
-              with_named.plant_effects = used.plant_effects;
-              used = with_named;
-            }
-            if (o->sim.empty() && !o->no_rigid_body) {
-              dyn::RigidBodyIdOptions ro;
-              ro.joint_torque_sensor = real.torque == io::TorqueKind::tau_j;
-              try {
-                rb = dyn::identify_rigid_body(real.longest(), used, ro);
-              } catch (const std::invalid_argument& e) {
-                std::printf("arm: rigid body not identified (%s): the robot file's is used\n", e.what());
-                j["arm"]["notes"].push_back(std::string("rigid body not identified: ") + e.what());
-              }
-              if (rb) report_rigid_body(*rb, used, j["arm"]);
-              if (rb && rb->accepted) used = rb->model;
-            }
-            const sim::ArmDynamics arm = used.dynamics();
-            // With the arm identified, its friction is the identified one (below), not --friction's.
-            const diag::ModelContext ctx = model_context(arm, model, nominal, rb ? std::string() : o->friction, real);
-            // Every uniform segment of the real recording, its derivatives taken within it.
-            std::vector<diag::JointSignals> signals;
-            if (!o->sim.empty()) {
-              std::vector<std::vector<diag::JointSignals>> parts;
-              RecordingOptions sim_input;
-              sim_input.max_gap_s = o->input.max_gap_s;
-              const LoadedRecording simulated = load_recording(o->sim, sim_input);
-              j["simulated"] = {{"resampling", resampling_json(simulated.data.report)}, {"torque", io::to_string(simulated.torque)}};
-              for (const auto& seg : real.data.segments) {
-                const io::Recording* s = covering(simulated.data.segments, seg.t.front(), seg.t.back(), seg.meta.sample_time);
-                if (s == nullptr) {
-                  throw std::invalid_argument(o->sim + ": no continuous part covers the real recording's t = " +
-                                              std::to_string(seg.t.front()) + " .. " + std::to_string(seg.t.back()) + " s");
-                }
-                parts.push_back(about_recording(o->real, [&] { return diag::signals_from_pair(seg, *s, ctx); }));
-              }
-              signals = diag::concatenate_signals(parts);
-            } else {
-              signals = model_signals(real, o->real, ctx);
-            }
-            const std::size_t segments = real.data.segments.size();
-            if (segments > 1) std::printf("diagnosis over all %zu segments, one after the other\n", segments);
-            for (auto& s : signals) s.joint_torque_sensor = real.torque == io::TorqueKind::tau_j;
-            if (!used.plant_effects.empty() && o->sim.empty()) {
-              auto notes = diag::add_joint_effects(used.plant_effects, signals);
-              notes.insert(notes.begin(), model_effect_notes.begin(), model_effect_notes.end());
-              std::printf("the robot file's plant_effects are in the model's prediction (%zu)\n", used.plant_effects.size());
-              j["model_plant_effects"] = {{"count", used.plant_effects.size()}, {"notes", notes}};
-            }
-            if (rb) {
-              // The identified friction is part of the model's prediction.
-              for (std::size_t jj = 0; jj < signals.size() && jj < rb->friction.size(); ++jj) {
-                auto& s = signals[jj];
-                for (std::size_t k = 0; k < s.size(); ++k) {
-                  const double f = rb->friction[jj].torque(s.dq[k]);
-                  s.tau_model[k] += f;
-                  s.residual[k] -= f;
-                }
-              }
-            }
-            // Causes that are one thing in the world (a payload, a link's mass) next, once
-            // for the arm, then each joint.
-            diag::ArmDiagnosis arm_diag = diag::diagnose_arm(signals, arm_options, &arm);
-            signals = diag::without_arm_causes(signals, arm_diag);
-            merge_named(named, arm_diag);
-            for (const auto& n : arm_diag.notes) j["arm"]["notes"].push_back(n);
-            j["arm"]["unexplained"] = nlohmann::json::array();
-            for (const auto& f : arm_diag.unexplained) {
-              j["arm"]["unexplained"].push_back({{"effect", f.effect}, {"params", f.params}, {"description", f.text}});
-              std::printf("arm: unexplained: %s\n", f.text.c_str());
-            }
-            for (const auto& f : arm_diag.findings) {
-              j["arm"]["findings"].push_back(finding_json(f));
-              std::printf("arm: %s: %s\n", f.effect.c_str(), f.text.c_str());
-            }
-            if (arm_diag.findings.empty()) std::printf("arm: no payload or link mass error found\n");
-            std::vector<diag::JointDiagnosis> diagnoses;
-            j["resampling"] = resampling_json(real.data.report);
-            j["torque"] = io::to_string(real.torque);
-            j["segments_used"] = segments;
-            j["joints"] = nlohmann::json::array();
-            if (!o->out.empty()) std::filesystem::create_directories(o->out);
-            for (const auto& s : signals) {
-              const diag::JointDiagnosis d = about_recording(o->real, [&] { return diag::diagnose_joint(s); });
-              diagnoses.push_back(d);
-              nlohmann::json jj{{"joint", d.joint}, {"rms_before", d.rms_before}, {"rms_after", d.rms_after},
-                                {"heldout_rms_before", d.heldout_rms_before}, {"heldout_rms_after", d.heldout_rms_after},
-                                {"noise_rms", d.noise_rms}, {"whiteness_ljung_box", d.whiteness_q}, {"whiteness_p", d.whiteness_p}};
-              jj["findings"] = nlohmann::json::array();
-              for (const auto& f : d.findings) {
-                jj["findings"].push_back(finding_json(f));
-              }
-              if (d.findings.empty()) jj["findings"].push_back({{"effect", "none"}, {"params", nlohmann::json::object()}, {"confidence", 1.0}});
-              jj["location"] = {{"segments", d.location.segments.size()}, {"dependence", d.location.dependence},
-                                {"best_periods_per_rev", d.location.best_periods_per_rev}, {"lag_s", d.location.lag_s},
-                                {"reversal_rms", d.location.reversal_rms}, {"elsewhere_rms", d.location.elsewhere_rms}};
-              jj["notes"] = d.notes;
-              j["joints"].push_back(jj);
-              // Human summary.
-              std::printf("joint %d: ", d.joint);
-              if (d.findings.empty()) {
-                std::printf("nothing missing beyond the noise (%.3f N·m); RMS %.3f N·m\n", d.noise_rms, d.rms_before);
-              } else {
-                for (std::size_t i = 0; i < d.findings.size(); ++i) {
-                  std::printf("%s%s: %s", i ? "; " : "missing ", d.findings[i].effect.c_str(), d.findings[i].text.c_str());
-                }
-                std::printf("; RMS %.3f -> %.3f N·m on held-out data (noise %.3f)\n", d.heldout_rms_before, d.heldout_rms_after,
-                            d.noise_rms);
-              }
-              if (!o->out.empty()) {
-                report::Plot p;
-                p.title = "joint " + std::to_string(d.joint) + ": residual and fitted effects";
-                p.x_label = "t [s]";
-                p.y_label = "torque [N·m]";
-                p.series.push_back({"residual (real - model)", s.t, s.residual, "#9aa7b8", 0.8});
-                p.series.push_back({"fitted effects", s.t, d.fitted, "#d62728", 1.4});
-                io::write_text_atomic((std::filesystem::path(o->out) / ("joint" + std::to_string(d.joint) + "_residual.svg")).string(),
-                                      report::render_svg(p));
-                if (!d.findings.empty()) {  // residual against the strongest finding's variable
-                  report::Plot v;
-                  v.title = "joint " + std::to_string(d.joint) + ": residual against velocity";
-                  v.x_label = "dq [rad/s]";
-                  v.y_label = "torque [N·m]";
-                  std::vector<double> after(s.size());
-                  for (std::size_t k = 0; k < s.size(); ++k) after[k] = s.residual[k] - d.fitted[k];
-                  v.series.push_back({"before", s.dq, s.residual, "#9aa7b8", 0.6});
-                  v.series.push_back({"after", s.dq, after, "#2ca02c", 0.6});
-                  io::write_text_atomic((std::filesystem::path(o->out) / ("joint" + std::to_string(d.joint) + "_velocity.svg")).string(),
-                                        report::render_svg(v));
-                }
-              }
-            }
-            if (!o->model_out.empty()) {
-              // The named physics written back where the simulation lives (robot file +
-              // plant_effects): `simulate --model` and a new diagnosis include it.
-              // Arm-level effects held in the links (the file's own and those named here) are
-              // taken back out and written as effects; the same cause found again is one entry.
-              robot::RobotModel out_model = rb && rb->accepted ? rb->model : used;
-              out_model.plant_effects = used.plant_effects;
-              for (const auto& n : diag::unfold_arm_effects(out_model, folded)) j["arm"]["notes"].push_back(n);
-              const auto effects = diag::plant_effects_of(arm_diag, diagnoses);
-              out_model.plant_effects = diag::merge_plant_effects(out_model.plant_effects, effects);
-              robot::write_robot(o->model_out, out_model,
-                                 "Written by jointguard diagnose --model " + o->model + " --real " + o->real +
-                                     (o->sim.empty() ? "" : " --sim " + o->sim) + " --model-out " + o->model_out);
-              j["model_out"] = {{"file", o->model_out}, {"plant_effects", out_model.plant_effects.size()}, {"rigid_body_identified", rb && rb->accepted}};
-              std::printf("wrote %s: %zu plant effect(s)%s\n", o->model_out.c_str(), out_model.plant_effects.size(),
-                          rb && rb->accepted ? ", identified rigid body" : "");
-            }
-            if (!o->json.empty()) {
-              write_json_file(o->json, j);
-              std::printf("wrote %s\n", o->json.c_str());
-            }
-            return 0;
-          }};
+  return {cmd, [o]() { return run_diagnose(*o); }};
 }
 
 }  // namespace jg::cli

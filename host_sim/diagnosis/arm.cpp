@@ -582,6 +582,47 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
   return d;
 }
 
+std::vector<std::vector<double>> predict_arm_causes(const std::vector<FittedEffect>& model,
+                                                   const std::vector<JointSignals>& js, const sim::ArmDynamics* arm) {
+  std::vector<std::vector<double>> out(js.size());
+  for (std::size_t j = 0; j < js.size(); ++j) out[j].assign(js[j].size(), 0.0);
+  for (const auto& m : model) {
+    const auto at = [&](const char* key, double fallback) {
+      const auto it = m.setting.find(key);
+      return it == m.setting.end() ? fallback : it->second;
+    };
+    ArmCandidate c;
+    if (m.effect == "payload") {
+      for (const auto& s : js) {
+        if (s.payload_columns.size() < 4) throw std::invalid_argument("a payload cannot be predicted without the model's payload columns");
+      }
+      const auto cs = payload_candidates(js, false);
+      c = cs.front();
+      const double pickup_s = at("picked_up_at_s", -1.0);
+      for (auto& per_joint : c.columns) {
+        for (std::size_t j = 0; j < js.size(); ++j) {
+          for (std::size_t k = 0; k < per_joint[j].size(); ++k) per_joint[j][k] = js[j].t[k] >= pickup_s ? per_joint[j][k] : 0.0;
+        }
+      }
+    } else if (m.effect == "link_inertial_error") {
+      if (arm == nullptr) throw std::invalid_argument("a link's mass error cannot be predicted without the arm's model");
+      c = link_candidate(js, *arm, static_cast<int>(at("link", 1.0)) - 1);
+    } else {
+      throw std::invalid_argument("arm-level effect '" + m.effect + "' cannot be predicted");
+    }
+    if (c.columns.size() != m.coefficients.size()) {
+      throw std::invalid_argument("arm-level effect '" + m.effect + "': " + std::to_string(m.coefficients.size()) +
+                                  " coefficients for " + std::to_string(c.columns.size()) + " columns");
+    }
+    for (std::size_t i = 0; i < c.columns.size(); ++i) {
+      for (std::size_t j = 0; j < js.size(); ++j) {
+        for (std::size_t k = 0; k < out[j].size(); ++k) out[j][k] += m.coefficients[i] * c.columns[i][j][k];
+      }
+    }
+  }
+  return out;
+}
+
 std::vector<JointSignals> without_arm_causes(const std::vector<JointSignals>& js, const ArmDiagnosis& arm) {
   std::vector<JointSignals> out = js;
   for (std::size_t j = 0; j < out.size(); ++j) {

@@ -60,6 +60,13 @@ struct ArmDiagnosis {
 ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& joints, const ArmDiagnosisOptions& o = {},
                           const sim::ArmDynamics* arm = nullptr);
 
+/// The torque the arm-level causes of `model` (ArmDiagnosis::model: payload, link mass and
+/// first-moment error, with their shared coefficients) add over other signals of the same
+/// arm [joint][sample]. `arm` is needed for a link's error (nullptr: refused).
+std::vector<std::vector<double>> predict_arm_causes(const std::vector<FittedEffect>& model,
+                                                   const std::vector<JointSignals>& joints,
+                                                   const sim::ArmDynamics* arm);
+
 /// The signals with the arm-level causes' torque moved from the residual into the model's
 /// torque, and the per-joint payload candidates withdrawn (the cause is fitted once).
 std::vector<JointSignals> without_arm_causes(const std::vector<JointSignals>& joints, const ArmDiagnosis& arm);

@@ -390,6 +390,13 @@ JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
   const Split split = make_split(n, o);
   const VectorXd y_train = vec_of(s.residual, split.train), y_test = vec_of(s.residual, split.test);
   auto all_candidates = build_candidates(s);
+  // Effects ruled out beforehand (they did not transfer between recordings: cross_motion.hpp).
+  all_candidates.erase(std::remove_if(all_candidates.begin(), all_candidates.end(),
+                                      [&](const std::vector<Candidate>& g) {
+                                        return !g.empty() && std::find(o.excluded_effects.begin(), o.excluded_effects.end(),
+                                                                       g.front().effect) != o.excluded_effects.end();
+                                      }),
+                       all_candidates.end());
   // The gear-deflection channel first: what it finds also shows in the torque as the
   // rotor's acceleration relative to the link (J_rotor d²(deflection)/dt²), a candidate
   // under the same name.

@@ -80,6 +80,8 @@ struct DiagnoseOptions {
   /// A recording shorter than this is too short to tell an effect from the recording's own
   /// variation (each of the blocks a fraction of a second): nothing is claimed, and it says so.
   double min_duration_s = 2.0;
+  /// Effects not offered (e.g. they did not transfer between recordings of the same arm).
+  std::vector<std::string> excluded_effects;
 };
 
 /// Why a recording is too short to judge (empty: long enough).
