@@ -118,6 +118,10 @@ report::Plot trace_plot(const eval::RunResult& comp, const eval::RunResult& unco
 constexpr double kMarginNm = 0.5;
 
 int run_demo(const DemoOptions& options) {
+  // Numbered by a counter: hand-written labels showed [4/7] twice.
+  constexpr int kSteps = 8;
+  int step_no = 0;
+  auto step = [&step_no](const char* what) { std::printf("[%d/%d] %s...\n", ++step_no, kSteps, what); };
   const auto t_start = std::chrono::steady_clock::now();
   std::filesystem::create_directories(options.out_dir);
   std::ostringstream html;
@@ -132,7 +136,7 @@ int run_demo(const DemoOptions& options) {
           "(or <code>build/host/jointguard demo --out out</code>).</p>\n";
 
   // 1. Identification and calibration at 1 kHz.
-  std::printf("[1/7] identification from observer output and threshold calibration (1 kHz)...\n");
+  step("identification from observer output and threshold calibration (1 kHz)");
   eval::ExperimentConfig c;
   c.model = robot::load_robot(JG_DEFAULT_MODEL);
   c.rate_hz = 1000.0;
@@ -162,7 +166,7 @@ int run_demo(const DemoOptions& options) {
           "model predicts; the band widens there by the amount observed.</p>\n";
 
   // 2. The paper's three collisions at 1 kHz and 125 Hz, float and Q.
-  std::printf("[2/7] the paper's three collisions at 1 kHz and 125 Hz, float and Q16.16...\n");
+  step("the paper's three collisions at 1 kHz and 125 Hz, float and Q16.16");
   std::vector<PaperRow> rows;
   eval::ExperimentConfig c125 = c;
   c125.rate_hz = 125.0;
@@ -190,7 +194,7 @@ int run_demo(const DemoOptions& options) {
   html << "</table>\n";
 
   // 3. Figures in the spirit of the paper's Figures 5-7.
-  std::printf("[3/7] traces with and without compensation...\n");
+  step("traces with and without compensation");
   {
     eval::ExperimentConfig trace_cfg = c;
     trace_cfg.reaction = Reaction::none;
@@ -206,7 +210,7 @@ int run_demo(const DemoOptions& options) {
   }
 
   // 4. Campaign and false alarms.
-  std::printf("[4/7] random campaign (50 collisions on links 2-3) and a 10-minute collision-free run...\n");
+  step("random campaign (50 collisions on links 2-3) and a 10-minute collision-free run");
   const auto camp = eval::campaign(c, 50, {2, 3});
   const eval::Summary sum = eval::summarize(camp);
   int alarms = 0;
@@ -225,11 +229,11 @@ int run_demo(const DemoOptions& options) {
           "Isolation names the highest joint over threshold at the detection cycle (paper's signature).</p>\n";
 
   // 4a. ISO/TS 15066: body-region contacts by reaction (report/safety_report.*).
-  std::printf("[4/7] ISO/TS 15066 body-region contacts, every region and reaction...\n");
+  step("ISO/TS 15066 body-region contacts, every region and reaction");
   html << report::safety_section(c, report::SafetySectionOptions{});
 
   // 4b. Model-mismatch diagnosis: concealed effects named, fitted, written back.
-  std::printf("[5/7] diagnosis: concealed effects named and written back into the simulation...\n");
+  step("diagnosis: concealed effects named and written back into the simulation");
   html << "<h2>Diagnosis: what the simulation left out, named and written back</h2>\n<table><tr><th>concealed in the \"real\" arm</th>"
           "<th>named by <code>jointguard diagnose</code></th><th>held-out RMS on its joint, before &rarr; after [N·m]</th>"
           "<th>re-simulated with the findings (<code>--model-out</code>) [N·m]</th><th>noise [N·m]</th></tr>\n";
@@ -261,7 +265,7 @@ int run_demo(const DemoOptions& options) {
           "with the real recording again. Figures over 300 cases: docs/results.md (Diagnosis); the real Panda and UR10e: docs/results.md (Real arms).</p>\n";
 
   // 5. Fixed point against double.
-  std::printf("[6/7] LuGre in float and Q16.16 against double...\n");
+  step("LuGre in float and Q16.16 against double");
   html << "<h2>Firmware arithmetic: LuGre friction in float and Q16.16 against double</h2>\n<table><tr><th>joint</th><th>dT [s]</th>"
           "<th>max |float - double| [N·m]</th><th>max |Q16.16 - double| [N·m]</th><th>Q16.16 arithmetic alone [N·m]</th></tr>\n";
   for (const double dt : {0.008, 0.001}) {
@@ -273,7 +277,7 @@ int run_demo(const DemoOptions& options) {
   }
   html << "</table>\n";
   // 6. What one joint's cycle costs on the drive's MCU.
-  std::printf("[7/7] firmware cost per estimator and drive cycle on the emulated Cortex-M4F...\n");
+  step("firmware cost per estimator and drive cycle on the emulated Cortex-M4F");
   const McuFigures mcu = measure_mcu(mcu_build_dir() + "/toolchain/mcu/jg_cycle_bench.elf", mcu_build_dir() + "/firmware/libjg_core.a");
   html << "<h2>Firmware cost per cycle (Cortex-M4F)</h2>\n";
   if (mcu.ok) {
