@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -159,6 +160,22 @@ CLI::Validator output_file(bool creates_folders) {
         return std::string();
       },
       creates_folders ? "FILE (missing folders are created)" : "FILE (in an existing folder)");
+}
+
+CLI::Validator recording_output_file() {
+  const CLI::Validator folder = output_file(true);
+  return CLI::Validator(
+      [folder](std::string& path) {
+        std::string ext = std::filesystem::path(path).extension().string();
+        for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        if (ext == ".json") {
+          return "'" + path + "' ends in .json: a recording is a CSV file (e.g. '" +
+                 std::filesystem::path(path).replace_extension(".csv").string() + "'); its metadata goes to <name>.json beside it";
+        }
+        std::string p = path;
+        return folder(p);
+      },
+      "FILE.csv (missing folders are created; <name>.json beside it)");
 }
 
 CLI::Validator finite_range(double lo, double hi) {

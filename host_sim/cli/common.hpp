@@ -37,6 +37,9 @@ CLI::Validator finite_range(double lo, double hi);
 /// `creates_folders`: the writer creates missing folders (recordings, io::write_recording), so
 /// the nearest existing folder must be writable and no file may stand in the way.
 CLI::Validator output_file(bool creates_folders = false);
+/// A recording's --out: output_file(true), and not a .json name (its side file <stem>.json
+/// would be the recording itself).
+CLI::Validator recording_output_file();
 
 /// How a subcommand reads a recording: --torque-kind, --rate, --max-gap. Every recording
 /// is regularized by time stamp (io/regularize.hpp) and the command says what was done.

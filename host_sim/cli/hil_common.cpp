@@ -22,7 +22,7 @@ void HilOptions::add_to(CLI::App* cmd, bool plant) {
     auto* i = cmd->add_option("--iface", iface, "SocketCAN interface the `jointguard node` processes listen on");
     auto* b = cmd->add_option("--bus", bus, "sim: the drives in-process on the simulated CAN FD bus")->check(CLI::IsMember({"sim"}));
     i->excludes(b);
-    cmd->add_option("--out", out, "Also write the recording (CSV + JSON side file)")->check(output_file(true));
+    cmd->add_option("--out", out, "Also write the recording (CSV + JSON side file)")->check(recording_output_file());
   }
   cmd->add_option("--model", model, "Robot file for the drives (default: the scenario's model); without --bus, the plant's robot file, "
                    "with the plant_effects `diagnose --model-out` wrote")->check(CLI::ExistingFile);

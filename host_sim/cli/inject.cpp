@@ -76,6 +76,7 @@ void print_result(const inject::InjectRequest& r, const inject::InjectResult& re
 void write_outputs(const std::string& out, const std::string& text, const nlohmann::json& side) {
   if (fs::path(out).has_parent_path()) fs::create_directories(fs::path(out).parent_path());
   const std::string side_path = inject::side_file_path(out);
+  io::check_side_file_writable(out);  // another program's <stem>.json is never overwritten
   io::write_json_atomic(side_path, side);
   try {
     io::write_text_atomic(out, text);
@@ -135,7 +136,7 @@ Command add_inject(CLI::App& app) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--out", o->out, "Recording to write (CSV; OUT.json beside it records what was injected)")
       ->required()
-      ->check(output_file(true));
+      ->check(recording_output_file());
   cmd->add_option("--friction", o->friction, "Nominal friction JSON (identify), for friction changes given as model_curve/sigma0_ratio")
       ->check(CLI::ExistingFile);
   add_model_selection(cmd, o->model_options);

@@ -30,7 +30,7 @@ Command add_simulate(CLI::App& app) {
                                  "         jointguard simulate scenarios/paper_collision_shoulder.yaml --out out/shoulder_bus.csv --bus sim "
                                  "--friction out/friction.json --threshold out/threshold.json");
   cmd->add_option("scenario", opt->scenario, "Scenario file (YAML, see docs/scenarios.md)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--out", opt->out, "Recording to write (CSV; a .json side file is written beside it)")->check(output_file(true))->required();
+  cmd->add_option("--out", opt->out, "Recording to write (CSV; a .json side file is written beside it)")->check(recording_output_file())->required();
   auto* seed = cmd->add_option("--seed", opt->seed, "Override the scenario's seed");
   cmd->add_option("--duration", opt->duration_s, "Override the duration [s]")->check(CLI::Range(1e-6, 2592000.0));
   cmd->add_option("--bus", opt->hil.bus,
@@ -38,6 +38,8 @@ Command add_simulate(CLI::App& app) {
       ->check(CLI::IsMember({"none", "sim"}))->capture_default_str();
   opt->hil.add_to(cmd, false);
   return {cmd, [opt, seed]() {
+    // Another program's <stem>.json beside --out is refused before the work, not after it.
+    io::check_side_file_writable(opt->out);
     if (opt->hil.bus == "sim") {
       HilOptions h = opt->hil;
       h.scenario = opt->scenario;

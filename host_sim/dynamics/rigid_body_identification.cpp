@@ -7,6 +7,7 @@
 
 #include "dynamics/base_parameters.hpp"
 #include "dynamics/constrained_fit.hpp"
+#include "robot/torque_kind.hpp"
 
 namespace jg::dyn {
 namespace {
@@ -147,6 +148,7 @@ std::vector<std::vector<double>> recording_torque(const io::Recording& rec, cons
   // The torque the recording's kind names (io::torque_columns): a joint torque sensor's
   // reading, a motor torque, or the currents times each drive's K_I.
   if (joint_sensor) *joint_sensor = rec.torque_kind == io::TorqueKind::tau_j;
+  robot::check_torque_constant(model, rec.torque_kind);
   const auto& cols = io::torque_columns(rec);
   if (cols.empty()) throw std::invalid_argument("recording has no torque (tau_m<j>, tau_j<j>) or current (i<j>) columns");
   std::vector<std::vector<double>> tau = cols;

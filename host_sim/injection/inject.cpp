@@ -102,7 +102,9 @@ nlohmann::json side_file(const InjectRequest& r, const InjectResult& result,
                          const std::vector<std::pair<std::string, std::string>>& inputs) {
   nlohmann::json j = nlohmann::json::object();
   const std::string source_side = side_file_path(r.recording_path);
-  if (std::filesystem::exists(source_side)) j = nlohmann::json::parse(read_text(source_side));  // the reader checked it
+  const bool source_side_ours = io::classify_side_file(source_side) == io::SideFile::ours;
+  if (source_side_ours) j = nlohmann::json::parse(read_text(source_side));  // the reader checked it
+  j["format"] = io::kSideFileFormat;  // the reader takes it as jointguard's (io/recording.hpp)
   nlohmann::json effects = nlohmann::json::array();
   for (const auto& e : r.effects) {
     effects.push_back(
@@ -119,7 +121,7 @@ nlohmann::json side_file(const InjectRequest& r, const InjectResult& result,
   }
   nlohmann::json entry{{"tool", "jointguard inject"},
                        {"source", {{"path", r.recording_path}, {"sha256", result.source_sha256}}},
-                       {"source_side_file", std::filesystem::exists(source_side) ? source_side : ""},
+                       {"source_side_file", source_side_ours ? source_side : ""},
                        {"inputs", files},
                        {"torque", io::to_string(r.torque)},
                        {"unit", result.unit},

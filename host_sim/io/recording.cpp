@@ -1,5 +1,7 @@
 #include "io/recording.hpp"
 
+#include "io/atomic_write.hpp"
+
 #include <algorithm>
 #include <cerrno>
 #include <charconv>
@@ -101,16 +103,10 @@ struct Column {
   std::string name;
 };
 
-RecordingMeta read_meta(const std::filesystem::path& json_path) {
-  RecordingMeta meta;
-  std::ifstream in(json_path);
-  if (!in) {
-    return meta;
-  }
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  nlohmann::json j;
+/// The side file's text parsed; a syntax error throws FormatError with line and column.
+nlohmann::json parse_side_file(const std::filesystem::path& json_path, const std::string& text) {
   try {
-    j = nlohmann::json::parse(text);
+    return nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
     // Line and column of e.byte (one past the offending character); nlohmann's own text
     // quotes the raw input and its exception id, which tell the user nothing.
@@ -124,6 +120,53 @@ RecordingMeta read_meta(const std::filesystem::path& json_path) {
   } catch (const nlohmann::json::out_of_range&) {  // out_of_range.406: a number beyond a double
     throw FormatError(json_path.string() + ": invalid JSON: a number beyond the range of a double");
   }
+}
+
+std::string read_text_file(const std::filesystem::path& path, bool& found) {
+  std::ifstream in(path, std::ios::binary);
+  found = static_cast<bool>(in) && !std::filesystem::is_directory(path);
+  if (!found) return {};
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+/// Ours: the format key, or (files of versions before it) an object holding only the keys
+/// jointguard wrote. A text that names jointguard but does not parse is ours and broken.
+SideFile classify(const std::filesystem::path& json_path, const std::string& text, std::string* why) {
+  nlohmann::json j;
+  try {
+    j = parse_side_file(json_path, text);
+  } catch (const FormatError& e) {
+    if (text.find("jointguard") != std::string::npos) return SideFile::ours;
+    if (why) *why = e.what();
+    return SideFile::foreign;
+  }
+  if (j.is_object() && j.contains("format")) {
+    if (j["format"] == kSideFileFormat) return SideFile::ours;
+    if (why) *why = json_path.string() + ": \"format\" is not \"" + kSideFileFormat + "\"";
+    return SideFile::foreign;
+  }
+  static const std::set<std::string> legacy = {"model", "sample_time", "scenario", "seed", "injections"};
+  bool only_ours = j.is_object() && !j.empty();
+  if (only_ours) {
+    for (const auto& kv : j.items()) only_ours = only_ours && legacy.count(kv.key()) != 0U;
+  }
+  if (only_ours) return SideFile::ours;
+  if (why) *why = json_path.string() + ": no \"format\": \"" + kSideFileFormat + "\" key";
+  return SideFile::foreign;
+}
+
+/// The side file's metadata; another program's file of the same name is ignored with a note.
+RecordingMeta read_meta(const std::filesystem::path& json_path, std::vector<std::string>& notes) {
+  RecordingMeta meta;
+  bool found = false;
+  const std::string text = read_text_file(json_path, found);
+  if (!found) return meta;
+  std::string why;
+  if (classify(json_path, text, &why) == SideFile::foreign) {
+    notes.push_back(json_path.string() + " is not a jointguard side file (" + why + "): ignored");
+    return meta;
+  }
+  const nlohmann::json j = parse_side_file(json_path, text);
   if (!j.is_object()) throw FormatError(json_path.string() + ": expected a JSON object {\"model\": ..., \"sample_time\": ...}");
   auto field = [&](const char* key, auto& dst) {
     if (j.contains(key) && !j[key].is_null()) {
@@ -144,6 +187,46 @@ RecordingMeta read_meta(const std::filesystem::path& json_path) {
     meta.seed = j["seed"].get<unsigned long long>();
   }
   return meta;
+}
+
+/// Ratios dq / (change of q over t) where the joint clearly moves: |dq| at least a fifth of
+/// its largest, and q changing by more than an encoder's resolution.
+void velocity_ratios(const Recording& rec, std::size_t j, std::vector<double>& out) {
+  const auto& q = rec.q[j];
+  const auto& dq = rec.dq[j];
+  double dq_max = 0.0;
+  for (const double v : dq) dq_max = std::max(dq_max, std::fabs(v));
+  if (!(dq_max > 0.0)) return;
+  for (std::size_t k = 1; k + 1 < rec.samples(); ++k) {
+    const double dt = rec.t[k + 1] - rec.t[k - 1];
+    const double step = q[k + 1] - q[k - 1];
+    if (!(dt > 0.0) || std::fabs(step) < 1e-6 || std::fabs(dq[k]) < 0.2 * dq_max) continue;
+    out.push_back(dq[k] / (step / dt));
+  }
+}
+
+/// A time column in another unit than seconds (milliseconds from a logger, most often)
+/// makes every rate and derivative wrong by that factor while everything still runs. With
+/// both q and dq, dq against the change of q over t tells: refused when that ratio is
+/// consistent over the motion (quartiles within a factor 4) and far from 1.
+void check_time_unit(const Recording& rec, const std::string& path, const std::string& time_column) {
+  std::vector<double> r;
+  for (std::size_t j = 0; j < rec.joints() && j < rec.q.size() && j < rec.dq.size(); ++j) velocity_ratios(rec, j, r);
+  constexpr std::size_t kMinSamples = 50;
+  if (r.size() < kMinSamples) return;
+  std::sort(r.begin(), r.end());
+  const double q1 = r[r.size() / 4], median = r[r.size() / 2], q3 = r[3 * r.size() / 4];
+  if (!(q1 > 0.0) || q3 > 4.0 * q1) return;  // no consistent ratio: the check cannot tell
+  constexpr double kFar = 20.0;              // a unit slip is a factor 60 or 1000, not 1.x
+  if (median < kFar && median > 1.0 / kFar) return;
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.4g", median);
+  const double l = std::log10(median);
+  const char* unit = std::fabs(l - 3.0) < 0.3 ? "milliseconds" : std::fabs(l - 6.0) < 0.3 ? "microseconds"
+                   : std::fabs(l + std::log10(60.0)) < 0.2 ? "minutes" : "another unit than seconds";
+  fail(path, 1, time_column,
+       std::string("the velocities dq are ") + buf + " times the change of q over t (median of " + std::to_string(r.size()) +
+           " samples): the time stamps look like " + unit + "; give t in seconds (or dq in rad/s)");
 }
 
 /// Applies the user's torque choice; the columns it needs must be there.
@@ -407,12 +490,35 @@ Recording read_recording(const std::string& path, const ReadOptions& options) {
     fail(path, line_no, "", "no data rows after the header");
   }
   resolve_torque(rec, path, options.torque);
+  check_time_unit(rec, path, options.time_column);
   const std::filesystem::path p(path);
-  rec.meta = read_meta(p.parent_path() / (p.stem().string() + ".json"));
+  rec.meta = read_meta(side_file_path(path), rec.notes);
+  for (const auto& note : rec.notes) std::fprintf(stderr, "note: %s\n", note.c_str());
   return rec;
 }
 
-void write_recording(const std::string& path, const Recording& rec) {
+std::string side_file_path(const std::string& csv_path) {
+  const std::filesystem::path p(csv_path);
+  return (p.parent_path() / (p.stem().string() + ".json")).string();
+}
+
+SideFile classify_side_file(const std::string& json_path, std::string* why) {
+  bool found = false;
+  const std::string text = read_text_file(json_path, found);
+  if (!found) return std::filesystem::exists(json_path) ? SideFile::foreign : SideFile::absent;
+  return classify(json_path, text, why);
+}
+
+void check_side_file_writable(const std::string& csv_path) {
+  const std::string side = side_file_path(csv_path);
+  std::string why;
+  if (classify_side_file(side, &why) != SideFile::foreign) return;
+  throw FormatError(side + ": the recording's side file would overwrite a file that is not jointguard's (" + why +
+                    "): not overwritten; move it away or write the recording under another name");
+}
+
+namespace {
+void check_shapes(const Recording& rec) {
   const std::size_t n = rec.joints();
   const std::size_t m = rec.samples();
   auto check = [&](const std::vector<std::vector<double>>& sig, const char* name) {
@@ -431,89 +537,106 @@ void write_recording(const std::string& path, const Recording& rec) {
   if (rec.q.empty() || rec.dq.empty() || (rec.current.empty() && rec.tau_m.empty() && rec.tau_j.empty())) {
     throw std::invalid_argument("write_recording: q, dq and one of i/tau_m/tau_j are required");
   }
+}
+
+void write_header(std::ostream& out, const Recording& rec) {
+  out << "t";
+  auto head = [&](const std::vector<std::vector<double>>& sig, const char* prefix) {
+    if (!sig.empty()) {
+      for (const int j : rec.joint_ids) out << ',' << prefix << j;
+    }
+  };
+  head(rec.q, "q");
+  head(rec.dq, "dq");
+  head(rec.current, "i");
+  head(rec.tau_m, "tau_m");
+  head(rec.tau_j, "tau_j");
+  head(rec.tau_ext, "tau_ext");
+  if (!rec.collision.empty()) out << ",collision";
+  for (const auto& [name, values] : rec.extra) out << ',' << name;
+  out << '\n';
+}
+
+void write_rows(std::ostream& out, const Recording& rec) {
+  // Shortest representation that reads back to the same double: exact round trip. The
+  // rows are formatted into a block of memory and written a block at a time (a stream
+  // write per number cost as much as the formatting).
+  std::vector<char> block(std::size_t{1} << 16);
+  std::size_t used = 0;
+  constexpr std::size_t kNumberMax = 32;  // the longest double to_chars writes is 24 characters
+  auto flush = [&] {
+    out.write(block.data(), static_cast<std::streamsize>(used));
+    used = 0;
+  };
+  auto put_plain = [&](double v) {
+    if (block.size() - used < kNumberMax + 1) flush();
+    used = static_cast<std::size_t>(std::to_chars(block.data() + used, block.data() + block.size(), v).ptr - block.data());
+  };
+  auto put_char = [&](char c) {
+    if (used == block.size()) flush();
+    block[used++] = c;
+  };
+  for (std::size_t k = 0; k < rec.samples(); ++k) {
+    put_plain(rec.t[k]);
+    for (const auto* sig : {&rec.q, &rec.dq, &rec.current, &rec.tau_m, &rec.tau_j, &rec.tau_ext}) {
+      for (const auto& v : *sig) {
+        put_char(',');
+        put_plain(v[k]);
+      }
+    }
+    if (!rec.collision.empty()) {
+      put_char(',');
+      if (block.size() - used < kNumberMax) flush();
+      used = static_cast<std::size_t>(std::to_chars(block.data() + used, block.data() + block.size(), rec.collision[k]).ptr -
+                                      block.data());
+    }
+    for (const auto& [name, values] : rec.extra) {
+      put_char(',');
+      put_plain(values.at(k));
+    }
+    put_char('\n');
+  }
+  flush();
+}
+}  // namespace
+
+void write_recording(const std::string& path, const Recording& rec) {
+  check_shapes(rec);
   const std::filesystem::path target(path);
+  if (side_file_path(path) == path) {
+    throw FormatError(path + ": a recording is a CSV file; its side file <name>.json would be the same file");
+  }
   if (target.has_parent_path()) {
     std::filesystem::create_directories(target.parent_path());
   }
-  const std::filesystem::path tmp = target.string() + ".tmp";
+  check_side_file_writable(path);  // before the work of writing: refused, nothing written
+  TempFile csv(target);
   {
-    std::ofstream out(tmp);
-    if (!out) {
-      throw std::runtime_error(path + ": cannot write recording");
-    }
-    out << "t";
-    auto head = [&](const std::vector<std::vector<double>>& sig, const char* prefix) {
-      if (!sig.empty()) {
-        for (const int j : rec.joint_ids) out << ',' << prefix << j;
-      }
-    };
-    head(rec.q, "q");
-    head(rec.dq, "dq");
-    head(rec.current, "i");
-    head(rec.tau_m, "tau_m");
-    head(rec.tau_j, "tau_j");
-    head(rec.tau_ext, "tau_ext");
-    if (!rec.collision.empty()) out << ",collision";
-    for (const auto& [name, values] : rec.extra) out << ',' << name;
-    out << '\n';
-    // Shortest representation that reads back to the same double: exact round trip. The
-    // rows are formatted into a block of memory and written a block at a time (a stream
-    // write per number cost as much as the formatting).
-    std::vector<char> block(std::size_t{1} << 16);
-    std::size_t used = 0;
-    constexpr std::size_t kNumberMax = 32;  // the longest double to_chars writes is 24 characters
-    auto flush = [&] {
-      out.write(block.data(), static_cast<std::streamsize>(used));
-      used = 0;
-    };
-    auto put_plain = [&](double v) {
-      if (block.size() - used < kNumberMax + 1) flush();
-      used = static_cast<std::size_t>(std::to_chars(block.data() + used, block.data() + block.size(), v).ptr - block.data());
-    };
-    auto put_char = [&](char c) {
-      if (used == block.size()) flush();
-      block[used++] = c;
-    };
-    auto put = [&](double v) {
-      put_char(',');
-      put_plain(v);
-    };
-    for (std::size_t k = 0; k < m; ++k) {
-      put_plain(rec.t[k]);
-      for (const auto* sig : {&rec.q, &rec.dq, &rec.current, &rec.tau_m, &rec.tau_j, &rec.tau_ext}) {
-        for (const auto& v : *sig) put(v[k]);
-      }
-      if (!rec.collision.empty()) {
-        put_char(',');
-        if (block.size() - used < kNumberMax) flush();
-        used = static_cast<std::size_t>(std::to_chars(block.data() + used, block.data() + block.size(), rec.collision[k]).ptr -
-                                        block.data());
-      }
-      for (const auto& [name, values] : rec.extra) put(values.at(k));
-      put_char('\n');
-    }
-    flush();
-    if (!out) {
-      throw std::runtime_error(path + ": write failed");
-    }
+    std::ofstream out(csv.path(), std::ios::binary | std::ios::trunc);
+    if (!out) throw FormatError(path + ": cannot write recording");
+    write_header(out, rec);
+    write_rows(out, rec);
+    if (!out.flush()) throw FormatError(path + ": write failed");
   }
-  nlohmann::json meta{{"model", rec.meta.model}, {"sample_time", rec.meta.sample_time}, {"scenario", rec.meta.scenario}};
+  nlohmann::json meta{{"format", kSideFileFormat},
+                      {"model", rec.meta.model},
+                      {"sample_time", rec.meta.sample_time},
+                      {"scenario", rec.meta.scenario}};
   if (rec.meta.seed) meta["seed"] = *rec.meta.seed;
-  const std::filesystem::path json_target = target.parent_path() / (target.stem().string() + ".json");
-  const std::filesystem::path json_tmp = json_target.string() + ".tmp";
+  TempFile json(side_file_path(path));
   {
-    std::ofstream jout(json_tmp);
+    std::ofstream jout(json.path(), std::ios::binary | std::ios::trunc);
     // Text that is not UTF-8 replaced (U+FFFD), never an exception after the CSV is written.
     jout << meta.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
-    if (!jout) {
-      std::error_code ignored;
-      std::filesystem::remove(tmp, ignored);
-      std::filesystem::remove(json_tmp, ignored);
-      throw std::runtime_error(json_target.string() + ": write failed");
-    }
+    if (!jout.flush()) throw FormatError(json.target().string() + ": write failed");
   }
-  std::filesystem::rename(tmp, target);
-  std::filesystem::rename(json_tmp, json_target);
+  // Both renames under the folder's lock: another writer of the same recording renames its
+  // pair before or after, so the CSV and its side file always come from one run. The side
+  // file is checked again: another program may have put its file there meanwhile.
+  const FolderLock lock(target.has_parent_path() ? target.parent_path() : std::filesystem::path("."));
+  check_side_file_writable(path);
+  json.commit();
+  csv.commit();
 }
 
 }  // namespace jg::io

@@ -67,6 +67,8 @@ struct Recording {
   /// Rows dropped by the reader because they repeated the previous row exactly, time
   /// stamp included (a logger writing the same sample twice).
   std::size_t duplicate_rows_dropped = 0;
+  /// What the reader noticed and did without refusing (also printed to stderr as "note: ...").
+  std::vector<std::string> notes;
 
   [[nodiscard]] std::size_t joints() const { return joint_ids.size(); }
   [[nodiscard]] std::size_t samples() const { return t.size(); }
@@ -93,8 +95,24 @@ struct ReadOptions {
 /// Reads a recording; the JSON side file <stem>.json is read when present.
 [[nodiscard]] Recording read_recording(const std::string& path, const ReadOptions& options = {});
 
-/// Writes CSV (and <stem>.json with the metadata) atomically: to a temporary file that
-/// is renamed into place, so a failure leaves nothing half-written.
+/// Writes CSV (and <stem>.json with the metadata) atomically: to temporary files (names
+/// unique to the writer) renamed into place together under the folder's lock, so a failure
+/// leaves nothing half-written and two writers of one path leave one complete pair. Refuses
+/// (FormatError) to overwrite a <stem>.json that is not a jointguard side file.
 void write_recording(const std::string& path, const Recording& rec);
+
+/// The value of "format" in the JSON side files jointguard writes beside a recording.
+inline constexpr const char* kSideFileFormat = "jointguard-recording";
+/// `<folder>/<stem>.json` of a recording's path: its side file.
+[[nodiscard]] std::string side_file_path(const std::string& csv_path);
+/// A side file is ours when it carries "format": kSideFileFormat, or (files written before
+/// that key) is an object of only the keys jointguard wrote; any other file of that name is
+/// another program's: ignored when reading (a note), never overwritten.
+enum class SideFile { absent, ours, foreign };
+/// Classifies the file at json_path; `why` receives the reason for `foreign`.
+[[nodiscard]] SideFile classify_side_file(const std::string& json_path, std::string* why = nullptr);
+/// Throws FormatError naming the side file when writing the recording at csv_path would
+/// overwrite another program's <stem>.json.
+void check_side_file_writable(const std::string& csv_path);
 
 }  // namespace jg::io

@@ -55,6 +55,7 @@ void apply_drive_file(RobotModel& model, const std::string& path) {
     }
   };
   // A URDF's <limit effort> is a torque: with a new K_I it becomes a new current limit.
+  if (root.has("k_i")) model.torque_constant_assumed = false;
   apply("k_i", true, kMaxTorqueConstantNmPerA, [](JointDescription& j, double k) {
     j.link.torque_constant = k;
     if (j.effort_limit_nm > 0.0) j.link.current_limit = j.effort_limit_nm / k;

@@ -196,6 +196,7 @@ RobotModel load_robot(const std::string& path, const LoadOptions& options) {
   RobotModel m;
   if (ext == ".urdf") {
     m = import_urdf(path, options.base_link, options.tip_link);
+    m.torque_constant_assumed = true;  // until a drive file's k_i gives them
   } else if (ext == ".yaml" || ext == ".yml") {
     if (!options.base_link.empty() || !options.tip_link.empty()) {
       throw io::FormatError(path + ": --base/--tip select a chain in a URDF; a robot YAML is one chain already");

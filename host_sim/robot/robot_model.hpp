@@ -46,6 +46,9 @@ struct RobotModel {
   /// The maker's rated payload [kg] (`rated_payload_kg`, in the robot file or in drive.yaml
   /// beside a URDF); 0 = not given. The diagnosis claims no payload above it.
   double rated_payload_kg = 0.0;
+  /// True for a URDF without a drive file's k_i: every torque constant is the placeholder
+  /// 1 N·m/A, and motor currents cannot be turned into torques (robot/torque_kind.hpp).
+  bool torque_constant_assumed = false;
 
   [[nodiscard]] std::vector<sim::PlantLink> plant_links() const;
   /// The arm's rigid-body dynamics with this model's gravity (gravity_m_s2).

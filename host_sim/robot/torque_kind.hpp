@@ -9,9 +9,19 @@
 
 namespace jg::robot {
 
+/// Refuses motor currents with a model whose torque constants are placeholders (a URDF
+/// without --drive): read with K_I = 1 N·m/A every torque would be silently wrong.
+inline void check_torque_constant(const RobotModel& model, io::TorqueKind kind) {
+  if (kind != io::TorqueKind::current || !model.torque_constant_assumed) return;
+  throw io::FormatError(model.source + ": the recording's torque is motor current (i<j>) and this URDF gives no torque "
+                        "constant (K_I would be 1 N·m/A): give --drive FILE with k_i (docs/robot-model.md#urdf), or "
+                        "torque columns (tau_m<j>)");
+}
+
 /// The model to apply to a recording carrying `kind`: for tau_j, every joint's rotor
-/// inertia is zero; otherwise the model unchanged.
+/// inertia is zero; otherwise the model unchanged. Currents need known torque constants.
 [[nodiscard]] inline RobotModel for_torque_kind(const RobotModel& model, io::TorqueKind kind) {
+  check_torque_constant(model, kind);
   RobotModel out = model;
   if (kind == io::TorqueKind::tau_j) {
     for (auto& j : out.joints) j.link.rotor_inertia = 0.0;

@@ -2,9 +2,16 @@
 // file, line and field.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
+#include "io/atomic_write.hpp"
 #include "io/recording.hpp"
 #include "io/regularize.hpp"
 #include "robot/torque_kind.hpp"
@@ -97,9 +104,11 @@ TEST_F(RecordingTest, PartialGroundTruthBinaryFieldsAndBadSideFileAreRefused) {
   p = write("bin.csv", std::string("t,q1,dq1,i1\n0,0,0,0\n0.001,0,\x01\xff,0\n"));
   EXPECT_NE(error_of(p).find("bin.csv:3: field 'dq1': '?" "?' is not a finite number"), std::string::npos) << error_of(p);
   p = write("side.csv", "t,q1,dq1,i1\n0,0,0,0\n0.001,0,0,0\n");
-  write("side.json", "{\n  \"model\": ref3\n}\n");
+  // Broken JSON that names jointguard is ours and refused; another program's is ignored
+  // (ForeignSideFileIsIgnoredAndNeverOverwritten).
+  write("side.json", "{\"format\": \"jointguard-recording\",\n  \"model\": ref3\n}\n");
   EXPECT_NE(error_of(p).find("side.json:2:"), std::string::npos) << error_of(p);
-  write("side.json", "{\"sample_time\": 1e999}\n");  // nlohmann's out_of_range.406 escaped before
+  write("side.json", "{\"format\": \"jointguard-recording\", \"sample_time\": 1e999}\n");  // nlohmann's out_of_range.406 escaped before
   EXPECT_NE(error_of(p).find("side.json: invalid JSON: a number beyond the range of a double"), std::string::npos) << error_of(p);
   write("side.json", "{\"sample_time\": -1}\n");
   EXPECT_NE(error_of(p).find("side.json: field 'sample_time': must be >= 0"), std::string::npos) << error_of(p);
@@ -183,6 +192,145 @@ TEST_F(RecordingTest, SideFileTextThatIsNotUtf8IsReplacedAndNothingTemporaryIsLe
   EXPECT_FALSE(fs::exists(path + ".tmp"));
   EXPECT_FALSE(fs::exists((dir / "latin1.json.tmp").string()));
   EXPECT_EQ(jg::io::read_recording(path).meta.scenario, "caf\xef\xbf\xbd");  // U+FFFD
+}
+
+// Issue 29: an unrelated mydata.json beside mydata.csv made the CSV unreadable, and writing
+// a recording overwrote it silently.
+TEST_F(RecordingTest, ForeignSideFileIsIgnoredAndNeverOverwritten) {
+  const auto p = write("mydata.csv", "t,q1,dq1,i1\n0,0,0,0\n0.001,0,0,0\n");
+  const std::string foreign = "{\"model\": {\"layers\": 3}, \"owner\": \"someone else\"}\n";
+  write("mydata.json", foreign);
+  const auto rec = jg::io::read_recording(p);
+  ASSERT_EQ(rec.notes.size(), 1U);
+  EXPECT_NE(rec.notes[0].find("mydata.json is not a jointguard side file"), std::string::npos) << rec.notes[0];
+  EXPECT_EQ(rec.meta.model, "");
+  write("mydata.json", "not json at all\n");
+  EXPECT_EQ(jg::io::read_recording(p).notes.size(), 1U);
+  write("mydata.json", foreign);
+  try {
+    jg::io::write_recording(p, rec);
+    ADD_FAILURE() << "another program's side file was overwritten";
+  } catch (const FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find("mydata.json: the recording's side file would overwrite a file that is not jointguard's"),
+              std::string::npos) << e.what();
+  }
+  std::ifstream in(dir / "mydata.json");
+  EXPECT_EQ(std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()), foreign);
+  // Ours (written with the format key) and the key set older versions wrote are overwritten.
+  fs::remove(dir / "mydata.json");
+  jg::io::write_recording(p, rec);
+  EXPECT_EQ(jg::io::classify_side_file((dir / "mydata.json").string()), jg::io::SideFile::ours);
+  write("mydata.json", "{\"model\": \"ref3\", \"sample_time\": 0.001, \"scenario\": \"x\", \"seed\": 3}\n");
+  EXPECT_EQ(jg::io::classify_side_file((dir / "mydata.json").string()), jg::io::SideFile::ours);
+  EXPECT_NO_THROW(jg::io::write_recording(p, rec));
+  EXPECT_THROW(jg::io::write_recording((dir / "rec.json").string(), rec), FormatError);
+}
+
+// Issue 29: two writers of one output shared "<out>.tmp": one reported success with a file
+// mixing both, the other failed on the rename. Each writer now has its own temporary file.
+TEST_F(RecordingTest, ConcurrentWritersLeaveOneCompleteRecording) {
+  auto make = [](std::size_t samples, double value) {
+    jg::io::Recording r;
+    r.resize(2, samples, false, true, false, false);
+    for (std::size_t k = 0; k < samples; ++k) {
+      r.t[k] = 0.001 * static_cast<double>(k);
+      for (std::size_t j = 0; j < 2; ++j) r.tau_m[j][k] = value;
+    }
+    r.meta.scenario = value > 1.5 ? "b" : "a";
+    return r;
+  };
+  const auto a = make(3000, 1.0), b = make(5000, 2.0);
+  const std::string out = (dir / "same.csv").string();
+  for (int round = 0; round < 20; ++round) {
+    std::thread ta([&] { jg::io::write_recording(out, a); });
+    std::thread tb([&] { jg::io::write_recording(out, b); });
+    ta.join();
+    tb.join();
+    const auto back = jg::io::read_recording(out);
+    const bool is_a = back.samples() == a.samples() && back.tau_m[1].back() == 1.0;
+    const bool is_b = back.samples() == b.samples() && back.tau_m[1].back() == 2.0;
+    ASSERT_TRUE(is_a || is_b) << "round " << round << ": " << back.samples() << " samples, a mix";
+    EXPECT_EQ(back.meta.scenario, is_a ? "a" : "b") << "the side file comes from the other writer";
+  }
+  std::size_t files = 0;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    ++files;
+    EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
+  }
+  EXPECT_EQ(files, 2U);
+}
+
+TEST_F(RecordingTest, TemporaryFilesAreUniqueAndRemovedUnlessCommitted) {
+  const fs::path target = dir / "out.json";
+  std::string first;
+  {
+    jg::io::TempFile t1(target), t2(target);
+    EXPECT_NE(t1.path(), t2.path());
+    EXPECT_EQ(t1.path().parent_path(), target.parent_path());
+    EXPECT_TRUE(fs::exists(t1.path()));
+    first = t1.path().string();
+    t2.commit();
+  }
+  EXPECT_FALSE(fs::exists(first));
+  EXPECT_TRUE(fs::exists(target));
+  EXPECT_THROW(jg::io::write_text_atomic((dir / "no_such_folder" / "x.json").string(), "{}"), FormatError);
+  std::size_t files = 0;
+  for (const auto& e : fs::directory_iterator(dir)) files += e.is_regular_file() ? 1U : 0U;
+  EXPECT_EQ(files, 1U);
+}
+
+// SIGINT while a temporary file exists removes it (a large recording's would stay behind).
+TEST_F(RecordingTest, InterruptRemovesTheTemporaryFile) {
+  const fs::path target = dir / "big.csv";
+  int fds[2];
+  ASSERT_EQ(::pipe(fds), 0);
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    std::signal(SIGINT, SIG_DFL);  // as an interactive shell starts the CLI (a background job ignores it)
+    jg::io::TempFile tmp(target);
+    const std::string name = tmp.path().string();
+    (void)!::write(fds[1], name.c_str(), name.size());
+    ::close(fds[1]);
+    std::raise(SIGINT);
+    ::_exit(0);  // not reached when the handler re-raises
+  }
+  ::close(fds[1]);
+  char buf[4096] = {};
+  const ssize_t got = ::read(fds[0], buf, sizeof buf - 1);
+  ::close(fds[0]);
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_GT(got, 0);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGINT) << "status " << status;
+  EXPECT_FALSE(fs::exists(std::string(buf, static_cast<std::size_t>(got)))) << buf;
+}
+
+// Issue 29: time stamps in milliseconds read as "21000 rows at 1 Hz" and gave link masses
+// off by 1000^2. dq against the change of q over t tells the unit.
+TEST_F(RecordingTest, TimeStampsInMillisecondsAreRefused) {
+  auto csv = [](double t_scale) {
+    std::string text = "t,q1,q2,dq1,dq2,tau_m1,tau_m2\n";
+    for (int k = 0; k < 400; ++k) {
+      const double t = 0.001 * k;
+      char row[200];
+      std::snprintf(row, sizeof row, "%.9g,%.9g,%.9g,%.9g,%.9g,0,0\n", t * t_scale, 0.5 * std::sin(3.0 * t), 0.2 * t,
+                    1.5 * std::cos(3.0 * t), 0.2);
+      text += row;
+    }
+    return text;
+  };
+  const auto ms = write("t_ms.csv", csv(1000.0));
+  const std::string e = error_of(ms);
+  EXPECT_NE(e.find("t_ms.csv:1: field 't': the velocities dq are 1000 times the change of q over t"), std::string::npos) << e;
+  EXPECT_NE(e.find("milliseconds"), std::string::npos) << e;
+  EXPECT_EQ(error_of(write("t_us.csv", csv(1e6))).find("microseconds") != std::string::npos, true);
+  EXPECT_EQ(error_of(write("t_s.csv", csv(1.0))), "no error");
+  jg::io::ReadOptions o;
+  o.time_column = "time";
+  auto renamed = csv(1000.0);
+  renamed.replace(0, 1, "time");
+  EXPECT_NE(error_of(write("time_ms.csv", renamed), o).find("field 'time'"), std::string::npos);
 }
 
 TEST(TorqueKindModel, JointTorqueSensorSeesNoRotorInertia) {
