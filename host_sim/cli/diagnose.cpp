@@ -243,7 +243,9 @@ void name_causes_against_file(const DiagnoseCliOptions& o, DiagnoseRun& run) {
       run.j["cross_motion_named"].push_back(
           {{"left_out", run.names[f.left_out]}, {"arm_causes", f.arm_causes}, {"arm_mse_ratio", f.arm_mse_ratio}});
     }
-    if (const std::string why = diag::arm_not_transferring(folds, run.names); !why.empty()) withdraw_arm_causes(run.named, why);
+    if (const std::string why = diag::arm_not_transferring(folds, run.names, diag::cause_names(run.named.model)); !why.empty()) {
+      withdraw_arm_causes(run.named, why);
+    }
   }
   // Folded alone: the file's own effects were folded (or kept) before.
   robot::RobotModel with_named = run.used;
@@ -308,7 +310,8 @@ std::vector<diag::JointSignals> diagnosis_signals(const DiagnoseCliOptions& o, c
 /// if its causes do not, in `arm_why`.
 std::vector<diag::NotTransferring> cross_motion(const std::vector<diag::JointSignals>& signals,
                                                 const std::vector<diag::SampleSpan>& spans, const sim::ArmDynamics& arm,
-                                                DiagnoseRun& run, std::string& arm_why) {
+                                                const std::vector<std::string>& claimed, DiagnoseRun& run,
+                                                std::string& arm_why) {
   if (spans.size() < 2) return {};
   const auto folds = diag::cross_motion_folds(signals, spans, run.arm_options, &arm);
   nlohmann::json cm = nlohmann::json::array();
@@ -325,7 +328,7 @@ std::vector<diag::NotTransferring> cross_motion(const std::vector<diag::JointSig
     cm.push_back(jf);
   }
   run.j["cross_motion"] = cm;
-  arm_why = diag::arm_not_transferring(folds, run.names);
+  arm_why = diag::arm_not_transferring(folds, run.names, claimed);
   return diag::effects_not_transferring(folds, run.names);
 }
 
@@ -453,11 +456,11 @@ int run_diagnose(const DiagnoseCliOptions& o) {
   const sim::ArmDynamics arm = run.used.dynamics();
   std::vector<diag::SampleSpan> spans;
   std::vector<diag::JointSignals> signals = diagnosis_signals(o, arm, run, spans);
-  std::string arm_why;
-  const auto not_transferring = cross_motion(signals, spans, arm, run, arm_why);
   // Causes that are one thing in the world (a payload, a link's mass) next, once for the
   // arm, then each joint.
   diag::ArmDiagnosis arm_diag = diag::diagnose_arm(signals, run.arm_options, &arm);
+  std::string arm_why;
+  const auto not_transferring = cross_motion(signals, spans, arm, diag::cause_names(arm_diag.model), run, arm_why);
   if (!arm_why.empty() && !arm_diag.findings.empty()) withdraw_arm_causes(arm_diag, arm_why);
   signals = diag::without_arm_causes(signals, arm_diag);
   merge_named(run.named, arm_diag);

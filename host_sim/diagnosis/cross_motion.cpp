@@ -1,5 +1,6 @@
 #include "diagnosis/cross_motion.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -40,10 +41,7 @@ CrossMotionFold one_fold(const std::vector<JointSignals>& train, const std::vect
                          const ArmDiagnosisOptions& o, const sim::ArmDynamics* arm, bool with_joints) {
   CrossMotionFold f;
   const ArmDiagnosis a = diagnose_arm(train, o, arm);
-  for (const auto& m : a.model) {
-    const auto link = m.setting.find("link");
-    f.arm_causes.push_back(m.effect + "@" + std::to_string(link == m.setting.end() ? 0 : static_cast<int>(link->second)));
-  }
+  f.arm_causes = cause_names(a.model);
   const auto arm_torque = predict_arm_causes(a.model, test, arm);
   const auto train_joints = without_arm_causes(train, a);
   double ratio_sum = 0.0;
@@ -133,14 +131,37 @@ std::vector<NotTransferring> effects_not_transferring(const std::vector<CrossMot
   return out;
 }
 
-std::string arm_not_transferring(const std::vector<CrossMotionFold>& folds, const std::vector<std::string>& names) {
+std::vector<std::string> cause_names(const std::vector<FittedEffect>& model) {
+  std::vector<std::string> out;
+  for (const auto& m : model) {
+    const auto link = m.setting.find("link");
+    out.push_back(m.effect + "@" + std::to_string(link == m.setting.end() ? 0 : static_cast<int>(link->second)));
+  }
+  return out;
+}
+
+std::string arm_not_transferring(const std::vector<CrossMotionFold>& folds, const std::vector<std::string>& names,
+                                 const std::vector<std::string>& claimed) {
+  auto sorted = [](std::vector<std::string> v) {
+    std::sort(v.begin(), v.end());
+    return v;
+  };
   for (const auto& f : folds) {
-    if (f.arm_causes.empty() || f.arm_mse_ratio <= 1.0 + kCrossMotionWorseShare) continue;
+    if (f.arm_causes.empty()) continue;
+    const std::string left_out = f.left_out < names.size() ? names[f.left_out] : "a recording";
     std::ostringstream why;
     why.precision(3);
-    why << "the arm-level causes fitted on the other recordings make "
-        << (f.left_out < names.size() ? names[f.left_out] : "a recording") << " worse (mean MSE ratio " << f.arm_mse_ratio
-        << "): not one cause across the recordings, not claimed";
+    if (sorted(f.arm_causes) != sorted(claimed)) {
+      why << "the arm-level causes depend on the motion: fitted without " << left_out << ":";
+      for (const auto& c : f.arm_causes) why << ' ' << c;
+      why << "; on all recordings:";
+      for (const auto& c : claimed) why << ' ' << c;
+      why << ": not one cause across the recordings, not claimed";
+      return why.str();
+    }
+    if (f.arm_mse_ratio <= 1.0 + kCrossMotionWorseShare) continue;
+    why << "the arm-level causes fitted on the other recordings make " << left_out << " worse (mean MSE ratio "
+        << f.arm_mse_ratio << "): not one cause across the recordings, not claimed";
     return why.str();
   }
   return {};

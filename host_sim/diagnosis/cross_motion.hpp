@@ -68,7 +68,14 @@ struct NotTransferring {
 std::vector<NotTransferring> effects_not_transferring(const std::vector<CrossMotionFold>& folds,
                                                                  const std::vector<std::string>& names);
 
-/// Why the arm-level causes do not transfer (empty: they do, or none was fitted in any fold).
-std::string arm_not_transferring(const std::vector<CrossMotionFold>& folds, const std::vector<std::string>& names);
+/// "effect@link" of each arm-level cause in `model` (as CrossMotionFold::arm_causes).
+std::vector<std::string> cause_names(const std::vector<FittedEffect>& model);
+
+/// Why the arm-level causes `claimed` (cause_names of the fit on all recordings) do not
+/// transfer (empty: they do, or no fold fitted any): a fold that fitted causes must have
+/// fitted the same ones (which link carries a mass error must not depend on the motion), and
+/// they must improve the recording it left out.
+std::string arm_not_transferring(const std::vector<CrossMotionFold>& folds, const std::vector<std::string>& names,
+                                 const std::vector<std::string>& claimed);
 
 }  // namespace jg::diag
