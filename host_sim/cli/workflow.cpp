@@ -120,7 +120,9 @@ Command add_identify(CLI::App& app) {
   cmd->add_option("--json", o->json, "Write the identified parameters here (contract format)")->check(output_file());
   cmd->add_option("--seed", o->seed, "GA seed")->capture_default_str();
   cmd->add_option("--runs", o->runs, "GA runs (result = mean)")->capture_default_str()->check(CLI::Range(1, 100));
-  o->input.add_to(cmd);
+  o->input.add_to(cmd, "The rate [Hz] the drive will run the friction model at: the recording is resampled to it by time "
+                      "stamp and the parameters are bounded to what the firmware scalar holds there (default: the "
+                      "recording's own median step, rounded)");
   cmd->add_option("--gain", o->observer.gains[0], "First-order observer gain K [1/s]")->capture_default_str();
   auto rigid = std::make_shared<RigidBodyCliOptions>();
   add_rigid_body_options(cmd, *rigid);
@@ -140,6 +142,9 @@ Command add_identify(CLI::App& app) {
             ident::GaSettings ga;
             ga.seed = o->seed;
             ga.runs = o->runs;
+            // The file must run where the user runs it: calibrate, replay and the drive at this rate.
+            ga.firmware.enabled = true;
+            ga.firmware.dt = 1.0 / in.data.report.rate_hz;
             Progress bar("identify");
             const auto r = about_recording(o->recording, [&] {
               const ObserverGains gains{ObserverKind::first_order, o->observer.gains[0], 0, 0,
@@ -153,10 +158,12 @@ Command add_identify(CLI::App& app) {
               std::printf("%5d  %9.1f  %8.2f  %7.4f  %7.4f  %7.4f  %7.5f  %.4f\n", rec.joint_ids[j], p.sigma0, p.sigma1, p.sigma2,
                           p.tau_c, p.tau_s, p.w_s, r[j].rms);
               for (const auto& w : r[j].warnings) std::printf("       warning: %s\n", w.c_str());
+              for (const auto& b : r[j].bounded) std::printf("       note: %s\n", b.reason.c_str());
             }
             if (!o->json.empty()) {
               auto extra = input_json(in);
               extra["segment_used"] = {{"t_begin", rec.t.front()}, {"t_end", rec.t.back()}};
+              extra["firmware_rate_hz"] = in.data.report.rate_hz;  // the parameters fit both scalars at this rate
               eval::write_friction_json(o->json, r, rec.joint_ids, extra);
               std::printf("wrote %s\n", o->json.c_str());
             }

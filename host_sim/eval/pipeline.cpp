@@ -47,6 +47,12 @@ void write_friction_json(const std::string& path, const std::vector<ident::Ident
     }
     e["report"] = rep;
     e["warnings"] = r[i].warnings;
+    // What identify bounded so that the firmware runs the file, and why (nothing is hidden).
+    e["bounded"] = nlohmann::json::array();
+    for (const auto& b : r[i].bounded) {
+      e["bounded"].push_back({{"parameter", b.parameter}, {"fitted", b.fitted}, {"written", b.written}, {"reason", b.reason}});
+    }
+    if (r[i].firmware_dt > 0.0) e["rms_unbounded"] = r[i].rms_unbounded;
     j["joints"].push_back(e);
   }
   write_json_atomic(path, j);

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <thread>
+#include <utility>
 
 #include "identification/lugre_batch.hpp"
 
@@ -33,7 +34,9 @@ double rms_of(const FrictionSeries& s, const std::vector<double>& pred) {
   return std::sqrt(acc / static_cast<double>(pred.size() - s.skip));
 }
 
-/// Levenberg-Marquardt functor in log-parameters (keeps every parameter positive).
+/// Levenberg-Marquardt functor in log-parameters (keeps every parameter positive). With a
+/// mask, only the free parameters move: the others keep `base`'s values, and `tie_static`
+/// keeps tau_s = tau_c (a Stribeck curve without excess).
 struct LogFit {
   using Scalar = double;
   using InputType = Eigen::VectorXd;
@@ -41,13 +44,23 @@ struct LogFit {
   using JacobianType = Eigen::MatrixXd;
   enum { InputsAtCompileTime = Eigen::Dynamic, ValuesAtCompileTime = Eigen::Dynamic };
   const FrictionSeries* s;
-  [[nodiscard]] int inputs() const { return 6; }
+  std::array<double, 6> base{};
+  std::array<bool, 6> free{true, true, true, true, true, true};
+  bool tie_static = false;
+  [[nodiscard]] int inputs() const { return static_cast<int>(std::count(free.begin(), free.end(), true)); }
   [[nodiscard]] int values() const { return static_cast<int>(s->velocity.size() - s->skip); }
+  [[nodiscard]] std::array<double, 6> expand(const Eigen::VectorXd& x) const {
+    std::array<double, 6> v = base;
+    Eigen::Index n = 0;
+    for (std::size_t i = 0; i < 6; ++i) {
+      if (free[i]) v[i] = std::exp(x(n++));
+    }
+    if (tie_static) v[4] = v[3];
+    return v;
+  }
   int operator()(const Eigen::VectorXd& x, Eigen::VectorXd& fvec) const {
-    std::array<double, 6> v{};
-    for (int i = 0; i < 6; ++i) v[static_cast<std::size_t>(i)] = std::exp(x(i));
     LuGreDiscrete<double> d{};
-    if (discretize(from_array(v), s->dt, d) != Error::ok) {
+    if (discretize(from_array(expand(x)), s->dt, d) != Error::ok) {
       fvec.setConstant(1e6);
       return 0;
     }
@@ -61,6 +74,23 @@ struct LogFit {
     return 0;
   }
 };
+
+/// LM from `start` over the free parameters of `fit`; the refined set when it is valid.
+LuGreParams<double> refine_lm(LogFit fit, const LuGreParams<double>& start) {
+  fit.base = as_array(start);
+  if (fit.inputs() == 0) return start;
+  Eigen::NumericalDiff<LogFit> nd(fit, 1e-6);
+  Eigen::LevenbergMarquardt<Eigen::NumericalDiff<LogFit>> lm(nd);
+  Eigen::VectorXd x(fit.inputs());
+  Eigen::Index n = 0;
+  for (std::size_t i = 0; i < 6; ++i) {
+    if (fit.free[i]) x(n++) = std::log(std::max(fit.base[i], 1e-9));
+  }
+  lm.parameters.maxfev = 400;
+  lm.minimize(x);
+  const LuGreParams<double> refined = from_array(fit.expand(x));
+  return validate(refined) == Error::ok ? refined : start;
+}
 }  // namespace
 
 void check_series(const FrictionSeries& s) {
@@ -158,6 +188,208 @@ LuGreParams<double> run_ga(const FrictionSeries& s, const GaSettings& g, const S
   return to_params(pop[best], r);
 }
 
+namespace {
+constexpr double kHeadroom = 0.5 * 32767.0;    // half of Q16.16's range for the step's terms
+constexpr double kSmallest = 64.0 / 65536.0;   // 64 LSB of Q16.16: a constant resolved to 1.6 %
+
+std::string fmt(double x) {
+  std::ostringstream os;
+  os.precision(3);
+  os << x;
+  return os.str();
+}
+}  // namespace
+
+FirmwareLimits firmware_limits(const LuGreParams<double>& p, double dt, double speed_max, double speed_resolution) {
+  FirmwareLimits l;
+  l.dt = dt;
+  l.speed_max = std::max(speed_max, 1.0);
+  l.level_min = kSmallest;
+  l.level_max = kHeadroom / 8.0;
+  const double hi = std::clamp(std::max(p.tau_c, p.tau_s), l.level_min, l.level_max);
+  // a = sigma0 dt: the step's denominator s + a|w| within the headroom up to the top speed.
+  // The implicit step is stable for any a; beyond this Q16.16 saturates it (and the bristle
+  // settles within one sample anyway). Its gain a / (s + a|w|) may saturate near standstill
+  // only where it multiplies a change of order |w|: it then settles slower, never overshoots.
+  l.sigma0_max = kHeadroom / l.speed_max / dt;
+  l.sigma0_min = kSmallest / dt;
+  // At a reversal the bristle torque steps by up to 2 s in one sample and the damping adds
+  // c1 times that: the friction output stays within the headroom.
+  l.damping_max = std::max(0.0, kHeadroom / (2.0 * hi) - 1.0);
+  l.sigma2_max = kHeadroom / (2.0 * l.speed_max);
+  l.w_s_min = std::max(2.0 / kHeadroom, speed_resolution);  // 1 / w_s within the headroom
+  return l;
+}
+
+bool fits_firmware(const LuGreParams<double>& p, double dt) {
+  LuGreDiscrete<float> f{};
+  LuGreDiscrete<q16> q{};
+  return discretize(p, dt, f) == Error::ok && discretize(p, dt, q) == Error::ok;
+}
+
+namespace {
+/// The bounding of one fit (bound_for_firmware): the data, the target and what changed.
+struct Bounding {
+  const FrictionSeries* s = nullptr;
+  double dt = 0.0, speed_max = 0.0, resolution = 0.0;
+  bool tie_inverted = true;  ///< write tau_s <= tau_c as tau_s = tau_c (else keep a representable inverted curve)
+  std::array<double, 6> fitted{};
+  std::vector<BoundedParameter> notes;
+  LogFit fit{};
+
+  void set(std::array<double, 6>& v, std::size_t i, double value, const std::string& reason) {
+    if (value == v[i]) return;
+    v[i] = value;
+    fit.free[i] = false;  // the data do not move it back: later refits keep it
+    for (auto& n : notes) {
+      if (n.parameter == kParamNames[i]) {
+        n.written = value;
+        return;
+      }
+    }
+    notes.push_back({kParamNames[i], fitted[i], value, reason});
+  }
+
+  /// tau_c, tau_s, w_s: levels the scalar resolves, a Stribeck curve the drive runs.
+  void bound_shape(std::array<double, 6>& v) {
+    const auto l = firmware_limits(from_array(v), dt, speed_max, resolution);
+    if (v[3] < l.level_min || v[3] > l.level_max) {
+      set(v, 3, std::clamp(v[3], l.level_min, l.level_max),
+          "tau_c outside the levels Q16.16 resolves and holds (" + fmt(l.level_min) + " .. " + fmt(l.level_max) + " N·m)");
+    }
+    if (v[5] < l.w_s_min) {
+      set(v, 5, l.w_s_min,
+          "w_s below the slowest speed the recording resolves and Q16.16 holds as 1 / w_s (" + fmt(l.w_s_min) +
+              " rad/s): the Stribeck excess lives below it, where these data say nothing; w_s raised to it, tau_s = tau_c");
+      fit.tie_static = true;
+    }
+    if (!tie_inverted && v[4] < l.level_min) {
+      set(v, 4, l.level_min, "tau_s below the level Q16.16 resolves: raised to " + fmt(l.level_min) + " N·m");
+    }
+    if (v[4] <= v[3] && tie_inverted) {
+      fit.tie_static = true;
+      set(v, 4, v[3], "no Stribeck excess (tau_s " + fmt(fitted[4]) + " <= tau_c " + fmt(fitted[3]) +
+                          " N·m): written as tau_s = tau_c, the Coulomb level at every speed");
+    }
+    if (fit.tie_static) set(v, 4, v[3], "tau_s = tau_c: the Stribeck excess is not determined by these data");
+    if (v[4] > l.level_max) set(v, 4, l.level_max, "tau_s above the level Q16.16 holds (" + fmt(l.level_max) + " N·m)");
+  }
+
+  /// sigma0, sigma1, sigma2 after the levels: what the step holds at dt.
+  void bound_bristle(std::array<double, 6>& v) {
+    const auto l = firmware_limits(from_array(v), dt, speed_max, resolution);
+    if (v[0] > l.sigma0_max) {
+      const double scale = l.sigma0_max / v[0];
+      set(v, 0, l.sigma0_max,
+          "the stiffest the drive's step holds at dt = " + fmt(dt) +
+              " s (sigma0 dt |w| within half of Q16.16 up to " + fmt(l.speed_max) +
+              " rad/s): presliding is not observable at this rate");
+      // Damping that matters (c1 at the new stiffness above 1e-3) keeps its ratio to the
+      // stiffness; a negligible one stays as fitted.
+      const double c1 = v[1] / (v[0] / scale * dt);
+      if (v[1] / (v[0] * dt) > 1e-3) {
+        set(v, 1, v[1] * scale, "scaled with sigma0: keeps the fit's damping ratio c1 = sigma1 / (sigma0 dt) = " + fmt(c1));
+      }
+    } else if (v[0] < l.sigma0_min) {
+      set(v, 0, l.sigma0_min, "sigma0 dt below what Q16.16 resolves at dt = " + fmt(dt) + " s");
+    }
+    if (v[1] > l.damping_max * v[0] * dt) {
+      set(v, 1, l.damping_max * v[0] * dt,
+          "set to c1 = sigma1 / (sigma0 dt) = " + fmt(l.damping_max) +
+              ", the most damping whose torque step at a reversal stays within half of Q16.16");
+    }
+    if (v[2] > l.sigma2_max) {
+      set(v, 2, l.sigma2_max, "sigma2 |w| beyond half of Q16.16 at " + fmt(l.speed_max) + " rad/s");
+    }
+  }
+};
+
+/// What a stage of bounds cost the fit: "not determined" when (almost) nothing.
+std::string cost_text(double rms_before, double rms_after) {
+  if (rms_after <= 1.01 * rms_before + 1e-12) {
+    return "; not determined by this recording: the fit's rms stays " + fmt(rms_after) + " N·m (" + fmt(rms_before) + " before)";
+  }
+  return "; the fit's rms rises from " + fmt(rms_before) + " to " + fmt(rms_after) + " N·m";
+}
+
+double top_speed(const FrictionSeries& s) {
+  double top = 0.0;
+  for (const double w : s.velocity) top = std::max(top, std::fabs(w));
+  return top;
+}
+
+/// The smallest speed the data resolve: the least non-zero |w| (a quantised log's step).
+double speed_resolution(const FrictionSeries& s) {
+  double least = 0.0;
+  for (const double w : s.velocity) {
+    if (w != 0.0 && (least == 0.0 || std::fabs(w) < least)) least = std::fabs(w);
+  }
+  return least;
+}
+
+/// One way of bounding a fit: the parameters, what was bounded and the fit's cost.
+struct Bounded {
+  LuGreParams<double> p{};
+  std::vector<BoundedParameter> notes;
+  double rms = 0.0;
+};
+
+/// Bounds `fitted` in two stages (the Stribeck shape, then the bristle), each followed by a
+/// refit of the parameters left free; each note is told what its stage cost the fit.
+/// `tie_inverted`: a curve with tau_s <= tau_c is written without excess (tau_s = tau_c).
+Bounded bound_candidate(const FrictionSeries& s, const GaSettings& g, const LuGreParams<double>& fitted, double rms_fitted,
+                        bool tie_inverted) {
+  Bounding b;
+  b.s = &s;
+  b.dt = g.firmware.dt > 0.0 ? g.firmware.dt : s.dt;
+  b.speed_max = g.firmware.speed_max > 0.0 ? g.firmware.speed_max : 2.0 * top_speed(s);
+  b.resolution = speed_resolution(s);
+  b.tie_inverted = tie_inverted;
+  b.fitted = as_array(fitted);
+  b.fit.s = &s;
+  std::array<double, 6> v = b.fitted;
+  const auto rms = [&] { return rms_of(s, lugre_predict(from_array(v), s.velocity, s.dt, s.observer_decay())); };
+  const auto stage = [&](auto&& apply, double rms_before) {
+    const std::size_t first = b.notes.size();
+    apply(v);
+    if (b.notes.size() > first && g.refine) v = as_array(refine_lm(b.fit, from_array(v)));
+    const double after = rms();
+    for (std::size_t k = first; k < b.notes.size(); ++k) b.notes[k].reason += cost_text(rms_before, after);
+    return after;
+  };
+  const double rms_shape = stage([&](auto& x) { b.bound_shape(x); }, rms_fitted);
+  stage([&](auto& x) { b.bound_bristle(x); }, rms_shape);
+  // A refit may have moved a free parameter past its bound: clamp, no refit.
+  b.bound_shape(v);
+  b.bound_bristle(v);
+  Bounded out{from_array(v), b.notes, rms()};
+  const std::string rate = fmt(1.0 / b.dt);
+  for (auto& n : out.notes) {
+    n.reason = n.parameter + " (fitted " + fmt(n.fitted) + ", written " + fmt(n.written) + " for the drive at " + rate + " Hz): " + n.reason;
+  }
+  if (!fits_firmware(out.p, b.dt)) {
+    throw std::invalid_argument("the identified LuGre parameters cannot be bounded to what the firmware scalar holds at dt = " +
+                                fmt(b.dt) + " s");
+  }
+  return out;
+}
+
+/// Bounds the fit for the firmware (FirmwareTarget). A curve with tau_s <= tau_c is written
+/// without excess (tau_s = tau_c) unless keeping its shape fits clearly better (1 %).
+LuGreParams<double> bound_for_firmware(const FrictionSeries& s, const GaSettings& g, const LuGreParams<double>& fitted,
+                                       IdentificationResult& out) {
+  Bounded chosen = bound_candidate(s, g, fitted, out.rms, true);
+  if (fitted.tau_s <= fitted.tau_c) {
+    Bounded kept = bound_candidate(s, g, fitted, out.rms, false);
+    if (kept.rms < 0.99 * chosen.rms) chosen = std::move(kept);
+  }
+  out.firmware_dt = g.firmware.dt > 0.0 ? g.firmware.dt : s.dt;
+  out.rms = chosen.rms;
+  out.bounded = std::move(chosen.notes);
+  return chosen.p;
+}
+}  // namespace
+
 IdentificationResult identify_lugre(const FrictionSeries& s_ga, const GaSettings& g, const SearchRanges& r,
                                     const std::function<void(double)>& progress, const FrictionSeries* fine) {
   check_series(s_ga);
@@ -213,24 +445,15 @@ IdentificationResult identify_lugre(const FrictionSeries& s_ga, const GaSettings
   }
   out.rms = out.ga_rms;
   if (g.refine) {
-    LogFit f{&s};
-    Eigen::NumericalDiff<LogFit> nd(f, 1e-6);
-    Eigen::LevenbergMarquardt<Eigen::NumericalDiff<LogFit>> lm(nd);
-    Eigen::VectorXd x(6);
-    for (std::size_t i = 0; i < 6; ++i) x(static_cast<Eigen::Index>(i)) = std::log(std::max(mean[i], 1e-9));
-    lm.parameters.maxfev = 400;
-    lm.minimize(x);
-    std::array<double, 6> v{};
-    for (std::size_t i = 0; i < 6; ++i) v[i] = std::exp(x(static_cast<Eigen::Index>(i)));
-    const LuGreParams<double> refined = from_array(v);
-    if (validate(refined) == Error::ok) {
-      const double rms = rms_of(s, lugre_predict(refined, s.velocity, s.dt, s.observer_decay()));
-      if (rms < out.rms) {
-        best = refined;
-        out.rms = rms;
-      }
+    const LuGreParams<double> refined = refine_lm(LogFit{&s}, best);
+    const double rms = rms_of(s, lugre_predict(refined, s.velocity, s.dt, s.observer_decay()));
+    if (rms < out.rms) {
+      best = refined;
+      out.rms = rms;
     }
   }
+  out.rms_unbounded = out.rms;
+  if (g.firmware.enabled) best = bound_for_firmware(s, g, best, out);
   out.params = best;
   // Noise level from the data itself: the residual's sample-to-sample differences.
   const std::vector<double> pred = lugre_predict(best, s.velocity, s.dt, s.observer_decay());

@@ -25,6 +25,16 @@ struct SearchRanges {
   std::array<double, 6> upper{100000.0, 500.0, 10.0, 10.0, 10.0, 0.1};
 };
 
+/// Where the identified friction will run: the firmware's LuGre step at sample time dt, in
+/// float or Q16.16. With `enabled`, identify_lugre bounds the result to what both scalars
+/// hold there (a file that calibrate, replay or a drive would refuse is never produced) and
+/// says per parameter what it bounded and why (IdentificationResult::bounded).
+struct FirmwareTarget {
+  bool enabled = false;
+  double dt = 0.0;         ///< [s] the drive's sample time; 0: the series' own
+  double speed_max = 0.0;  ///< [rad/s] fastest the step must hold unsaturated; 0: twice the series' fastest, >= 1
+};
+
 struct GaSettings {
   int population = 200;
   int generations = 300;
@@ -35,6 +45,7 @@ struct GaSettings {
   int threads = 2;
   int elite = 2;
   bool refine = true;  ///< Levenberg-Marquardt from the GA mean
+  FirmwareTarget firmware{};
 };
 
 struct FrictionSeries {
@@ -57,6 +68,25 @@ struct ParameterReport {
   std::string note;
 };
 
+/// A parameter identify_lugre changed so that the firmware runs it (FirmwareTarget).
+struct BoundedParameter {
+  std::string parameter;  ///< one of kParamNames
+  double fitted = 0.0;    ///< what the fit gave
+  double written = 0.0;   ///< what the result holds
+  std::string reason;
+};
+
+/// What the firmware's LuGre step holds at one sample time (firmware_limits): every bound
+/// keeps the step's terms within half of Q16.16's range (float holds more).
+struct FirmwareLimits {
+  double dt = 0.0, speed_max = 0.0;       ///< [s], [rad/s] the limits hold for
+  double sigma0_min = 0.0, sigma0_max = 0.0;  ///< [N·m/rad]
+  double damping_max = 0.0;               ///< c1 = sigma1 / (sigma0 dt) [-]
+  double sigma2_max = 0.0;                ///< [N·m·s/rad]
+  double level_min = 0.0, level_max = 0.0;  ///< tau_c, tau_s [N·m]
+  double w_s_min = 0.0;                   ///< [rad/s]
+};
+
 struct IdentificationResult {
   LuGreParams<double> params{};
   std::array<ParameterReport, 6> report{};
@@ -66,7 +96,19 @@ struct IdentificationResult {
   double ga_rms = 0.0;    ///< the same for the GA mean before refinement
   double noise_rms = 0.0; ///< high-frequency noise level estimated from the data [N·m]
   std::vector<std::string> warnings;
+  std::vector<BoundedParameter> bounded;  ///< empty unless GaSettings::firmware.enabled bounded something
+  double rms_unbounded = 0.0;             ///< rms before the bounds (= rms when nothing was bounded)
+  double firmware_dt = 0.0;               ///< [s] the sample time the result was bounded for (0: not bounded)
 };
+
+/// Limits for the firmware's LuGre step at sample time dt [s] for speeds up to speed_max
+/// [rad/s]; the damping limit depends on p's levels (tau_c, tau_s).
+/// `speed_resolution` [rad/s]: the smallest speed the data resolve (a Stribeck velocity
+/// below it is not determined by them).
+FirmwareLimits firmware_limits(const LuGreParams<double>& p, double dt, double speed_max, double speed_resolution = 0.0);
+
+/// True when both firmware scalars (float and Q16.16) accept p at dt (discretize).
+bool fits_firmware(const LuGreParams<double>& p, double dt);
 
 /// Refuses unusable data with a message saying what is missing (std::invalid_argument).
 void check_series(const FrictionSeries& s);

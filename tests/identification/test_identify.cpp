@@ -7,6 +7,7 @@
 
 #include "identification/identify.hpp"
 #include "identification/lugre_batch.hpp"
+#include "jointguard/numeric/q.hpp"
 #include "models/paper_friction.hpp"
 #include "motion/excitation.hpp"
 
@@ -73,6 +74,66 @@ TEST(Identify, WarnsThatSigma0CannotBeIdentifiedFromSlowSampledData) {
   const auto r = identify_lugre(s, g);
   EXPECT_FALSE(r.report[0].identifiable) << "sigma0 at 125 Hz hardly changes the prediction";
   EXPECT_FALSE(r.warnings.empty());
+}
+
+// A real arm logged at ~100 Hz (issue 31.1): the presliding regime is not observable and
+// the Stribeck shape may be degenerate, so the fit runs away to values the firmware scalar
+// cannot hold (sigma0 ~1e14, tau_s ~0, w_s ~6e-5). With a FirmwareTarget the result must
+// fit both scalars at the drive's rate, and every bounded parameter must say why.
+FrictionSeries slow_series(const jg::LuGreParams<double>& truth, unsigned seed) {
+  const jg::sim::PaperExcitation traj(0.6, 0.4, 6, 1.0);
+  FrictionSeries s;
+  s.dt = 0.01;
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, 0.05);
+  for (long k = 0; k < 1200; ++k) s.velocity.push_back(traj.at(traj.steady_begin() + 0.01 * static_cast<double>(k)).dq);
+  s.friction = lugre_predict(truth, s.velocity, s.dt);
+  for (auto& f : s.friction) f += noise(rng);
+  s.skip = 50;
+  return s;
+}
+
+bool runs_on_firmware(const jg::LuGreParams<double>& p, double dt) {
+  jg::LuGreDiscrete<float> f{};
+  jg::LuGreDiscrete<jg::q16> q{};
+  return jg::discretize(p, dt, f) == jg::Error::ok && jg::discretize(p, dt, q) == jg::Error::ok;
+}
+
+TEST(Identify, UnobservableAndDegenerateFitsAreWrittenWithinTheFirmwareRange) {
+  // Friction with no stiction at all (tau_s ~ 0: the level vanishes near standstill) and
+  // a bristle far stiffer than 100 Hz resolves; then a Stribeck velocity below any
+  // logged speed.
+  const std::array<jg::LuGreParams<double>, 2> truths = {jg::LuGreParams<double>{1e12, 1e9, 2.0, 2.7, 1e-12, 0.036},
+                                                         jg::LuGreParams<double>{1e9, 0.0, 3.0, 2.3, 0.0, 6.4e-5}};
+  int out_of_range_fits = 0;
+  for (std::size_t c = 0; c < truths.size(); ++c) {
+    auto truth = truths[c];
+    if (truth.tau_s <= 0.0) truth.tau_s = 1e-15;
+    const auto s = slow_series(truth, static_cast<unsigned>(20 + c));
+    GaSettings g;
+    g.runs = 2;
+    g.seed = 5;
+    const auto unbounded = identify_lugre(s, g);
+    out_of_range_fits += runs_on_firmware(unbounded.params, s.dt) ? 0 : 1;
+    g.firmware.enabled = true;
+    const auto r = identify_lugre(s, g);
+    const auto& p = r.params;
+    std::printf("case %zu: unbounded sigma0 %.3g sigma1 %.3g tau_c %.3g tau_s %.3g w_s %.3g -> sigma0 %.3g sigma1 %.3g tau_c %.3g "
+                "tau_s %.3g w_s %.3g, rms %.4f -> %.4f\n",
+                c, unbounded.params.sigma0, unbounded.params.sigma1, unbounded.params.tau_c, unbounded.params.tau_s,
+                unbounded.params.w_s, p.sigma0, p.sigma1, p.tau_c, p.tau_s, p.w_s, r.rms_unbounded, r.rms);
+    EXPECT_TRUE(runs_on_firmware(p, s.dt)) << "case " << c << ": the drive must run what identify writes";
+    EXPECT_TRUE(runs_on_firmware(p, 0.5 * s.dt)) << "case " << c << ": and at twice the rate (headroom)";
+    EXPECT_DOUBLE_EQ(r.firmware_dt, s.dt);
+    for (const auto& b : r.bounded) {
+      EXPECT_FALSE(b.reason.empty());
+      EXPECT_NE(b.reason.find(b.parameter), std::string::npos) << b.reason;
+      std::printf("  %s\n", b.reason.c_str());
+    }
+    EXPECT_FALSE(r.bounded.empty()) << "case " << c << ": a degenerate fit is bounded, and says so";
+    EXPECT_LT(r.rms, 3.0 * r.rms_unbounded + 0.05) << "bounded, the fit still describes the friction";
+  }
+  EXPECT_GT(out_of_range_fits, 0) << "the unbounded fit of such data runs out of the firmware's range (the case guarded)";
 }
 
 TEST(Identify, RefusesUnusableData) {
