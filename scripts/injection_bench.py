@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Known causes injected into real recordings, then diagnosed against the robot file alone.
 
-Usage: injection_bench.py JOINTGUARD DATA_DIR ARM [--cases N] [--json OUT]
+Usage: injection_bench.py JOINTGUARD DATA_DIR ARM [--cases N] [--vocabulary] [--json OUT]
   ARM: panda (panda-excitation, models/panda.yaml, joint torque sensor) or ur10e
   (ur10e-static/motion_free.csv, vendor URDF + drive.yaml, motor currents).
 
@@ -11,6 +11,11 @@ of zero first moment and tiny mass, a Coulomb change of 0). Scored:
   - payload: named at the arm level, its mass within 20 % of the injected one;
   - wrong: a payload claimed with a mass off by more than 20 % (a wrong claim);
   - zero-size: nothing claimed beyond what the untouched recording gives.
+With --vocabulary, per-joint effects too: every effect of the vocabulary the recording's torque
+channel can carry (no current-channel or rotor effects on a joint torque sensor), on every
+joint, at 3x and 10x the joint's own noise level (torque RMS added, measured on the injected
+file against the original), and a link's mass error on two links. Scored: named on its joint
+(arm level for a link), by its vocabulary word.
 Only the Python standard library (the CI machine's /usr/bin/python3).
 """
 import json
@@ -33,6 +38,20 @@ ARMS = {
         "masses": [0.5, 1.0, 2.4, 4.0, 6.0, 8.0, 10.0, 12.0],
     },
 }
+# Per-joint effects: (effect, setting, unit coefficients); scaled to the wanted added RMS.
+JOINT_EFFECTS = [
+    ("stribeck", {"w_s": 0.05}, [1.0]),
+    ("asymmetric_friction", {}, [1.0]),
+    ("position_ripple", {"periods_per_rev": 6}, [1.0, 0.0]),
+    ("temperature_drift", {"time_constant_s": 3.0}, [1.0]),
+    ("load_dependent_friction", {}, [0.05]),
+    ("time_delay", {}, [-0.004]),
+    ("inertia_error", {}, [0.05]),
+    ("torque_constant", {}, [0.05]),
+    ("current_offset", {}, [1.0]),
+]
+CURRENT_ONLY = {"inertia_error", "torque_constant", "current_offset"}
+SIZES_X_NOISE = [3.0, 10.0]
 CENTRES_M = [(0.0, 0.0, 0.05), (0.0, 0.0, 0.1), (0.03, 0.0, 0.08), (0.0, -0.03, 0.12)]
 
 
@@ -41,6 +60,12 @@ def run(cmd):
     if r.returncode != 0:
         raise SystemExit(f"{' '.join(cmd)}: exit {r.returncode}\n{r.stderr}")
     return r.stdout
+
+
+def try_run(cmd):
+    """run(), or None when the command refuses (e.g. a size outside what inject accepts)."""
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    return r.stdout if r.returncode == 0 else None
 
 
 def claims(diag):
@@ -54,12 +79,70 @@ def payloads(diag):
     return [f["params"]["mass_kg"] for f in diag["arm"]["findings"] if f["effect"] == "payload"]
 
 
+def read_csv(path):
+    with open(path) as f:
+        rows = [line.rstrip("\n").split(",") for line in f]
+    return rows[0], rows[1:]
+
+
+def column(rows, header, name):
+    i = header.index(name)
+    return [float(r[i]) for r in rows]
+
+
+def noise_level(x):
+    """1.4826 MAD of second differences / sqrt(6), as the diagnosis estimates noise."""
+    d = sorted(abs(x[k + 1] - 2 * x[k] + x[k - 1]) for k in range(1, len(x) - 1))
+    return 1.4826 * d[len(d) // 2] / 6 ** 0.5 if d else 0.0
+
+
+def torque_columns(header, joints):
+    for prefix in ("tau_j", "tau_m", "i"):
+        if all(f"{prefix}{j}" in header for j in range(1, joints + 1)):
+            return [f"{prefix}{j}" for j in range(1, joints + 1)]
+    raise SystemExit("no torque columns")
+
+
+def effect_yaml(effect, joint, setting, coefficients):
+    st = ", ".join(f"{k}: {v!r}" for k, v in setting.items())
+    co = ", ".join(repr(c) for c in coefficients)
+    return "plant_effects:\n  - {effect: %s, joint: %d, setting: {%s}, coefficients: [%s]}\n" % (effect, joint, st, co)
+
+
+def vocabulary_cases(jg, recording, model, work, joints, sensor):
+    """(name, yaml text, joint or 'arm', effect) scaled to 3x and 10x each joint's noise."""
+    header, rows = read_csv(recording)
+    cols = torque_columns(header, joints)
+    base = [column(rows, header, c) for c in cols]
+    noise = [noise_level(b) for b in base]
+    cases = []
+    for effect, setting, unit in JOINT_EFFECTS:
+        if sensor and effect in CURRENT_ONLY:
+            continue
+        for j in range(1, joints + 1):
+            probe = os.path.join(work, "probe.yaml")
+            with open(probe, "w") as f:
+                f.write(effect_yaml(effect, j, setting, unit))
+            out = os.path.join(work, "probe.csv")
+            run([jg, "inject", recording, *model, "--effects", probe, "--out", out])
+            h2, r2 = read_csv(out)
+            added = [a - b for a, b in zip(column(r2, h2, cols[j - 1]), base[j - 1])]
+            rms = (sum(a * a for a in added) / len(added)) ** 0.5
+            if rms <= 0.0:
+                continue
+            for k in SIZES_X_NOISE:
+                scale = k * noise[j - 1] / rms
+                cases.append((f"{effect}@{j}x{k:g}", effect_yaml(effect, j, setting, [c * scale for c in unit]), j, effect))
+    return cases
+
+
 def main():
     args = sys.argv[1:]
     if len(args) < 3 or args[2] not in ARMS:
         raise SystemExit(__doc__)
     jg, data, arm_name = args[0], args[1], args[2]
     count = int(args[args.index("--cases") + 1]) if "--cases" in args else None
+    vocabulary = "--vocabulary" in args
     out_json = args[args.index("--json") + 1] if "--json" in args else None
     arm = ARMS[arm_name]
     model = [a.format(data=data) for a in arm["model"]]
@@ -103,8 +186,30 @@ def main():
             row["extra_claims"] = sorted(map(str, claims(d) - base_claims))
         rows.append(row)
         print(json.dumps(row), flush=True)
+    if vocabulary:
+        header, _ = read_csv(recording)
+        joints = len(torque_columns(header, sum(1 for h in header if h.startswith("q") and h[1:].isdigit())))
+        sensor = "--torque-kind" in model and model[model.index("--torque-kind") + 1] == "joint"
+        for n, (name, text, joint, effect) in enumerate(vocabulary_cases(jg, recording, model, work, joints, sensor)):
+            effects = os.path.join(work, f"v{n}.yaml")
+            with open(effects, "w") as f:
+                f.write(text)
+            rec = os.path.join(work, f"v{n}.csv")
+            if try_run([jg, "inject", recording, *model, "--effects", effects, "--out", rec]) is None:
+                rows.append({"kind": "refused", "case": name})  # outside inject's plausible range: not a case
+                print(json.dumps(rows[-1]), flush=True)
+                continue
+            dj = os.path.join(work, f"v{n}.json")
+            run([jg, "diagnose", "--real", rec, *model, "--json", dj])
+            d = json.load(open(dj))
+            got = claims(d)
+            row = {"kind": "joint_effect", "case": name, "named": (joint, effect) in got,
+                   "extra_claims": sorted(map(str, got - base_claims - {(joint, effect)}))}
+            rows.append(row)
+            print(json.dumps(row), flush=True)
     pay = [r for r in rows if r["kind"] == "payload"]
-    zer = [r for r in rows if r["kind"] != "payload"]
+    voc = [r for r in rows if r["kind"] == "joint_effect"]
+    zer = [r for r in rows if r["kind"] not in ("payload", "joint_effect", "refused")]
     summary = {
         "arm": arm_name,
         "payload_cases": len(pay),
@@ -114,6 +219,18 @@ def main():
         "zero_size_with_extra_claims": sum(bool(r["extra_claims"]) for r in zer),
         "untouched_arm_findings": [f["effect"] for f in base["arm"]["findings"]],
     }
+    if voc:
+        per_effect = {}
+        for r in voc:
+            e = r["case"].split("@")[0]
+            size = r["case"].split("x")[-1]
+            per_effect.setdefault(f"{e} x{size}", [0, 0])
+            per_effect[f"{e} x{size}"][0] += r["named"]
+            per_effect[f"{e} x{size}"][1] += 1
+        summary["joint_effect_cases"] = len(voc)
+        summary["refused_by_inject"] = [r["case"] for r in rows if r["kind"] == "refused"]
+        summary["joint_effects_named"] = sum(r["named"] for r in voc)
+        summary["per_effect_named"] = {k: f"{v[0]}/{v[1]}" for k, v in sorted(per_effect.items())}
     print(json.dumps(summary))
     if out_json:
         json.dump({"summary": summary, "cases": rows}, open(out_json, "w"), indent=1)
