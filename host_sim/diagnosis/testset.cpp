@@ -15,6 +15,7 @@ namespace jg::diag {
 namespace {
 constexpr double kRate = 500.0;
 constexpr double kBacklashStiffness = 2e4;  ///< [N·m/rad] the gear's stiffness in the backlash cases
+}  // namespace
 
 sim::SimulationSetup nominal_setup(const TestArm& arm, unsigned long long noise_seed) {
   sim::SimulationSetup s;
@@ -35,6 +36,8 @@ sim::SimulationSetup nominal_setup(const TestArm& arm, unsigned long long noise_
   s.control_rate_hz = kRate;
   return s;
 }
+
+namespace {
 
 /// Bristle stiffness ratio (real / nominal) whose friction differs from the nominal one by
 /// `amplitude` RMS over the reference motion: softer bristles, a longer presliding regime
@@ -61,6 +64,8 @@ double presliding_ratio(const sim::SimulationSetup& s, std::size_t j, double amp
   return std::exp(0.5 * (lo + hi));
 }
 
+}  // namespace
+
 /// Elastic joints in the plant: joint `j` with the given stiffness and backlash, the others
 /// so stiff that their deflection stays below one link-encoder count; plant rate raised so
 /// that RK4 resolves the stiff modes.
@@ -75,6 +80,8 @@ void make_elastic(sim::SimulationSetup& s, std::size_t j, double stiffness, doub
   }
   s.plant.plant_rate_hz = 24000.0;  // 8 kHz is not enough for the stiff joints near rest
 }
+
+namespace {
 
 void apply(const std::string& effect, int joint, double a, double partial_time, sim::SimulationSetup& s,
            std::mt19937_64& rng) {
@@ -246,6 +253,11 @@ CaseOutcome run_case(const ConcealedCase& c, const TestArm& arm_in) {
   if (c.concealment == "masked") {  // a benign model error: the real last link is 3 % heavier
     real.plant.links.back().mass *= 1.03;
   }
+  return diagnose_pair(c, arm, real, nominal);
+}
+
+CaseOutcome diagnose_pair(const ConcealedCase& c, const TestArm& arm, const sim::SimulationSetup& real,
+                          const sim::SimulationSetup& nominal) {
   CaseOutcome out;
   out.c = c;
   const auto r = sim::run_simulation(real).recording;

@@ -12,6 +12,7 @@
 #include "diagnosis/model_out.hpp"
 #include "dynamics/rigid_body.hpp"
 #include "plant/sensors.hpp"
+#include "sim/simulation.hpp"
 
 namespace jg::diag {
 
@@ -55,6 +56,19 @@ struct CaseOutcome {
 bool resim_at_noise_floor(const CaseOutcome& o);
 
 CaseOutcome run_case(const ConcealedCase& c, const TestArm& arm);
+
+// The machinery run_case is made of, shared with the second generator (testset_second.hpp).
+/// The nominal simulation of the test arm: the paper's excitation at 500 Hz, the paper's
+/// friction, a PD controller scaled by each joint's inertia, sensor noise from `noise_seed`.
+sim::SimulationSetup nominal_setup(const TestArm& arm, unsigned long long noise_seed);
+/// Joint `j` (0-based) elastic with the given stiffness and backlash, the others very stiff.
+void make_elastic(sim::SimulationSetup& s, std::size_t j, double stiffness, double backlash_rad);
+/// The arm's posture moved on `joint` (1-based) to the nearest zero of its gravity load.
+TestArm backlash_arm(const TestArm& arm, int joint);
+/// Simulates both setups, diagnoses the pair (arm level, then each joint) and scores it by
+/// the case's effect and joint; closes the loop with the findings written back.
+CaseOutcome diagnose_pair(const ConcealedCase& c, const TestArm& arm, const sim::SimulationSetup& real,
+                          const sim::SimulationSetup& nominal);
 
 /// Issue #7's floor criterion on the effect's joint: held-out RMS after modelling within
 /// 10 % of the noise estimated from the data, or, where the effect stands well above the

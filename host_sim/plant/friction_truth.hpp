@@ -34,6 +34,37 @@ struct FrictionEffects {
   double drift_extra_nm = 0.0;
   double drift_extra_time_constant_s = 600.0;
   // current_offset / torque_constant are sensor/actuator effects (see sensors.hpp).
+
+  // Second shapes of the same causes, default off (outputs unchanged when off). Used by the
+  // second concealed-effect generator (diagnosis/testset_second.cpp), whose shapes must
+  // differ from the ones the diagnosis fits.
+  // position_ripple, a second harmonic: tau += A2 sin(periods2 * q + phase2)
+  double ripple2_amplitude = 0.0;        ///< [N·m]
+  double ripple2_periods_per_rev = 0.0;  ///< [1/rev]
+  double ripple2_phase = 0.0;            ///< [rad]
+  // asymmetric_friction of the whole Stribeck curve: for w < 0 the Coulomb level, the
+  // static level and the Stribeck velocity are scaled separately (1 = symmetric).
+  double negative_tau_c_scale = 1.0;
+  double negative_tau_s_scale = 1.0;
+  double negative_w_s_scale = 1.0;
+  // temperature_drift profile: a linear ramp over drift_ramp_s (> 0) instead of the first
+  // exponential, and/or a second time constant carrying drift_second_fraction of the drift
+  // (a two-stage warm-up: gear oil fast, housing slow).
+  double drift_ramp_s = 0.0;                 ///< [s], 0 = exponential
+  double drift_second_fraction = 0.0;        ///< [0, 1]
+  double drift_second_time_constant_s = 1.0; ///< [s]
+  // load_dependent_friction with a gear efficiency that depends on the power flow: the
+  // coefficient when the load back-drives the gear (load torque against the velocity);
+  // < 0 = the same as load_coefficient.
+  double load_coefficient_backdriven = -1.0;
+  // viscous: a shear-thinning term tau += c sgn(w) |w / (1 rad/s)|^p
+  double viscous_power_nm = 0.0;  ///< c [N·m at 1 rad/s]
+  double viscous_power_exponent = 1.0;
+  // Stribeck excess law: exp(-|w / w_s|^exponent) (2 = Gaussian, 1 = exponential)
+  double stribeck_extra_exponent = 2.0;
+  // presliding law of the Dahl state: du/ds = -u^i / delta, u = 1 - sgn(w) zeta, s the
+  // distance travelled (i = 1: exponential, the shape above; i = 2: Dahl's hyperbolic law)
+  int dahl_exponent = 1;
 };
 
 struct JointFrictionTruth {

@@ -73,7 +73,8 @@ JointVector Plant::spring_torque(const JointVector& q, const JointVector& qd, co
     const double dx = th(i) - q(i);
     const double deflection = dx > half ? dx - half : (dx < -half ? dx + half : 0.0);
     const bool engaged = deflection != 0.0 || half == 0.0;
-    tau(i) = e.stiffness * deflection + (engaged ? e.damping * (thd(i) - qd(i)) : 0.0);
+    const double hardening = e.hardening_rad > 0.0 ? 1.0 + (deflection / e.hardening_rad) * (deflection / e.hardening_rad) : 1.0;
+    tau(i) = e.stiffness * deflection * hardening + (engaged ? e.damping * (thd(i) - qd(i)) : 0.0);
   }
   return tau;
 }
@@ -90,6 +91,7 @@ void Plant::apply_payload_if_due() {
     return m * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
   };
   last.inertia_com = last.inertia_com + shift(m0, last.com - c) + shift(m1, c1 - c);  // point mass payload
+  if (!config_.payload->inertia_com.isZero(0.0)) last.inertia_com += config_.payload->inertia_com;  // a rigid body
   last.com = c;
   last.mass = m0 + m1;
   payload_applied_ = true;
@@ -211,7 +213,9 @@ double Plant::energy() const {
       const double half = 0.5 * config_.elasticity[k].backlash_rad;
       const double dx = state_.theta(i) - state_.q(i);
       const double defl = dx > half ? dx - half : (dx < -half ? dx + half : 0.0);
-      e += 0.5 * config_.elasticity[k].stiffness * defl * defl +
+      const double h = config_.elasticity[k].hardening_rad;
+      const double quartic = h > 0.0 ? 0.5 * defl * defl / (h * h) : 0.0;  // integral of k d (d / h)^2
+      e += 0.5 * config_.elasticity[k].stiffness * defl * defl * (1.0 + quartic) +
            0.5 * config_.links[k].rotor_inertia * state_.theta_dot(i) * state_.theta_dot(i);
     }
   }

@@ -20,6 +20,9 @@ struct JointElasticity {
   double stiffness = 0.0;     ///< [N·m/rad], 0 = rigid joint
   double damping = 0.0;       ///< [N·m·s/rad]
   double backlash_rad = 0.0;  ///< total dead-zone width [rad] (link side)
+  /// Hardening gear spring (default off): tau = k d (1 + (d / hardening_rad)^2), d the
+  /// deflection beyond the dead zone; 0 = linear. Used by the second concealed-effect set.
+  double hardening_rad = 0.0;
 };
 
 /// A mass added to the last link from `time_s` on (the payload effect).
@@ -27,6 +30,9 @@ struct PayloadChange {
   double time_s = 0.0;
   double mass = 0.0;  ///< [kg]
   Eigen::Vector3d com_in_last_link = Eigen::Vector3d::Zero();
+  /// The payload's own inertia about its centre, last link's axes [kg m^2]; zero = a point
+  /// mass (the default). A tool or a part is a rigid body (second concealed-effect set).
+  Eigen::Matrix3d inertia_com = Eigen::Matrix3d::Zero();
 };
 
 struct PlantConfig {

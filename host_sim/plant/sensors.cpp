@@ -11,8 +11,14 @@ JointSensors::JointSensors(SensorConfig config, int joints) : config_(std::move(
     throw std::invalid_argument("JointSensors: one drive configuration per joint required");
   }
   if (config_.link_encoder_bits < 8 || config_.link_encoder_bits > 30 || config_.motor_encoder_counts_per_rev < 4 ||
-      config_.delay_samples < 0 || config_.current_delay_samples < 0) {
+      config_.delay_samples < 0 || config_.current_delay_samples < 0 || !(config_.current_delay_fraction >= 0.0) ||
+      config_.current_delay_fraction >= 1.0) {
     throw std::invalid_argument("JointSensors: encoder resolution or delay out of range");
+  }
+  for (const auto* v : {&config_.torque_constant_saturation_per_a, &config_.current_offset_drift_a_per_s}) {
+    if (!v->empty() && v->size() != static_cast<std::size_t>(joints)) {
+      throw std::invalid_argument("JointSensors: per-joint sensor shapes need one value per joint");
+    }
   }
   last_counts_ = JointVector::Zero(joints);
 }
@@ -31,6 +37,9 @@ JointVector JointSensors::produced_torque(const JointVector& current_cmd) const 
   for (Eigen::Index j = 0; j < t.size(); ++j) {
     const auto& d = config_.drives[static_cast<std::size_t>(j)];
     t(j) = d.torque_constant_nominal * (1.0 + d.torque_constant_error) * current_cmd(j);
+    if (!config_.torque_constant_saturation_per_a.empty()) {
+      t(j) *= 1.0 - config_.torque_constant_saturation_per_a[static_cast<std::size_t>(j)] * std::fabs(current_cmd(j));
+    }
   }
   return t;
 }
@@ -48,6 +57,7 @@ Measurement JointSensors::sample(const JointVector& q_link, const JointVector& t
     m.dq(j) = first_ ? 0.0 : (counts - last_counts_(j)) * motor_step / d.gear_ratio / dt;
     last_counts_(j) = counts;
     double i = current_cmd(j) + d.current_offset_a + d.current_noise_rms_a * unit_normal_(rng_);
+    if (!config_.current_offset_drift_a_per_s.empty()) i += config_.current_offset_drift_a_per_s[static_cast<std::size_t>(j)] * time_s_;
     if (d.current_lsb_a > 0.0) {
       i = std::floor(i / d.current_lsb_a + 0.5) * d.current_lsb_a;
     }
@@ -65,6 +75,14 @@ Measurement JointSensors::sample(const JointVector& q_link, const JointVector& t
     }
     for (Eigen::Index j = 0; j < n; ++j) m.tau_m(j) = config_.drives[static_cast<std::size_t>(j)].torque_constant_nominal * m.current(j);
   }
+  if (config_.current_delay_fraction > 0.0) {
+    const JointVector now = m.current;
+    const double f = config_.current_delay_fraction;
+    if (last_current_.size() == n) m.current = (1.0 - f) * now + f * last_current_;
+    last_current_ = now;
+    for (Eigen::Index j = 0; j < n; ++j) m.tau_m(j) = config_.drives[static_cast<std::size_t>(j)].torque_constant_nominal * m.current(j);
+  }
+  time_s_ += dt;
   pipeline_.push_back(m);
   if (pipeline_.size() > static_cast<std::size_t>(config_.delay_samples)) {
     Measurement out = pipeline_.front();

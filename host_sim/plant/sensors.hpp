@@ -33,6 +33,16 @@ struct SensorConfig {
   int delay_samples = 0;          ///< all measurements, whole control periods
   int current_delay_samples = 0;  ///< extra delay of the current channel alone (torque lags motion)
   unsigned long long seed = 1;
+  // Second shapes of sensor/actuator effects, default off (outputs unchanged when off); used
+  // by the second concealed-effect generator (diagnosis/testset_second.cpp).
+  /// A fraction of a sample more on the current channel (in [0, 1)): linear interpolation
+  /// between consecutive samples, as an anti-aliasing filter's group delay would give.
+  double current_delay_fraction = 0.0;
+  /// Per joint (empty = off): the true torque constant falls with the current, K(i) =
+  /// K_nominal (1 + error) (1 - s |i|), s [1/A] (mild magnetic saturation).
+  std::vector<double> torque_constant_saturation_per_a;
+  /// Per joint (empty = off): the current offset drifts linearly, offset + rate t [A/s].
+  std::vector<double> current_offset_drift_a_per_s;
 };
 
 struct Measurement {
@@ -59,6 +69,8 @@ class JointSensors {
   bool first_ = true;
   std::deque<Measurement> pipeline_;
   std::deque<JointVector> current_pipeline_;
+  JointVector last_current_;  ///< the previous sample's current (fractional delay)
+  double time_s_ = 0.0;       ///< time of the samples so far (offset drift)
 };
 
 }  // namespace jg::sim

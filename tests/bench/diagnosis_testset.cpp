@@ -4,7 +4,9 @@
 // list keeps only the drawn cases of those effects, e.g. to study one effect; "none" =
 // matched pairs). --jobs N (default 0: every core): the cases are independent (each seeded
 // from its own draw), run over N threads into their own slots and printed in case order, so
-// the output does not depend on N.
+// the output does not depend on N. --generator second: the second, independent generator
+// (testset_second.hpp: the same causes in other shapes than the diagnosis fits); its
+// matched pairs are "matched" or "matched:<shape>" (a shape known to both recordings).
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -13,14 +15,18 @@
 #include <vector>
 
 #include "diagnosis/testset.hpp"
+#include "diagnosis/testset_second.hpp"
 #include "eval/parallel.hpp"
 
 int main(int argc, char** argv) {
   int jobs = 0;
+  std::string generator = "first";
   std::vector<const char*> args;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--jobs") == 0 && i + 1 < argc) {
       jobs = std::atoi(argv[++i]);
+    } else if (std::strcmp(argv[i], "--generator") == 0 && i + 1 < argc) {
+      generator = argv[++i];
     } else {
       args.push_back(argv[i]);
     }
@@ -29,11 +35,16 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "jg_diagnosis_testset: --jobs must be >= 0\n");
     return 2;
   }
+  if (generator != "first" && generator != "second") {
+    std::fprintf(stderr, "jg_diagnosis_testset: --generator must be first or second\n");
+    return 2;
+  }
+  const bool second = generator == "second";
   if (jobs == 0) jobs = jg::eval::default_jobs();
   const int count = !args.empty() ? std::atoi(args[0]) : 60;
   const unsigned long long seed = args.size() > 1 ? std::strtoull(args[1], nullptr, 10) : 1;
   const auto arm = jg::diag::default_test_arm();
-  const auto drawn = jg::diag::draw_cases(count, seed, 0.17, 3);
+  const auto drawn = second ? jg::diag::draw_cases_second(count, seed, 0.17, 3) : jg::diag::draw_cases(count, seed, 0.17, 3);
   const std::string only = args.size() > 2 ? std::string(",") + args[2] + "," : std::string();
   std::vector<jg::diag::ConcealedCase> cases;
   for (const auto& c : drawn) {
@@ -43,7 +54,7 @@ int main(int argc, char** argv) {
   jg::eval::parallel_for(cases.size(), jobs, [&](std::size_t i) {
     const auto& c = cases[i];
     if (std::getenv("JG_DIAG_TRACE")) std::fprintf(stderr, "running %s joint %d %s A=%.3f seed %llu\n", c.effect.c_str(), c.joint, c.concealment.c_str(), c.amplitude_nm, c.seed);
-    outcomes[i] = jg::diag::run_case(c, arm);
+    outcomes[i] = second ? jg::diag::run_case_second(c, arm) : jg::diag::run_case(c, arm);
   });
   int effect_cases = 0, named = 0, matched = 0, false_claims = 0, floor_ok = 0, floor_n = 0, resim_ok = 0;
   std::map<std::string, std::pair<int, int>> per_effect;
@@ -81,6 +92,10 @@ int main(int argc, char** argv) {
               named, effect_cases, 100.0 * named / std::max(1, effect_cases), false_claims, matched, floor_ok, floor_n);
   std::printf("re-simulated with the findings written back (model_out.hpp): held-out RMS against the real recording at the noise floor: %d / %d (%.0f %%)\n",
               resim_ok, floor_n, 100.0 * resim_ok / std::max(1, floor_n));
-  for (const auto& [e, v] : per_effect) std::printf("  %-24s %d / %d\n", e.c_str(), v.first, v.second);
+  for (const auto& [e, v] : per_effect) {
+    std::printf("  %-24s %d / %d", e.c_str(), v.first, v.second);
+    if (second) std::printf("   (%s)", jg::diag::second_shape_description(e).c_str());
+    std::printf("\n");
+  }
   return 0;
 }

@@ -1,0 +1,68 @@
+// CI subset of the second, independent concealed-effect generator (testset_second.hpp):
+// the same causes in other shapes than the diagnosis fits. The full set is the documented
+// benchmark `jg_diagnosis_testset --generator second`; docs/results.md has its figures.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <set>
+#include <string>
+
+#include "diagnosis/testset_second.hpp"
+
+namespace {
+// At least 7 of the 10 effect cases named (FLOOR_NOTE).
+constexpr int kNamedFloor = 7;
+
+TEST(DiagnosisTestSetSecond, NamesMostEffectsInOtherShapesAndClaimsNothingOnMatchedPairs) {
+  const auto arm = jg::diag::default_test_arm();
+  const auto cases = jg::diag::draw_cases_second(12, 21, 0.17, 3);
+  int effects = 0, named = 0, matched = 0, false_claims = 0;
+  for (const auto& c : cases) {
+    const auto o = jg::diag::run_case_second(c, arm);
+    std::string found;
+    for (const auto& f : o.arm.findings) found += "arm:" + f.effect + " ";
+    for (const auto& j : o.joints)
+      for (const auto& f : j.findings) found += "j" + std::to_string(j.joint) + ":" + f.effect + " ";
+    std::printf("%-24s joint %d %-28s A=%.3f -> %s\n", c.effect.c_str(), c.joint, c.concealment.c_str(), c.amplitude_nm,
+                found.empty() ? "none" : found.c_str());
+    if (c.effect == "none") {
+      ++matched;
+      false_claims += o.false_claim ? 1 : 0;
+      continue;
+    }
+    ++effects;
+    named += o.named ? 1 : 0;
+  }
+  std::printf("named %d / %d, matched pairs with a claim %d / %d\n", named, effects, false_claims, matched);
+  ASSERT_EQ(matched, 2);  // one case in six: the draw itself is part of what is tested
+  EXPECT_EQ(false_claims, 0);
+  EXPECT_GE(named, kNamedFloor);
+}
+
+// The draw: every case a vocabulary word the plant can produce or a matched pair, the
+// matched pairs' shared shapes among them, amplitudes from half the noise to 3x, and a
+// different stream from the first generator's (not the same cases in other clothes).
+TEST(DiagnosisTestSetSecond, DrawsItsOwnCases) {
+  const auto cases = jg::diag::draw_cases_second(120, 61, 0.17, 3);
+  const auto first = jg::diag::draw_cases(120, 61, 0.17, 3);
+  const auto& words = jg::diag::producible_effects();
+  const std::set<std::string> vocabulary(words.begin(), words.end());
+  std::set<std::string> seen;
+  int same_effect = 0;
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const auto& c = cases[i];
+    if (c.effect == "none") {
+      EXPECT_EQ(c.concealment.rfind("matched", 0), 0U) << c.concealment;
+      continue;
+    }
+    same_effect += c.effect == first[i].effect ? 1 : 0;
+    EXPECT_TRUE(vocabulary.count(c.effect)) << c.effect;
+    EXPECT_NE(jg::diag::second_shape_description(c.effect), "none") << c.effect;
+    EXPECT_GE(c.amplitude_nm, 0.5 * 0.17);
+    EXPECT_LE(c.amplitude_nm, 3.0 * 0.17);
+    seen.insert(c.effect);
+  }
+  EXPECT_EQ(seen.size(), vocabulary.size());  // 100 effect cases cover all 16 words
+  EXPECT_LT(same_effect, 20);                 // independent stream: about 1 in 16 (6 of 100) by chance
+}
+}  // namespace
