@@ -30,6 +30,7 @@ struct DiagnoseCliOptions {
   std::string model, json, friction, out, model_out;
   std::vector<std::string> real, sim;  ///< several recordings of one arm; --sim one per --real when given
   bool no_rigid_body = false;
+  bool trace = false;  ///< each selection step to stderr
   robot::LoadOptions model_options;
   RecordingOptions input;  ///< for --real; --sim is read as it is (its torque is what the simulation wrote)
 };
@@ -416,9 +417,10 @@ void write_model_out(const DiagnoseCliOptions& o, DiagnoseRun& run, const diag::
 }
 
 /// The effects of `joint` that did not transfer, and the notes saying so.
-diag::DiagnoseOptions joint_options(int joint, const std::vector<diag::NotTransferring>& not_transferring,
+diag::DiagnoseOptions joint_options(int joint, const std::vector<diag::NotTransferring>& not_transferring, bool trace,
                                     std::vector<std::string>& notes) {
   diag::DiagnoseOptions jo;
+  jo.trace = trace;
   for (const auto& n : not_transferring) {
     if (n.joint != joint) continue;
     jo.excluded_effects.push_back(n.effect);
@@ -447,6 +449,7 @@ int run_diagnose(const DiagnoseCliOptions& o) {
   run.model_effect_notes = diag::fold_arm_effects(run.used, &run.folded);
   if (!run.used.joints.empty()) run.arm_options.com_bound_m = std::max(run.arm_options.com_bound_m, run.used.joints.back().reach_m + 0.5);
   run.arm_options.max_payload_kg = run.model.rated_payload_kg;
+  run.arm_options.joint.trace = o.trace;
   // Each recording has its own clock: a payload picked up "when" is not one thing across them.
   if (run.reals.size() > 1) run.arm_options.payload_picked_up = false;
   if (o.sim.empty() && !o.no_rigid_body) {
@@ -479,7 +482,7 @@ int run_diagnose(const DiagnoseCliOptions& o) {
   std::vector<diag::JointDiagnosis> diagnoses;
   for (const auto& s : signals) {
     std::vector<std::string> notes;
-    const diag::DiagnoseOptions jo = joint_options(s.joint, not_transferring, notes);
+    const diag::DiagnoseOptions jo = joint_options(s.joint, not_transferring, o.trace, notes);
     diag::JointDiagnosis d = about_recording(real.path, [&] { return diag::diagnose_joint(s, jo); });
     d.notes.insert(d.notes.end(), notes.begin(), notes.end());
     diagnoses.push_back(d);
@@ -525,6 +528,7 @@ Command add_diagnose(CLI::App& app) {
   cmd->add_flag("--no-rigid-body", o->no_rigid_body,
                 "Without --sim: keep the robot file's rigid body (default: identify the whole arm's rigid body and\n"
                 "friction on the training blocks first, an arm-level finding, then diagnose what remains)");
+  cmd->add_flag("--trace", o->trace, "Print each selection step (candidates, evidence, rejections) to stderr");
   add_model_selection(cmd, o->model_options);
   o->input.add_to(cmd);
   return {cmd, [o]() { return run_diagnose(*o); }};

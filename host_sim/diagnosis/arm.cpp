@@ -309,7 +309,7 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
       const MatrixXd Xc = shared(g.front(), train);
       const double raw = Xc.norm();
       const double outside = (Xc - Q * (Q.transpose() * Xc)).norm();
-      if (std::getenv("JG_DIAG_TRACE") != nullptr) {
+      if (o.joint.trace) {
         std::fprintf(stderr, "  arm %s link %d: %.2f outside per-joint effects\n", g.front().effect.c_str(), g.front().link, outside / std::max(raw, 1e-300));
       }
       if (raw > 0.0 && outside >= o.min_separable * raw) {
@@ -485,7 +485,7 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
     }
     return {};
   };
-  const bool trace = std::getenv("JG_DIAG_TRACE") != nullptr;
+  const bool trace = o.joint.trace;
   std::vector<const ArmCandidate*> chosen;
   for (const auto& sub : subsets) {
     if (none.bic - sub.bic < o.joint.min_delta_bic) break;

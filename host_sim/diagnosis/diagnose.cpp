@@ -423,7 +423,7 @@ JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
     const VectorXd b = solve(rows_of(cols, split.train), y_train);
     return rms(y_test - rows_of(cols, split.test) * b);
   };
-  const bool trace = std::getenv("JG_DIAG_TRACE") != nullptr;
+  const bool trace = o.trace;
   // One forward selection (groups in `excluded` not offered): effects added one at a time
   // by the information criterion, each confirmed on the held-out blocks.
   struct Selection {
