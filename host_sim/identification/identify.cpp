@@ -363,7 +363,10 @@ Bounded bound_candidate(const FrictionSeries& s, const GaSettings& g, const LuGr
   b.bound_shape(v);
   b.bound_bristle(v);
   Bounded out{from_array(v), b.notes, rms()};
-  const std::string rate = fmt(1.0 / b.dt);
+  std::ostringstream rate_text;  // 1000, not 1e+03
+  rate_text.precision(6);
+  rate_text << 1.0 / b.dt;
+  const std::string rate = rate_text.str();
   for (auto& n : out.notes) {
     n.reason = n.parameter + " (fitted " + fmt(n.fitted) + ", written " + fmt(n.written) + " for the drive at " + rate + " Hz): " + n.reason;
   }
