@@ -136,6 +136,29 @@ TEST(Identify, UnobservableAndDegenerateFitsAreWrittenWithinTheFirmwareRange) {
   EXPECT_GT(out_of_range_fits, 0) << "the unbounded fit of such data runs out of the firmware's range (the case guarded)";
 }
 
+TEST(Identify, AStribeckVelocityBelowWhatTheDataResolveIsWrittenWithoutExcess) {
+  // The joint-4 case: the fit ends at w_s ~6e-5 rad/s (forced here by the search range).
+  const auto s = slow_series({1e5, 300.0, 3.0, 2.3, 2.6, 6.4e-5}, 31);
+  GaSettings g;
+  g.runs = 2;
+  g.firmware.enabled = true;
+  SearchRanges r;
+  r.upper[5] = 8e-5;
+  const auto res = identify_lugre(s, g, r);
+  const auto& p = res.params;
+  const auto limits = firmware_limits(p, s.dt, 0.0);
+  std::printf("w_s %.3g (least %.3g), tau_s %.4f tau_c %.4f\n", p.w_s, limits.w_s_min, p.tau_s, p.tau_c);
+  EXPECT_TRUE(runs_on_firmware(p, s.dt));
+  EXPECT_GE(p.w_s, limits.w_s_min);
+  EXPECT_DOUBLE_EQ(p.tau_s, p.tau_c) << "the excess below the slowest resolved speed is not determined: none written";
+  bool noted = false;
+  for (const auto& b : res.bounded) {
+    std::printf("  %s\n", b.reason.c_str());
+    noted = noted || b.parameter == "w_s";
+  }
+  EXPECT_TRUE(noted) << "the JSON says w_s was bounded";
+}
+
 TEST(Identify, RefusesUnusableData) {
   FrictionSeries s;
   s.dt = 0.008;
