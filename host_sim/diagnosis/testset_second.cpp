@@ -13,10 +13,12 @@ namespace {
 constexpr double kBacklashGearStiffness = 1.5e4;  ///< [N·m/rad] small-deflection stiffness, known to the model
 constexpr double kBacklashGearHardening = 2e-3;   ///< [rad] deflection where the stiffness has doubled
 
-/// The joint's reference motion as the plant will see it: position, velocity and the load
-/// the gear carries (rigid-body inverse dynamics plus Coulomb and viscous friction).
+/// The joint's reference motion as the plant will see it: position, velocity, the load the
+/// gear transmits (rigid-body inverse dynamics: the motor torque less the friction, as the
+/// plant feeds load-dependent friction) and the motor torque (the load plus Coulomb and
+/// viscous friction: what the current carries).
 struct ReferenceMotion {
-  std::vector<double> t, q, w, load;
+  std::vector<double> t, q, w, load, motor;
   double dt = 0.0;
 };
 
@@ -32,7 +34,8 @@ ReferenceMotion reference_motion(const sim::SimulationSetup& s, std::size_t j) {
     m.t.push_back(t);
     m.q.push_back(x.q(jj));
     m.w.push_back(w);
-    m.load.push_back(dyn.inverse_dynamics(x.q, x.dq, x.ddq)(jj) + p.tau_c * (w > 0.0 ? 1.0 : (w < 0.0 ? -1.0 : 0.0)) + p.sigma2 * w);
+    m.load.push_back(dyn.inverse_dynamics(x.q, x.dq, x.ddq)(jj));
+    m.motor.push_back(m.load.back() + p.tau_c * (w > 0.0 ? 1.0 : (w < 0.0 ? -1.0 : 0.0)) + p.sigma2 * w);
   }
   return m;
 }
@@ -188,11 +191,11 @@ bool apply_sensor_shape(const std::string& effect, std::size_t j, double a, sim:
   const double k = s.sensors.drives[j].torque_constant_nominal;
   if (effect == "torque_constant") {  // saturation: K falls with |i|, RMS of -s K i |i| = a
     double acc = 0.0, peak = 0.0;
-    for (const double tau : m.load) {
+    for (const double tau : m.motor) {
       acc += tau * tau * tau * tau;
       peak = std::max(peak, std::fabs(tau) / k);
     }
-    const double rms_sq = std::sqrt(acc / static_cast<double>(std::max<std::size_t>(1, m.load.size())));
+    const double rms_sq = std::sqrt(acc / static_cast<double>(std::max<std::size_t>(1, m.motor.size())));
     const double sat = std::min(a * k / std::max(rms_sq, 1e-9), 0.2 / std::max(peak, 1e-9));  // K at most 20 % low
     s.sensors.torque_constant_saturation_per_a.assign(n, 0.0);
     s.sensors.torque_constant_saturation_per_a[j] = sat;
