@@ -8,6 +8,8 @@
 #include <string>
 
 #include "diagnosis/testset_second.hpp"
+#include "plant/friction_truth.hpp"
+#include "plant/sensors.hpp"
 
 namespace {
 // At least 7 of the 10 effect cases named: this draw names 10 / 10 here, the full set
@@ -66,5 +68,43 @@ TEST(DiagnosisTestSetSecond, DrawsItsOwnCases) {
   }
   EXPECT_EQ(seen.size(), vocabulary.size());  // 100 effect cases cover all 16 words
   EXPECT_LT(same_effect, 20);                 // independent stream: about 1 in 16 (6 of 100) by chance
+}
+}  // namespace
+
+namespace {
+// The plant hooks the second generator needs: each changes what it should when on.
+TEST(DiagnosisTestSetSecond, FractionalCurrentDelayInterpolatesConsecutiveSamples) {
+  jg::sim::SensorConfig cfg;
+  cfg.drives.assign(1, jg::sim::JointDriveConfig{});  // no noise, no quantisation
+  cfg.current_delay_fraction = 0.25;
+  jg::sim::JointSensors sensors(cfg, 1);
+  const jg::sim::JointVector q = jg::sim::JointVector::Zero(1);
+  jg::sim::JointVector i(1);
+  i << 1.0;
+  (void)sensors.sample(q, q, i, 0.002);
+  i << 3.0;
+  const auto m = sensors.sample(q, q, i, 0.002);
+  EXPECT_NEAR(m.current(0), 0.75 * 3.0 + 0.25 * 1.0, 1e-12);
+  EXPECT_NEAR(m.tau_m(0), cfg.drives[0].torque_constant_nominal * m.current(0), 1e-12);
+}
+
+TEST(DiagnosisTestSetSecond, DirectionalStribeckChangesOnlyTheNegativeDirection) {
+  jg::sim::JointFrictionTruth symmetric;
+  symmetric.lugre = {1e5, 300.0, 6.0, 7.8, 4.0, 0.1};
+  auto directional = symmetric;
+  directional.effects.negative_tau_c_scale = 1.2;
+  jg::sim::LuGreTruthState a, b;
+  double fa = 0.0, fb = 0.0;
+  for (int k = 0; k < 500; ++k) {  // 1 s at -0.3 rad/s: settled on the Coulomb level
+    fa = jg::sim::friction_truth_step(symmetric, a, -0.3, 0.0, 0.0, 0.002 * k, 0.002);
+    fb = jg::sim::friction_truth_step(directional, b, -0.3, 0.0, 0.0, 0.002 * k, 0.002);
+  }
+  EXPECT_NEAR(fb - fa, -0.2 * 7.8, 0.05);  // the negative direction's level 20 % higher
+  jg::sim::LuGreTruthState c, d;
+  for (int k = 0; k < 500; ++k) {  // the positive direction untouched
+    fa = jg::sim::friction_truth_step(symmetric, c, 0.3, 0.0, 0.0, 0.002 * k, 0.002);
+    fb = jg::sim::friction_truth_step(directional, d, 0.3, 0.0, 0.0, 0.002 * k, 0.002);
+  }
+  EXPECT_EQ(fa, fb);
 }
 }  // namespace
