@@ -57,8 +57,6 @@ LAYERS = [
 # an entry here also silences the cycle it may close (it is printed on every run).
 ALLOWED_EXCEPTIONS = {
     # ("from_folder", "to_folder"): "reason",
-    ("dynamics", "robot"): "TEMPORARY: rigid_body_identification takes a RobotModel; moving to arm_identification/",
-    ("eval", "hil"): "TEMPORARY: distributed_estimator uses the bus master and fault specs; moving them to can/",
 }
 
 # The hal/ headers the firmware may include: the portable CAN contract, nothing hardware-

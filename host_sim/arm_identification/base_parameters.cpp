@@ -1,4 +1,4 @@
-#include "dynamics/base_parameters.hpp"
+#include "arm_identification/base_parameters.hpp"
 
 #include <cmath>
 

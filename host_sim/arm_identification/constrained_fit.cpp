@@ -1,4 +1,4 @@
-#include "dynamics/constrained_fit.hpp"
+#include "arm_identification/constrained_fit.hpp"
 
 #include <cmath>
 

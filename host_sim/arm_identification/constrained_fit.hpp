@@ -12,7 +12,7 @@
 #include <Eigen/Dense>
 #include <vector>
 
-#include "dynamics/physical_consistency.hpp"
+#include "arm_identification/physical_consistency.hpp"
 
 namespace jg::dyn {
 

@@ -1,4 +1,4 @@
-#include "dynamics/physical_consistency.hpp"
+#include "arm_identification/physical_consistency.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>

@@ -1,12 +1,12 @@
-#include "dynamics/rigid_body_identification.hpp"
+#include "arm_identification/rigid_body_identification.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
-#include "dynamics/base_parameters.hpp"
-#include "dynamics/constrained_fit.hpp"
+#include "arm_identification/base_parameters.hpp"
+#include "arm_identification/constrained_fit.hpp"
 #include "robot/torque_kind.hpp"
 
 namespace jg::dyn {

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "arm_identification/physical_consistency.hpp"
 #include "dynamics/acceleration.hpp"
-#include "dynamics/physical_consistency.hpp"
 #include "dynamics/regressor.hpp"
 #include "io/recording.hpp"
 #include "robot/robot_model.hpp"

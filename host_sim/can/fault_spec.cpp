@@ -1,4 +1,4 @@
-#include "hil/fault_spec.hpp"
+#include "can/fault_spec.hpp"
 
 #include <cerrno>
 #include <cmath>

@@ -15,7 +15,7 @@
 #include "diagnosis/arm.hpp"
 #include "diagnosis/diagnose.hpp"
 #include "diagnosis/model_out.hpp"
-#include "dynamics/rigid_body_identification.hpp"
+#include "arm_identification/rigid_body_identification.hpp"
 #include "diagnosis/pairing.hpp"
 #include "io/atomic_write.hpp"
 #include "eval/pipeline.hpp"

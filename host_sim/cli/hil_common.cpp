@@ -6,8 +6,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "can/fault_spec.hpp"
 #include "cli/evaluate_output.hpp"
-#include "hil/fault_spec.hpp"
 #include "hil/hil_run.hpp"
 #include "hil/socketcan_master.hpp"
 #include "io/atomic_write.hpp"

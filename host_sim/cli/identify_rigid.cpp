@@ -5,11 +5,11 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "arm_identification/rigid_body_identification.hpp"
 #include "cli/common.hpp"
 #include "diagnosis/model_out.hpp"
-#include "io/atomic_write.hpp"
-#include "dynamics/rigid_body_identification.hpp"
 #include "dynamics/uniform_grid.hpp"
+#include "io/atomic_write.hpp"
 #include "io/recording.hpp"
 #include "robot/robot_model.hpp"
 #include "robot/robot_writer.hpp"

@@ -1,6 +1,6 @@
 // `jointguard identify REC --model M --rigid-body --model-out M2 [--json F]`: whole-arm
-// rigid-body identification (host_sim/dynamics/rigid_body_identification.hpp) hooked into
-// the identify subcommand.
+// rigid-body identification (host_sim/arm_identification/rigid_body_identification.hpp)
+// hooked into the identify subcommand.
 #pragma once
 
 #include <CLI/CLI.hpp>

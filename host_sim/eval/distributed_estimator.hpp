@@ -8,11 +8,11 @@
 #include <string>
 #include <vector>
 
+#include "can/bus_master.hpp"
+#include "can/fault_spec.hpp"
 #include "can/sim_bus.hpp"
 #include "eval/estimator.hpp"
 #include "eval/firmware_estimator.hpp"
-#include "hil/bus_master.hpp"
-#include "hil/fault_spec.hpp"
 #include "jointguard/node/joint_drive.hpp"
 
 namespace jg::eval {

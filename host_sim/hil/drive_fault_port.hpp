@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-#include "hil/fault_spec.hpp"
+#include "can/fault_spec.hpp"
 #include "jointguard/hal/socketcan.hpp"
 #include "jointguard/protocol/frames.hpp"
 

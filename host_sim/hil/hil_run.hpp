@@ -8,11 +8,11 @@
 #include <string>
 #include <vector>
 
+#include "can/bus_master.hpp"
+#include "can/fault_spec.hpp"
 #include "eval/distributed_estimator.hpp"
 #include "eval/evaluate.hpp"
 #include "eval/pipeline.hpp"
-#include "hil/bus_master.hpp"
-#include "hil/fault_spec.hpp"
 #include "sim/scenario.hpp"
 
 namespace jg::hil {

@@ -7,9 +7,9 @@
 #include <memory>
 #include <string>
 
+#include "can/bus_master.hpp"
+#include "can/fault_spec.hpp"
 #include "eval/estimator.hpp"
-#include "hil/bus_master.hpp"
-#include "hil/fault_spec.hpp"
 
 namespace jg::hil {
 

@@ -5,11 +5,11 @@
 #include <gtest/gtest.h>
 
 #include "../common/unit_link.hpp"
+#include "can/bus_master.hpp"
 #include "can/sim_bus.hpp"
 #include "eval/distributed_estimator.hpp"
 #include "eval/experiments.hpp"
 #include "eval/firmware_estimator.hpp"
-#include "hil/bus_master.hpp"
 #include "hil/hil_run.hpp"
 #include "jointguard/node/joint_drive.hpp"
 #include "models/paper_friction.hpp"

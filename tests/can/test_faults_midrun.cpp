@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "hil/fault_spec.hpp"
+#include "can/fault_spec.hpp"
 #include "jointguard/protocol/sensor_validity.hpp"
 #include "hil/hil_run.hpp"
 #include "models/paper_friction.hpp"

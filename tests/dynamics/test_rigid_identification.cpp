@@ -8,12 +8,12 @@
 #include <filesystem>
 #include <random>
 
+#include "arm_identification/base_parameters.hpp"
+#include "arm_identification/constrained_fit.hpp"
+#include "arm_identification/physical_consistency.hpp"
+#include "arm_identification/rigid_body_identification.hpp"
 #include "dynamics/acceleration.hpp"
-#include "dynamics/base_parameters.hpp"
-#include "dynamics/constrained_fit.hpp"
-#include "dynamics/physical_consistency.hpp"
 #include "dynamics/regressor.hpp"
-#include "dynamics/rigid_body_identification.hpp"
 #include "dynamics/uniform_grid.hpp"
 #include "robot/robot_model.hpp"
 #include "robot/robot_writer.hpp"
