@@ -2,15 +2,18 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <stdexcept>
 
 #include "io/atomic_write.hpp"
+#include "io/sha256.hpp"
 #include "tuning/observer_tuning.hpp"
 
 namespace jg::cli {
@@ -189,6 +192,34 @@ CLI::Validator finite_range(double lo, double hi) {
         return std::string();
       },
       "FINITE in [" + std::to_string(lo) + " - " + std::to_string(hi) + "]");
+}
+
+std::string file_sha256(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::invalid_argument(path + ": cannot open");
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return io::sha256_hex(bytes);
+}
+
+nlohmann::json command_identity(const CLI::App& cmd, const std::vector<std::string>& skip) {
+  nlohmann::json id{{"version", JG_VERSION}, {"command", cmd.get_name()}};
+  nlohmann::json options = nlohmann::json::object(), files = nlohmann::json::object();
+  for (const CLI::Option* opt : cmd.get_options()) {
+    const std::string name = opt->get_name();
+    if (opt->count() == 0 || std::find(skip.begin(), skip.end(), name) != skip.end() || name == "--help" ||
+        name == "--help-all") {
+      continue;
+    }
+    options[name] = opt->results();
+    for (const auto& v : opt->results()) {
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(v, ec)) continue;
+      files[v] = file_sha256(v);
+    }
+  }
+  id["options"] = options;
+  id["input_sha256"] = files;
+  return id;
 }
 
 void write_json_file(const std::string& path, const nlohmann::json& j) { io::write_json_atomic(path, j); }

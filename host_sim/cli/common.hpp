@@ -80,6 +80,14 @@ auto about_recording(const std::string& path, Work&& work) -> decltype(work()) {
   }
 }
 
+/// SHA-256 (hex) of a file's bytes; throws naming the file when it cannot be read.
+std::string file_sha256(const std::string& path);
+
+/// What makes a result what it is: the tool's version, every option given on `cmd`'s command
+/// line (except those named in `skip`: where the output goes, how the work is split), and the
+/// SHA-256 of every option value that names a file. Parts of one result must agree on it.
+nlohmann::json command_identity(const CLI::App& cmd, const std::vector<std::string>& skip);
+
 /// Writes JSON to a temporary file renamed into place; throws when it cannot (a missing
 /// folder, a full disk): success is only reported for a complete file.
 void write_json_file(const std::string& path, const nlohmann::json& j);

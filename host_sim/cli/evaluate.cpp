@@ -263,7 +263,12 @@ Command add_evaluate(CLI::App& app) {
         return std::string();
       });
   o->observer.add_to(cmd);
-  return {cmd, [o]() {
+  return {cmd, [o, cmd]() {
+            if (o->scenario == "safety" && !o->shard.empty()) {
+              // Its verdicts come from one pass over every body region: there is no part to run.
+              std::fprintf(stderr, "jointguard evaluate: error: --shard: --scenario safety is not split into parts; run it whole\n");
+              return 2;
+            }
             eval::ExperimentConfig c;
             std::string model_path = o->model;
             std::unique_ptr<sim::Scenario> scenario;
@@ -374,8 +379,11 @@ Command add_evaluate(CLI::App& app) {
                           {"contact_link_from_isolation", c.contact_link_from_isolation}};
             if (!o->shard.empty()) {
               const auto segments = static_cast<std::size_t>(std::max(1.0, std::ceil(free_s / eval::kFreeRunSegmentS - 1e-9)));
-              const nlohmann::json identity = {{"scenario", o->scenario}, {"count", o->count}, {"seed", o->seed},
-                                               {"model", c.model.name}, {"debounce", o->debounce}, {"reaction", o->reaction}};
+              // Every option that changes a figure, the inputs' content and the version: parts
+              // made otherwise do not merge.
+              nlohmann::json identity = command_identity(*cmd, {"--shard", "--json", "--jobs"});
+              identity["model"] = c.model.name;
+              identity["model_sha256"] = file_sha256(model_path);
               write_json_file(o->json, partial_json(fig, split.shard, split.shards, runs_total, segments, identity));
               std::printf("part %d/%d: %zu runs, %zu free-run segments; wrote %s (combine the parts with jointguard merge)\n",
                           split.shard, split.shards, fig.runs.size(), fig.free_run.size(), o->json.c_str());
@@ -400,6 +408,13 @@ Command add_merge(CLI::App& app) {
   cmd->add_option("parts", *paths, "The parts (every shard once)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--json", *json, "Write the combined JSON here")->check(output_file())->required();
   return {cmd, [paths, json]() {
+            for (const auto& part : *paths) {
+              std::error_code ec;
+              if (std::filesystem::equivalent(part, *json, ec)) {
+                std::fprintf(stderr, "jointguard merge: error: --json %s is one of the parts: it would be overwritten\n", json->c_str());
+                return 2;
+              }
+            }
             const EvaluateFigures fig = merge_partials(*paths);
             print_figures(fig);
             write_json_file(*json, evaluate_json(fig));

@@ -1,6 +1,7 @@
 #include "cli/evaluate_output.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <set>
@@ -297,6 +298,8 @@ nlohmann::json partial_json(const EvaluateFigures& f, int shard, int shards, std
   p["jointguard_partial"] = {{"shard", shard}, {"shards", shards}, {"runs_total", runs_total},
                              {"segments_total", segments_total}, {"free_run_s", f.free_run_s},
                              {"identity", identity}, {"config", f.config}};
+  // What one run adds beside the figures (a safety verdict), in the part that ran it.
+  p["extra"] = f.extra.is_null() ? nlohmann::json::object() : f.extra;
   p["runs"] = nlohmann::json::array();
   for (const auto& r : f.runs) p["runs"].push_back(run_json(r));
   p["free_run"] = nlohmann::json::array();
@@ -305,6 +308,36 @@ nlohmann::json partial_json(const EvaluateFigures& f, int shard, int shards, std
   }
   return p;
 }
+
+namespace {
+constexpr int kMaxShards = 100000;        ///< as parse_shard allows
+constexpr int kMaxPartItems = 100000000;  ///< runs or free-run segments of one campaign
+
+/// A whole number in [lo, hi] from a part's field, refused naming the field otherwise (a
+/// count of 2e9 would otherwise be taken as far as the memory goes).
+int bounded_int(const nlohmann::json& v, const std::string& field, int lo, int hi) {
+  if (!v.is_number_integer() && !(v.is_number_float() && std::floor(v.get<double>()) == v.get<double>())) {
+    throw std::invalid_argument("field '" + field + "': not a whole number");
+  }
+  const double x = v.get<double>();
+  if (!(x >= lo && x <= hi)) {
+    throw std::invalid_argument("field '" + field + "': " + v.dump() + " outside " + std::to_string(lo) + ".." + std::to_string(hi));
+  }
+  return static_cast<int>(x);
+}
+
+/// The first field in which two identities differ, said for a user ("option --seed: 3 here,
+/// 4 there").
+std::string identity_difference(const nlohmann::json& here, const nlohmann::json& there) {
+  const nlohmann::json patch = nlohmann::json::diff(there, here);
+  if (patch.empty()) return "identity differs";
+  const std::string path = patch.front().value("path", std::string());
+  const nlohmann::json::json_pointer ptr(path);
+  const std::string a = here.contains(ptr) ? here.at(ptr).dump() : "absent";
+  const std::string b = there.contains(ptr) ? there.at(ptr).dump() : "absent";
+  return "identity" + path + " is " + a + " here, " + b + " there";
+}
+}  // namespace
 
 EvaluateFigures merge_partials(const std::vector<std::string>& paths) {
   if (paths.empty()) throw std::invalid_argument("merge: no partial files given");
@@ -321,19 +354,24 @@ EvaluateFigures merge_partials(const std::vector<std::string>& paths) {
     try {
       p = nlohmann::json::parse(in);
       const auto& head = p.at("jointguard_partial");
-      const int shard = head.at("shard").get<int>();
-      const int n = head.at("shards").get<int>();
+      const int shard = bounded_int(head.at("shard"), "shard", 1, kMaxShards);
+      const int n = bounded_int(head.at("shards"), "shards", 1, kMaxShards);
       if (first_path.empty()) {
         first_head = head;
         first_path = path;
         shards = n;
-        runs_total = head.at("runs_total").get<std::size_t>();
-        segments_total = head.at("segments_total").get<std::size_t>();
+        runs_total = static_cast<std::size_t>(bounded_int(head.at("runs_total"), "runs_total", 0, kMaxPartItems));
+        segments_total = static_cast<std::size_t>(bounded_int(head.at("segments_total"), "segments_total", 0, kMaxPartItems));
         out.config = head.at("config");
         out.free_run_s = head.at("free_run_s").get<double>();
       } else {
         for (const char* key : {"shards", "runs_total", "segments_total", "free_run_s", "identity", "config"}) {
           if (head.at(key) != first_head.at(key)) {
+            if (std::string(key) == "identity") {
+              throw std::invalid_argument("made otherwise than " + first_path + ": " +
+                                          identity_difference(head.at(key), first_head.at(key)) +
+                                          ": the parts are not of one campaign (same command, other --shard)");
+            }
             throw std::invalid_argument("field '" + std::string(key) + "' differs from " + first_path +
                                         "'s: the parts are not of one campaign (same command, other --shard)");
           }
@@ -343,14 +381,23 @@ EvaluateFigures merge_partials(const std::vector<std::string>& paths) {
       if (!shards_seen.insert(shard).second) {
         throw std::invalid_argument("shard " + std::to_string(shard) + "/" + std::to_string(n) + " given twice");
       }
+      if (p.contains("extra")) {
+        for (const auto& [key, value] : p.at("extra").items()) {
+          if (out.extra.contains(key) && out.extra[key] != value) {
+            throw std::invalid_argument("field 'extra." + key + "' differs between the parts");
+          }
+          out.extra[key] = value;
+        }
+      }
       for (const auto& r : p.at("runs")) {
+        bounded_int(r.at("index"), "runs[].index", 0, kMaxPartItems);
         eval::RunResult run = run_from_json(r);
         if (!run_indices.insert(run.index).second) throw std::invalid_argument("run index " + std::to_string(run.index) + " twice");
         out.runs.push_back(std::move(run));
       }
       for (const auto& s : p.at("free_run")) {
         eval::FreeRunSegment seg;
-        seg.index = s.at("index").get<int>();
+        seg.index = bounded_int(s.at("index"), "free_run[].index", 0, kMaxPartItems);
         seg.seconds = s.at("seconds").get<double>();
         seg.alarm_times = s.at("alarm_times").get<std::vector<double>>();
         if (!segment_indices.insert(seg.index).second) throw std::invalid_argument("free-run segment " + std::to_string(seg.index) + " twice");
