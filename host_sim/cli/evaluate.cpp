@@ -264,6 +264,10 @@ Command add_evaluate(CLI::App& app) {
       });
   o->observer.add_to(cmd);
   return {cmd, [o, cmd]() {
+            if (!o->shard.empty() && o->json.empty()) {
+              std::fprintf(stderr, "jointguard evaluate: error: --shard needs --json (the part's file)\n");
+              return 2;
+            }
             if (o->scenario == "safety" && !o->shard.empty()) {
               // Its verdicts come from one pass over every body region: there is no part to run.
               std::fprintf(stderr, "jointguard evaluate: error: --shard: --scenario safety is not split into parts; run it whole\n");
@@ -308,7 +312,7 @@ Command add_evaluate(CLI::App& app) {
             split.jobs = o->jobs == 0 ? eval::default_jobs() : o->jobs;
             if (!o->shard.empty()) parse_shard(o->shard, split.shard, split.shards);
             c.jobs = split.jobs;
-            if (!o->shard.empty() && o->json.empty()) throw std::invalid_argument("--shard needs --json (the part's file)");
+
             const double free_s = o->free_run_s > 0.0 ? o->free_run_s : (o->scenario == "campaign" ? 600.0 : 120.0);
             Progress bar("evaluate");
             eval::prepare(c, o->margin, [&](double f) { bar.update(0.3 * f); });

@@ -189,8 +189,13 @@ Command add_calibrate(CLI::App& app) {
   hold->add_to(cmd, false);
   auto window = std::make_shared<std::vector<double>>();
   cmd->add_option("--time-window", *window, "FROM TO [s from the recording's first time stamp]: calibrate on this part only")
-      ->expected(2);
+      ->expected(2)
+      ->check(finite_range(-1e9, 1e9));
   return {cmd, [o, hold, window]() {
+            if (!window->empty() && !((*window)[0] < (*window)[1])) {
+              std::fprintf(stderr, "jointguard calibrate: error: --time-window %g %g: FROM must be before TO\n", (*window)[0], (*window)[1]);
+              return 2;
+            }
             const auto model = robot::load_robot(o->model, o->model_options);
             const auto in = load_recording(o->recording, o->input);
             const auto& rec = in.data.segments.front();
@@ -222,10 +227,10 @@ Command add_calibrate(CLI::App& app) {
             });
             std::printf("joint  band without / with compensation [N·m]  shrink  threshold (moving)  + at standstill\n");
             for (std::size_t j = 0; j < t.threshold.size(); ++j) {
-              // No sample while moving (a held arm): the moving band is the margin alone, no ratio.
-              const double moving = t.threshold[j] - t.margin;
+              // The band without compensation over the band with it, as the JSON's shrink_factor;
+              // no sample while moving (a held arm): no band, no ratio.
               char shrink[16] = "     -";
-              if (moving > 1e-9) std::snprintf(shrink, sizeof shrink, "%5.1fx", t.band_uncompensated[j] / moving);
+              if (t.band[j] > 0.0) std::snprintf(shrink, sizeof shrink, "%5.1fx", t.band_uncompensated[j] / t.band[j]);
               std::printf("%5d  %12.3f / %-12.3f              %s  %10.3f          %+.3f\n", rec.joint_ids[j], t.band_uncompensated[j],
                           t.band[j], shrink, t.threshold[j], t.low_speed_extra[j]);
             }

@@ -87,6 +87,13 @@ expect 2 "margin" -- "$J" calibrate tests/data/recordings/held_arm.csv --model m
   --friction tests/data/recordings/ref3_friction.json --margin nan --json "$W/never.json"
 expect 2 "margin" -- "$J" calibrate tests/data/recordings/held_arm.csv --model models/ref3.yaml \
   --friction tests/data/recordings/ref3_friction.json --margin -100 --json "$W/never.json"
+# --time-window with nan (once read as 0..3) or FROM after TO: a bad command line.
+expect 2 "time-window" -- "$J" calibrate tests/data/recordings/held_arm.csv --model models/ref3.yaml \
+  --friction tests/data/recordings/ref3_friction.json --time-window nan 3 --json "$W/never.json"
+expect 2 "FROM must be before TO" -- "$J" calibrate tests/data/recordings/held_arm.csv --model models/ref3.yaml \
+  --friction tests/data/recordings/ref3_friction.json --time-window 3 1 --json "$W/never.json"
+# --shard without --json: a bad command line (exit 2), not a failed run.
+expect 2 "needs --json" -- "$J" evaluate --scenario campaign --count 2 --shard 1/2
 [ ! -e "$W/never.json" ] || { echo "a refused calibration wrote its thresholds"; exit 1; }
 # Duplicate YAML keys (yaml-cpp keeps both and reads the first): refused naming file, line
 # and key, in robot files and in scenarios.
