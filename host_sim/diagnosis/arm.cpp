@@ -598,8 +598,10 @@ std::vector<std::vector<double>> predict_arm_causes(const std::vector<FittedEffe
       }
       const auto cs = payload_candidates(js, false);
       c = cs.front();
+      // A payload carried throughout has no step (as payload_candidates: pickup_s < 0).
       const double pickup_s = at("picked_up_at_s", -1.0);
       for (auto& per_joint : c.columns) {
+        if (pickup_s < 0.0) break;
         for (std::size_t j = 0; j < js.size(); ++j) {
           for (std::size_t k = 0; k < per_joint[j].size(); ++k) per_joint[j][k] = js[j].t[k] >= pickup_s ? per_joint[j][k] : 0.0;
         }

@@ -82,8 +82,8 @@ struct DiagnoseOptions {
   double min_duration_s = 2.0;
   /// Effects not offered (e.g. they did not transfer between recordings of the same arm).
   std::vector<std::string> excluded_effects;
-  /// Each selection step to stderr (the caller decides: `diagnose --trace`, the test set's
-  /// JG_DIAG_TRACE); the algorithms read no environment.
+  /// Each selection step to stderr (the caller decides: `diagnose --trace`); the algorithms
+  /// read no environment. (The test-set bench's JG_DIAG_TRACE prints only its own lines.)
   bool trace = false;
 };
 
