@@ -12,6 +12,7 @@
 #include "eval/calibration_region.hpp"
 #include "eval/firmware_estimator.hpp"
 #include "eval/pipeline.hpp"
+#include "report/contact_report.hpp"
 #include "io/atomic_write.hpp"
 
 namespace jg::cli {
@@ -28,14 +29,20 @@ struct WorkflowOptions {
 
 /// --holding and its companions (calibrate, replay): how the drive's holding is known.
 struct HoldingCliOptions {
-  std::string holding = "none";
+  std::string holding = "auto";
   eval::ReplayOptions replay;
   double settle = 0.15, reference = 0.016, floor = 0.0;
   void add_to(CLI::App* cmd, bool for_replay) {
     cmd->add_option("--holding", holding,
-                    "When the drive holds a setpoint (holding-aware change detection): none; always (the arm is "
-                    "held the whole recording); still (derived: at rest, then within --hold-radius of where it stopped)")
-        ->check(CLI::IsMember({"none", "always", "still"}))
+                    for_replay ? "When the drive holds a setpoint (holding-aware change detection): auto (still when the "
+                                 "threshold file has the holding detector's thresholds, calibrate writes them; else the "
+                                 "band alone); still (derived: at rest, then within --hold-radius of where it stopped); "
+                                 "always (the arm is held the whole recording); none (the band alone)"
+                               : "The holding detector's change thresholds: auto (from the recording's holds where they "
+                                 "last long enough, else half the joint's friction level; no holds needed); still (from "
+                                 "its holds only: refused without any); always (the arm is held the whole recording: "
+                                 "refused when it moves); none (not written)")
+        ->check(CLI::IsMember({"auto", "none", "always", "still"}))
         ->capture_default_str();
     cmd->add_option("--hold-radius", replay.hold_radius, "[rad] a held joint may yield this far and still be held (--holding still)")
         ->capture_default_str()
@@ -68,10 +75,23 @@ struct HoldingCliOptions {
   }
   [[nodiscard]] eval::ReplayOptions options() const {
     eval::ReplayOptions o = replay;
-    o.holding = holding == "always" ? eval::HoldingSource::always
-                : holding == "still" ? eval::HoldingSource::still
-                                     : eval::HoldingSource::none;
+    o.holding = holding == "always"                         ? eval::HoldingSource::always
+                : holding == "still" || holding == "auto" ? eval::HoldingSource::still
+                                                          : eval::HoldingSource::none;
     return o;
+  }
+  /// --holding always: the arm must not move; refused naming the file, time and joint.
+  void check_held(const std::string& path, const std::vector<io::Recording>& segments, const std::vector<int>& ids) const {
+    if (holding != "always") return;
+    for (const auto& rec : segments) {
+      if (const auto m = eval::first_move(rec, replay)) {
+        throw std::invalid_argument(path + ": --holding always, but the arm moves: joint " + std::to_string(ids[m->joint]) +
+                                    " is " + std::to_string(m->distance) + " rad from its first position at t = " +
+                                    std::to_string(m->t) + " s (|dq| " + std::to_string(m->speed) +
+                                    " rad/s there; a held arm stays within --hold-radius " + std::to_string(replay.hold_radius) +
+                                    " rad). Use --holding auto (derived from the recording) for a moving arm");
+      }
+    }
   }
 };
 
@@ -209,17 +229,19 @@ Command add_calibrate(CLI::App& app) {
                 segments = eval::time_window(segments, t0 + (*window)[0], t0 + (*window)[1]);
                 std::printf("calibrating on t = %.3f .. %.3f s (--time-window)\n", segments.front().t.front(), segments.back().t.back());
               }
+              hold->check_held(o->recording, segments, rec.joint_ids);
               auto th = eval::calibrate_segments(segments, model, friction, gains, o->margin, kSettleS);
               eval::cover_region(th, segments, model, friction, gains, kSettleS);
               if (hold->holding != "none") {
                 th.hold_settle_s = hold->settle;
                 th.hold_reference_s = hold->reference;
-                eval::calibrate_holds(th, segments, model, friction, gains, hold->options(), kSettleS);
-                // A held joint may hold any friction up to its static level tau_s: a calibration
-                // on a few holds saw only the levels they happened to keep. The band's standstill
-                // allowance covers the whole range; small changes are the holding detector's job.
+                eval::calibrate_holds(th, segments, model, friction, gains, hold->options(), kSettleS, hold->holding != "auto");
+                // A held joint may hold any friction up to its static level: a calibration on a
+                // few holds (or none) saw only the levels they happened to keep. The band's
+                // standstill allowance covers the whole range (a joint settling at rest after a
+                // move never crosses it); small changes are the holding detector's job.
                 for (std::size_t j = 0; j < th.low_speed_extra.size(); ++j) {
-                  th.low_speed_extra[j] = std::max(th.low_speed_extra[j], friction[j].tau_s);
+                  th.low_speed_extra[j] = std::max(th.low_speed_extra[j], eval::friction_level(friction[j]));
                   th.hold_change[j] = std::max(th.hold_change[j], hold->floor * friction[j].tau_s);
                 }
               }
@@ -239,7 +261,10 @@ Command add_calibrate(CLI::App& app) {
             for (std::size_t j = 0; j < t.threshold.size(); ++j) {
               std::printf("%5d  %8.3f .. %-8.3f        %8.3f          %9.3f            %8.3f", rec.joint_ids[j], t.q_min[j], t.q_max[j],
                           t.dq_max[j], t.ddq_max[j], t.stop_gain[j]);
-              if (!t.hold_change.empty()) std::printf("              %6.3f (%.3f, %.1f)", t.hold_change[j], t.hold_band[j], t.hold_seconds[j]);
+              if (!t.hold_change.empty()) {
+                std::printf("              %6.3f (%.3f, %.1f)%s", t.hold_change[j], t.hold_band[j], t.hold_seconds[j],
+                            j < t.hold_source.size() && t.hold_source[j] == "friction" ? " from the friction level" : "");
+              }
               std::printf("\n");
             }
             if (!o->json.empty()) {
@@ -276,6 +301,21 @@ Command add_replay(CLI::App& app) {
             const auto friction = eval::read_friction_json(o->friction, ids);
             const auto thresholds = eval::read_threshold_json(o->threshold, ids);
             eval::check_friction_fits(o->friction, friction, ids, 1.0 / in.data.report.rate_hz, o->scalar);
+            // The holding detector needs its change thresholds from the threshold file.
+            if (thresholds.hold_change.size() != ids.size()) {
+              if (hold->holding == "always" || hold->holding == "still") {
+                throw std::invalid_argument(o->threshold + ": --holding " + hold->holding +
+                                            " needs the holding detector's change thresholds (hold_change_threshold), "
+                                            "which this threshold file lacks: calibrate again (it writes them by default)");
+              }
+              if (hold->holding == "auto") {
+                std::printf("note: %s has no holding detector thresholds (hold_change_threshold): the band alone; "
+                            "calibrate again to get them\n",
+                            o->threshold.c_str());
+                hold->holding = "none";
+              }
+            }
+            hold->check_held(o->recording, in.data.segments, ids);
             // Each segment runs from a fresh state; events keep the recording's time stamps.
             const auto r = about_recording(o->recording, [&] {
               return eval::replay_segments(in.data.segments, model, friction, thresholds, o->observer.to_gains(in.data.report.rate_hz),
@@ -312,7 +352,13 @@ Command add_replay(CLI::App& app) {
                                     {"force_base_n", {c.force_base.x(), c.force_base.y(), c.force_base.z()}},
                                     {"determined_components", c.determined_components},
                                     {"peak_force_n", e.contact_peak_force_n},
-                                    {"t_peak", e.contact_t_peak}};
+                                    {"t_peak", e.contact_t_peak},
+                                    {"along_interval_m", {c.along_lo_m, c.along_hi_m}},
+                                    {"force_interval_n", {c.force_lo_n, c.force_hi_n}},
+                                    {"force_determined", c.force_determined},
+                                    {"line_direction_base", {c.line_direction_base.x(), c.line_direction_base.y(), c.line_direction_base.z()}}};
+                // What the torques allow: a value where they determine the force, else the set.
+                std::printf("    %s\n", report::describe_contact(c, link_id).c_str());
               }
               j["events"].push_back(event);
             }

@@ -90,7 +90,7 @@ void cover_region(Thresholds& t, const std::vector<io::Recording>& segments, con
 
 void calibrate_holds(Thresholds& t, const std::vector<io::Recording>& segments, const robot::RobotModel& model,
                      const std::vector<LuGreParams<double>>& friction, const ObserverGains& gains, const ReplayOptions& o,
-                     double settle_s, const std::string& scalar) {
+                     double settle_s, bool required, const std::string& scalar) {
   const std::size_t n = segments.front().joints();
   t.hold_band.assign(n, 0.0);
   t.hold_seconds.assign(n, 0.0);
@@ -114,13 +114,23 @@ void calibrate_holds(Thresholds& t, const std::vector<io::Recording>& segments, 
       }
     }
   }
-  if (*std::max_element(t.hold_seconds.begin(), t.hold_seconds.end()) <= 0.0) {
+  if (required && *std::max_element(t.hold_seconds.begin(), t.hold_seconds.end()) <= 0.0) {
     throw std::invalid_argument("calibration: the recording never holds long enough to arm the holding detector (" +
                                 std::to_string(t.hold_settle_s + t.hold_reference_s) + " s at rest after the observer's " +
                                 std::to_string(settle_s) + " s)");
   }
   t.hold_change.assign(n, 0.0);
-  for (std::size_t j = 0; j < n; ++j) t.hold_change[j] = kHoldFactor * t.hold_band[j] + kHoldMargin;
+  t.hold_source.assign(n, "holds");
+  for (std::size_t j = 0; j < n; ++j) {
+    if (required || t.hold_seconds[j] >= kHoldMinArmedS) {
+      t.hold_change[j] = kHoldFactor * t.hold_band[j] + kHoldMargin;
+    } else {
+      // Too little held time to measure how far a collision-free hold moves: the part of
+      // the friction level a held joint's friction relaxes by.
+      t.hold_change[j] = kHoldFrictionFraction * friction_level(friction[j]);
+      t.hold_source[j] = "friction";
+    }
+  }
 }
 
 }  // namespace jg::eval

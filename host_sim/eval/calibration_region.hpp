@@ -39,10 +39,13 @@ void cover_region(Thresholds& t, const std::vector<io::Recording>& segments, con
 /// The holding detector's change threshold from the recording's holds (holding_flags with
 /// `o`): the largest change from the reference while armed (t.hold_band), times
 /// kHoldFactor plus kHoldMargin (experiments.hpp), as the simulated calibration does.
-/// Throws when the recording holds nowhere long enough to arm.
+/// `required` (the user asked for holds): every joint so, and it throws when the recording
+/// holds nowhere long enough to arm. Otherwise (the default calibration of any recording) a
+/// joint armed less than kHoldMinArmedS gets kHoldFrictionFraction x its friction level
+/// (pipeline.hpp) instead; t.hold_source says which.
 void calibrate_holds(Thresholds& t, const std::vector<io::Recording>& segments, const robot::RobotModel& model,
                      const std::vector<LuGreParams<double>>& friction, const ObserverGains& gains, const ReplayOptions& o,
-                     double settle_s, const std::string& scalar = "float");
+                     double settle_s, bool required, const std::string& scalar = "float");
 
 /// The segments cut to [t_begin, t_end] (recording time stamps); empty pieces dropped.
 std::vector<io::Recording> time_window(const std::vector<io::Recording>& segments, double t_begin, double t_end);

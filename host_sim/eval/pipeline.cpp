@@ -75,6 +75,7 @@ void write_threshold_json(const std::string& path, const Thresholds& t, const st
       e["hold_change_threshold"] = t.hold_change[i];
       if (i < t.hold_band.size()) e["hold_band"] = t.hold_band[i];
       if (i < t.hold_seconds.size()) e["hold_seconds"] = t.hold_seconds[i];
+      if (i < t.hold_source.size()) e["hold_change_source"] = t.hold_source[i];
     }
   }
   if (t.q_min.size() == t.threshold.size() && t.stop_gain.size() == t.threshold.size()) {
@@ -335,7 +336,20 @@ std::vector<bool> holding_flags(const io::Recording& rec, const ReplayOptions& o
   std::vector<double> rest(n, 0.0);
   for (std::size_t k = 0; k < samples; ++k) {
     bool still = true;
-    for (std::size_t j = 0; j < n; ++j) still = still && std::fabs(rec.dq[j][k]) <= o.still_speed;
+    for (std::size_t j = 0; j < n && still; ++j) {
+      if (std::fabs(rec.dq[j][k]) <= o.still_speed) continue;
+      // Or its position within still_span over the last `arrive` samples.
+      if (k < arrive) {
+        still = false;
+        continue;
+      }
+      double lo = rec.q[j][k], hi = lo;
+      for (std::size_t i = k - arrive; i < k; ++i) {
+        lo = std::min(lo, rec.q[j][i]);
+        hi = std::max(hi, rec.q[j][i]);
+      }
+      still = hi - lo <= o.still_span;
+    }
     at_rest = still ? at_rest + 1 : 0;
     if (holding) {
       // A held joint yields a little under a push and comes back: the drive still holds.
@@ -351,6 +365,16 @@ std::vector<bool> holding_flags(const io::Recording& rec, const ReplayOptions& o
   return out;
 }
 
+std::optional<HoldViolation> first_move(const io::Recording& rec, const ReplayOptions& o) {
+  for (std::size_t k = 0; k < rec.samples(); ++k) {
+    for (std::size_t j = 0; j < rec.joints(); ++j) {
+      const double distance = std::fabs(rec.q[j][k] - rec.q[j].front());
+      if (distance > o.hold_radius) return HoldViolation{rec.t[k], j, distance, std::fabs(rec.dq[j][k])};
+    }
+  }
+  return std::nullopt;
+}
+
 ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel& model,
                               const std::vector<LuGreParams<double>>& friction, const Thresholds& thresholds_in,
                               const ObserverGains& gains, const std::string& scalar, int debounce_cycles,
@@ -363,7 +387,7 @@ ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel&
   const bool use_hold = opt.holding != HoldingSource::none;
   if (use_hold && thresholds_in.hold_change.size() != n) {
     throw std::invalid_argument("holding-aware replay needs the threshold file's hold_change_threshold "
-                                "(calibrate with --holding on a recording with holds)");
+                                "(calibrate again: it writes one by default)");
   }
   const auto d = observer_disturbance(rec, model, gains, true, friction, scalar);
   const double dt = sample_time(rec);

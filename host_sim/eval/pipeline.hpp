@@ -40,6 +40,10 @@ struct Thresholds {
   /// [N·m], the largest collision-free deviation from the reference seen while armed
   /// [N·m], the settle and reference windows [s] and the armed time seen per joint [s].
   std::vector<double> hold_change, hold_band, hold_seconds;
+  /// Per joint, where hold_change came from: "holds" (the recording's own holds, armed
+  /// long enough) or "friction" (no such holds: kHoldFrictionFraction x the joint's
+  /// friction level); empty when unknown (older files).
+  std::vector<std::string> hold_source;
   double hold_settle_s = 0.15, hold_reference_s = 0.016;
   /// Change detection against the estimate's slow baseline (residual_detector.hpp; empty:
   /// off): threshold per joint [N·m], the largest collision-free |mu - baseline| [N·m], and
@@ -152,7 +156,11 @@ enum class HoldingSource {
 };
 struct ReplayOptions {
   HoldingSource holding = HoldingSource::none;
-  double still_speed = 1e-9;   ///< [rad/s] "at rest" for HoldingSource::still
+  /// "At rest" for HoldingSource::still: every joint's |dq| <= still_speed [rad/s], or its
+  /// position within still_span [rad] over the last arrive_s (a measured velocity dithers by
+  /// a count or a logged digit at rest; 1 mrad in 50 ms is the band's "moving" 0.02 rad/s).
+  double still_speed = 1e-9;
+  double still_span = 0.001;
   double arrive_s = 0.05;      ///< [s] at rest this long before holding starts
   double hold_radius = 0.005;  ///< [rad] a held joint yields this far under a push and still holds
   /// After an event the holding detector re-arms (new reference) once every joint's
@@ -168,6 +176,31 @@ struct ReplayOptions {
 };
 /// Per sample: the whole arm held (true) or not, from the options.
 std::vector<bool> holding_flags(const io::Recording& rec, const ReplayOptions& o);
+
+/// Where an arm said to be held the whole recording (HoldingSource::always) moves: the
+/// first sample at which a joint is farther than o.hold_radius from its first position.
+struct HoldViolation {
+  double t = 0.0;         ///< the recording's time stamp [s]
+  std::size_t joint = 0;  ///< 0-based
+  double distance = 0.0;  ///< [rad] from the first position
+  double speed = 0.0;     ///< |dq| there [rad/s]
+};
+std::optional<HoldViolation> first_move(const io::Recording& rec, const ReplayOptions& o);
+
+/// The friction a held joint can hold: its static level, at least the Coulomb level
+/// (identification may leave tau_s undetermined, bounded to the least level).
+[[nodiscard]] inline double friction_level(const LuGreParams<double>& f) { return f.tau_s > f.tau_c ? f.tau_s : f.tau_c; }
+/// The holding detector's change threshold when the calibration recording holds too
+/// little to measure the held estimate's collision-free change: this fraction of the
+/// joint's friction level. Why the whole level: once the drive holds, the friction the joint
+/// came to rest with (anywhere within +-the level) relaxes toward what gravity and the
+/// controller leave it, by up to the level itself (from the breakaway to 0); on the real
+/// UR10e it moved by 0.5 of it within 2 s after motion_contacts' abrupt stop (J4) and by 6
+/// N·m of J1's 14 N·m between pushes on the held arm.
+inline constexpr double kHoldFrictionFraction = 1.0;
+/// Armed time [s] a joint's holds must add up to for their largest change to set its
+/// change threshold (less: kHoldFrictionFraction of its friction level).
+inline constexpr double kHoldMinArmedS = 2.0;
 
 ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel& model,
                               const std::vector<LuGreParams<double>>& friction, const Thresholds& thresholds,
