@@ -20,6 +20,7 @@
 #include "diagnosis/testset.hpp"
 #include "io/atomic_write.hpp"
 #include "eval/experiments.hpp"
+#include "report/contact_report.hpp"
 #include "report/safety_report.hpp"
 #include "report/svg_plot.hpp"
 #include "robot/robot_model.hpp"
@@ -227,6 +228,8 @@ int run_demo(const DemoOptions& options) {
           "with the standstill allowance at rest, where the friction held is not predicted); the fourth column counts against "
           "the moving threshold alone. "
           "Isolation names the highest joint over threshold at the detection cycle (paper's signature).</p>\n";
+
+  html << report::contact_section(camp);  // the campaign's contact estimates, as sets where undetermined
 
   // 4a. ISO/TS 15066: body-region contacts by reaction (report/safety_report.*).
   step("ISO/TS 15066 body-region contacts, every region and reaction");

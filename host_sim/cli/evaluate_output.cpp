@@ -1,5 +1,7 @@
 #include "cli/evaluate_output.hpp"
 
+#include "eval/contact_coverage.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -47,6 +49,7 @@ eval::ContactOutcome contact_from_json(const nlohmann::json& j) {
     c.point_error_given_true_link_m = j.at("point_error_given_true_link").get<double>();
   }
   if (j.contains("point_true")) c.point_true = vector_of(j.at("point_true"));
+  eval::contact_set_from_json(j, c);
   return c;
 }
 
@@ -144,7 +147,7 @@ FreeRunTotals totals_of(const std::vector<eval::FreeRunSegment>& segments) {
 
 nlohmann::json contact_json(const eval::ContactOutcome& c) {
   const auto& e = c.estimate;
-  return {{"t", c.t}, {"link", e.link}, {"link_residual_chi2", e.link_chi2},
+  nlohmann::json j = {{"t", c.t}, {"link", e.link}, {"link_residual_chi2", e.link_chi2},
           {"along_link", e.along_m}, {"along_link_sigma", e.along_sigma_m},
           {"point_in_link", vector_json(e.point_in_link)}, {"point_base", vector_json(e.point_base)},
           {"force", e.force_n}, {"force_sigma", e.force_sigma_n}, {"force_base", vector_json(e.force_base)},
@@ -158,6 +161,8 @@ nlohmann::json contact_json(const eval::ContactOutcome& c) {
           {"force_given_true_link", c.force_given_true_link_n}, {"along_link_given_true_link", c.along_given_true_link_m},
           {"point_error_given_true_link", c.point_error_given_true_link_m >= 0.0 ? nlohmann::json(c.point_error_given_true_link_m) : nlohmann::json(nullptr)},
           {"point_true", vector_json(c.point_true)}};
+  j.update(eval::contact_set_json(c));  // the estimate as a set, and the truth it aims at
+  return j;
 }
 
 
@@ -195,7 +200,8 @@ nlohmann::json evaluate_json(const EvaluateFigures& f) {
                                   {"point_within_5cm_given_true_link", sum.point_within_5cm_true_link},
                                   {"peak_force_within_20pct_of_true_peak", sum.peak_force_within_20pct},
                                   {"point_within_5cm", sum.point_within_5cm},
-                                  {"along_link_within_5cm", sum.along_within_5cm}}},
+                                  {"along_link_within_5cm", sum.along_within_5cm},
+                                  {"spreads", eval::to_json(eval::contact_coverage(f.runs))}}},
             {"delay_min", sum.delay_min}, {"delay_median", sum.delay_median}, {"delay_max", sum.delay_max},
             {"after_threshold_crossed", {{"detections", sum.after_crossing},
                                          {"within_10ms", sum.after_crossing_within_10ms},
@@ -259,6 +265,7 @@ void print_figures(const EvaluateFigures& f) {
                 "link %d/%d\n",
                 sum.force_within_20pct_observed, sum.estimated, sum.force_within_20pct_observed_true_point, sum.estimated,
                 sum.force_within_20pct_observed_true_link, sum.estimated, sum.point_within_5cm_true_link, sum.estimated);
+    std::printf("%s\n", eval::describe(eval::contact_coverage(f.runs)).c_str());
   }
   const nlohmann::json smallest = held_smallest(f.runs);
   if (!smallest.empty()) {

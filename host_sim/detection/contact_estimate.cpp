@@ -113,7 +113,9 @@ ContactEstimate estimate_contact(const sim::ArmDynamics& arm, const TorqueObserv
     e.link_chi2.push_back(mean);
     const Matrix At = jacobian_transposed(arm, obs.q, static_cast<int>(i), evidence->axis[i] * evidence->along_m[i][k]);
     const int dof = n - weighted_rank(At, obs.sigma_nm);
-    if (!found && mean <= params.accept_chi2_per_dof * std::max(dof, 0) + 1e-12) {
+    const bool consistent = mean <= params.accept_chi2_per_dof * std::max(dof, 0) + 1e-12;
+    if (consistent) e.links_consistent.push_back(static_cast<int>(i) + 1);
+    if (!found && consistent) {
       best = i;
       found = true;
     }
@@ -162,6 +164,60 @@ TorqueObservation summarize_window(const std::vector<WindowSample>& samples, dou
     o.tau_nm(j) = mean + slope * (last.t - t_mean) + (observer_gain_per_s > 0.0 ? slope / observer_gain_per_s : 0.0);
     o.sigma_nm(j) = sigma;
   }
+  return o;
+}
+
+}  // namespace jg::detection
+
+namespace jg::detection {
+namespace {
+/// The weights c of the window's value in its samples: value = sum c_i mu_i (the line fit
+/// at the last sample, advanced by `lead` [s]).
+std::vector<double> window_weights(const std::vector<WindowSample>& samples, double lead) {
+  const auto count = static_cast<double>(samples.size());
+  double t_mean = 0.0;
+  for (const auto& s : samples) t_mean += s.t / count;
+  double stt = 0.0;
+  for (const auto& s : samples) stt += (s.t - t_mean) * (s.t - t_mean);
+  std::vector<double> c;
+  const double at = samples.back().t - t_mean + lead;
+  for (const auto& s : samples) c.push_back(1.0 / count + (stt > 0.0 ? (s.t - t_mean) * at / stt : 0.0));
+  return c;
+}
+
+/// c^T R c with R_ik = exp(-K |t_i - t_k|) (K <= 0: white, R = I): the value's noise
+/// variance over one sample's.
+double noise_gain(const std::vector<WindowSample>& samples, const std::vector<double>& c, double gain_per_s) {
+  double v = 0.0;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    for (std::size_t k = 0; k < samples.size(); ++k) {
+      const double r = gain_per_s > 0.0 ? std::exp(-gain_per_s * std::fabs(samples[i].t - samples[k].t)) : (i == k ? 1.0 : 0.0);
+      v += c[i] * c[k] * r;
+    }
+  }
+  return std::max(v, 0.0);
+}
+}  // namespace
+
+TorqueObservation summarize_window_honest(const std::vector<WindowSample>& samples, const WindowModel& model,
+                                          sim::JointVector* lag_sigma_nm) {
+  const double K = model.observer_gain_per_s;
+  const bool lag = model.lag_correction && K > 0.0;
+  TorqueObservation o = summarize_window(samples, lag ? K : 0.0);
+  const std::vector<double> c = window_weights(samples, lag ? 1.0 / K : 0.0);
+  const double gain = noise_gain(samples, c, K);
+  const std::vector<double> at_last = window_weights(samples, 0.0);
+  sim::JointVector lags = sim::JointVector::Zero(o.tau_nm.size());
+  for (Eigen::Index j = 0; j < o.tau_nm.size(); ++j) {
+    // The lag correction: (value advanced by 1/K) - (value at the last sample) = slope / K.
+    double correction = 0.0;
+    for (std::size_t i = 0; lag && i < samples.size(); ++i) correction += (c[i] - at_last[i]) * samples[i].mu_nm(j);
+    const double lag_sigma = model.lag_uncertainty * std::fabs(correction);
+    const double noise = model.noise_scale * o.sigma_nm(j);
+    o.sigma_nm(j) = std::sqrt(noise * noise * gain + lag_sigma * lag_sigma);
+    lags(j) = lag_sigma;
+  }
+  if (lag_sigma_nm != nullptr) *lag_sigma_nm = lags;
   return o;
 }
 

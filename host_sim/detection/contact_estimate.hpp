@@ -60,6 +60,16 @@ struct ContactEstimatorParams {
   /// The force reported at the points' posterior mean, not averaged over the points (where
   /// the point is spread, |F| ~ 1/s averaged over it overstates the force).
   bool force_at_mean_point = false;
+  /// The contact point lies on the link's body, up to this far off the candidate (the axis,
+  /// or the cover where the force pushes in) [m]: a point off by r at a uniform azimuth
+  /// changes each joint's torque by z_j . (r x F), rms r |F| / sqrt(2) at most. Taken as
+  /// model noise per joint (honest_sigma). 0.04 m: the reference arm's cover radius
+  /// (sim::kSurfaceRadius); the former draw's offsets are 0.03 m rms per axis across it.
+  double point_offset_m = 0.04;
+  /// A spread as wide as this share of the force (2 sigma over the force) or wider counts
+  /// as "the torques do not determine the force" (ContactEstimate::force_determined: 2 sigma
+  /// within 20 %): the answer is then given as its set (link, line of action, force range).
+  double determined_rel_2sigma = 0.2;
 };
 
 /// Rank of the noise-weighted J^T (rows: joints, each divided by its sigma): how many force
@@ -97,6 +107,18 @@ struct ContactEstimate {
   /// last link of a 3-joint arm, 2 on the second link, 1 on the first.
   int determined_components = 0;
   double residual_chi2 = 0.0;  ///< sum ((tau - J^T F) / sigma)^2 at the estimated point and force
+  // The answer as a set (docs/contact-estimate.md, "Honest spreads"): what the torques allow
+  // at about 95 % (2 sigma) once the torque noise, the observer's lag, the point's offset
+  // from the candidate and the grid are counted.
+  double along_lo_m = 0.0, along_hi_m = 0.0;  ///< the point's interval along the link [m]
+  double force_lo_n = 0.0, force_hi_n = 0.0;  ///< the force magnitude's interval [N]
+  /// The force's line of action (base frame): through point_base, along this unit direction
+  /// (the posterior mean force's); every point of it gives the same torques.
+  Eigen::Vector3d line_direction_base = Eigen::Vector3d::Zero();
+  std::vector<int> links_consistent;  ///< every link (1-based) whose residual stays within the noise
+  /// The torques determine the force: its 2-sigma interval lies within
+  /// ContactEstimatorParams::determined_rel_2sigma of the estimate (a point, not a set).
+  bool force_determined = false;
 };
 
 /// The residual of every (link, point) hypothesis over observations: the torques of several
@@ -138,5 +160,26 @@ struct WindowSample {
   sim::JointVector q, mu_nm, sigma_nm;
 };
 TorqueObservation summarize_window(const std::vector<WindowSample>& samples, double observer_gain_per_s);
+
+/// How the window's value relates to the torque it estimates (summarize_window_honest).
+struct WindowModel {
+  double observer_gain_per_s = 0.0;  ///< first-order observer gain K: its noise is correlated over 1/K [1/s]
+  bool lag_correction = true;        ///< the value advanced by the lag (slope / K)
+  /// The lag correction is exact on a ramp; on a force whose slope changes within 1/K it is
+  /// off by up to its own size: this share of it is counted as its 1-sigma error.
+  double lag_uncertainty = 1.0;
+  /// The samples' sigma (the threshold in effect / noise_band_sigmas) times this is the
+  /// observer noise's marginal spread at the contact (the threshold is a maximum over a long
+  /// collision-free run, several sigma: calibrated on a campaign, eval/contact_window.hpp).
+  double noise_scale = 1.0;
+};
+/// As summarize_window, with each joint's sigma propagated honestly: the samples' sigma is
+/// the marginal spread of the observer's noise, correlated as exp(-K |t_i - t_k|) (a
+/// first-order observer's output, K > 0; white without K); the line fit and its
+/// extrapolation are linear in the samples (weights c), so the value's noise variance is
+/// sigma^2 c^T R c, plus (lag_uncertainty x the lag correction)^2.
+/// `lag_sigma_nm` (if given): the lag correction's part of each joint's sigma [N·m].
+TorqueObservation summarize_window_honest(const std::vector<WindowSample>& samples, const WindowModel& model,
+                                          sim::JointVector* lag_sigma_nm = nullptr);
 
 }  // namespace jg::detection

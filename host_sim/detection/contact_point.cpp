@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <stdexcept>
 #include <string>
 
@@ -22,6 +23,7 @@ struct Candidate {
   double log_fit = 0.0;      ///< -0.5 weighted residual^2 there
   Eigen::Vector3d force_mean = Eigen::Vector3d::Zero();
   double force_trace_cov = 0.0;  ///< trace of the force's posterior covariance [N^2]
+  Eigen::Matrix3d force_cov = Eigen::Matrix3d::Zero();  ///< the force's posterior covariance [N^2]
 };
 
 Candidate candidate(const Matrix& At, const Vector& tau, const Vector& sigma, const Eigen::Matrix3d& P) {
@@ -42,6 +44,7 @@ Candidate candidate(const Matrix& At, const Vector& tau, const Vector& sigma, co
   c.log_profile = c.log_fit - 0.5 * c.force_mean.dot(P.ldlt().solve(c.force_mean));
   const Matrix cov = P - AP.transpose() * llt.solve(AP);
   c.force_trace_cov = std::max(0.0, cov.trace());
+  c.force_cov = 0.5 * (cov + cov.transpose());
   return c;
 }
 
@@ -112,48 +115,109 @@ Eigen::Vector3d surface_point(const sim::ArmDynamics& arm, const sim::JointVecto
   return axis_point - radius_m * f.normalized();
 }
 
-void estimate_point_and_force(const sim::ArmDynamics& arm, const TorqueObservation& latest,
+namespace {
+/// The points' posterior on one link and the force's posterior at each point.
+struct PointPosterior {
+  std::vector<double> along, w;
+  std::vector<Candidate> cands;
+};
+
+PointPosterior point_posterior(const sim::ArmDynamics& arm, const TorqueObservation& obs, const ContactEstimatorParams& params,
+                               const PointEvidence* evidence, int link) {
+  const auto i = static_cast<std::size_t>(link - 1);
+  const bool summed = evidence != nullptr && evidence->weight > 0.0;
+  PointPosterior p;
+  p.along = summed ? evidence->along_m.at(i) : make_grid(arm.joints(), params).along_m.at(i);
+  const Eigen::Matrix3d P = force_prior(arm, obs.q, link, params);
+  std::vector<double> logs;
+  for (std::size_t k = 0; k < p.along.size(); ++k) {
+    p.cands.push_back(candidate(jacobian_transposed(arm, obs.q, params, link - 1, p.along[k]), obs.tau_nm, obs.sigma_nm, P));
+    logs.push_back(summed ? evidence->log_evidence[i][k] : p.cands.back().log_evidence);
+  }
+  const double top = *std::max_element(logs.begin(), logs.end());
+  double wsum = 0.0;
+  for (const double l : logs) wsum += std::exp(l - top);
+  for (const double l : logs) p.w.push_back(std::exp(l - top) / wsum);
+  return p;
+}
+
+/// The force's magnitude over the posterior (points and force components): 2.5 %, 50 % and
+/// 97.5 % quantiles and the standard deviation, from a fixed-seed sample (reproducible).
+struct MagnitudeSpread {
+  double lo = 0.0, hi = 0.0, sigma = 0.0;
+};
+MagnitudeSpread magnitude_spread(const PointPosterior& p) {
+  constexpr int kDraws = 2000;
+  std::mt19937_64 rng(20261127);
+  std::normal_distribution<double> gauss;
+  std::discrete_distribution<std::size_t> pick(p.w.begin(), p.w.end());
+  std::vector<Eigen::Matrix3d> roots;
+  for (const auto& c : p.cands) roots.push_back(Eigen::LLT<Eigen::Matrix3d>(c.force_cov + 1e-9 * Eigen::Matrix3d::Identity()).matrixL());
+  std::vector<double> m;
+  double mean = 0.0;
+  for (int d = 0; d < kDraws; ++d) {
+    const std::size_t k = pick(rng);
+    const Eigen::Vector3d z(gauss(rng), gauss(rng), gauss(rng));
+    m.push_back((p.cands[k].force_mean + roots[k] * z).norm());
+    mean += m.back() / kDraws;
+  }
+  double var = 0.0;
+  for (const double v : m) var += (v - mean) * (v - mean) / kDraws;
+  std::sort(m.begin(), m.end());
+  return {m[static_cast<std::size_t>(0.025 * kDraws)], m[static_cast<std::size_t>(0.975 * kDraws)], std::sqrt(var)};
+}
+
+/// The torques' noise with the point's offset from its candidate added per joint: up to
+/// r |F| / sqrt(2) rms (ContactEstimatorParams::point_offset_m), F the force's first estimate.
+TorqueObservation with_point_offset(const TorqueObservation& obs, const ContactEstimatorParams& params, double force_n) {
+  TorqueObservation o = obs;
+  const double model = params.point_offset_m * force_n / std::sqrt(2.0);
+  for (Eigen::Index j = 0; j < o.sigma_nm.size(); ++j) o.sigma_nm(j) = std::hypot(o.sigma_nm(j), model);
+  return o;
+}
+
+double mean_magnitude(const PointPosterior& p) {
+  double f = 0.0;
+  for (std::size_t k = 0; k < p.w.size(); ++k) f += p.w[k] * p.cands[k].force_mean.norm();
+  return f;
+}
+}  // namespace
+
+void estimate_point_and_force(const sim::ArmDynamics& arm, const TorqueObservation& measured,
                               const ContactEstimatorParams& params, const PointEvidence* evidence, ContactEstimate& e) {
   check_link(arm, e.link);
   const auto i = static_cast<std::size_t>(e.link - 1);
-  const bool summed = evidence != nullptr && evidence->weight > 0.0;
-  const std::vector<double> along = summed ? evidence->along_m.at(i) : make_grid(arm.joints(), params).along_m.at(i);
+  const TorqueObservation latest = with_point_offset(measured, params, mean_magnitude(point_posterior(arm, measured, params, evidence, e.link)));
+  const PointPosterior post = point_posterior(arm, latest, params, evidence, e.link);
   const Eigen::Matrix3d P = force_prior(arm, latest.q, e.link, params);
-  std::vector<Candidate> cands;
-  std::vector<double> logs;
-  for (std::size_t k = 0; k < along.size(); ++k) {
-    cands.push_back(candidate(jacobian_transposed(arm, latest.q, params, e.link - 1, along[k]), latest.tau_nm, latest.sigma_nm, P));
-    logs.push_back(summed ? evidence->log_evidence[i][k] : cands.back().log_evidence);
-  }
-  const double top = *std::max_element(logs.begin(), logs.end());
-  std::vector<double> w(logs.size());
-  double wsum = 0.0;
-  for (std::size_t k = 0; k < logs.size(); ++k) wsum += (w[k] = std::exp(logs[k] - top));
-  double mean_s = 0.0, mean_f = 0.0;
+  double mean_s = 0.0;
   e.force_base = Eigen::Vector3d::Zero();
-  for (std::size_t k = 0; k < logs.size(); ++k) {
-    w[k] /= wsum;
-    mean_s += w[k] * along[k];
-    mean_f += w[k] * cands[k].force_mean.norm();
-    e.force_base += w[k] * cands[k].force_mean;
+  for (std::size_t k = 0; k < post.w.size(); ++k) {
+    mean_s += post.w[k] * post.along[k];
+    e.force_base += post.w[k] * post.cands[k].force_mean;
   }
-  double var_s = 0.0, var_f = 0.0;
-  for (std::size_t k = 0; k < logs.size(); ++k) {
-    var_s += w[k] * (along[k] - mean_s) * (along[k] - mean_s);
-    const double df = cands[k].force_mean.norm() - mean_f;
-    var_f += w[k] * (df * df + cands[k].force_trace_cov);
-  }
+  // The grid's own resolution: a posterior on one point still spans its cell.
+  const double cell = post.along.size() > 1 ? (post.along.back() - post.along.front()) / static_cast<double>(post.along.size() - 1) : 0.0;
+  double var_s = cell * cell / 12.0;
+  for (std::size_t k = 0; k < post.w.size(); ++k) var_s += post.w[k] * (post.along[k] - mean_s) * (post.along[k] - mean_s);
   e.along_m = mean_s;
   e.along_sigma_m = std::sqrt(var_s);
+  e.along_lo_m = std::max(post.along.front() - 0.5 * cell, mean_s - 2.0 * e.along_sigma_m);
+  e.along_hi_m = std::min(post.along.back() + 0.5 * cell, mean_s + 2.0 * e.along_sigma_m);
   // The force at the posterior mean point: where the point is spread over the link (the
   // torques fix s x F), the mean of |F| ~ 1/s over the points would overstate it.
-  e.force_n = mean_f;
+  e.force_n = mean_magnitude(post);
   if (params.force_at_mean_point) {
     const Candidate at_mean = candidate(jacobian_transposed(arm, latest.q, params, e.link - 1, mean_s), latest.tau_nm, latest.sigma_nm, P);
     e.force_n = at_mean.force_mean.norm();
     e.force_base = at_mean.force_mean;
   }
-  e.force_sigma_n = std::sqrt(var_f);
+  const MagnitudeSpread spread = magnitude_spread(post);
+  e.force_sigma_n = spread.sigma;
+  e.force_lo_n = std::min(spread.lo, e.force_n);
+  e.force_hi_n = std::max(spread.hi, e.force_n);
+  e.force_determined = e.force_n > 0.0 && std::max(e.force_hi_n - e.force_n, e.force_n - e.force_lo_n) <= params.determined_rel_2sigma * e.force_n;
+  e.line_direction_base = e.force_base.norm() > 1e-9 ? Eigen::Vector3d(e.force_base.normalized()) : Eigen::Vector3d::Zero();
   e.point_in_link = surface_point(arm, latest.q, e.link, segment_point(params, e.link - 1, 1.0), mean_s, e.force_base,
                                   params.surface_radius_m);
   const sim::LinkPoses poses = arm.poses(latest.q);

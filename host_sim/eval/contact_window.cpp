@@ -12,13 +12,16 @@ ContactWindow::ContactWindow(ContactWindowConfig config, double dt)
   if (config_.estimator.segments.empty()) config_.enabled = false;
 }
 
-detection::TorqueObservation ContactWindow::observe() const {
+detection::TorqueObservation ContactWindow::observe() {
   const double from = samples_.back().t - config_.fit_s - 1e-9;
   std::vector<detection::WindowSample> w;
   for (const auto& s : samples_) {
     if (s.t >= from) w.push_back(s);
   }
-  return detection::summarize_window(w, config_.lag_correction ? config_.observer_gain_per_s : 0.0);
+  // The value and its honest spread: the observer's correlated noise through the line fit
+  // and the lag correction, and the correction's own uncertainty (contact_estimate.hpp).
+  return detection::summarize_window_honest(w, {config_.observer_gain_per_s, config_.lag_correction, config_.lag_uncertainty, config_.torque_noise_scale},
+                                             &lag_sigma_);
 }
 
 Eigen::Vector3d ContactWindow::force_at(const sim::ArmDynamics& arm, const detection::TorqueObservation& obs, int link,
@@ -77,6 +80,7 @@ void ContactWindow::add(const sim::ArmDynamics& arm, double t, const sim::JointV
                                           config_.point_over_the_contact ? &*points_ : nullptr, o.estimate);
     }
     o.observation = obs;
+    o.torque_sigma_lag_nm.assign(lag_sigma_.data(), lag_sigma_.data() + lag_sigma_.size());
     o.peak_force_n = o.estimate.force_n;
     o.t_peak = o.t_force = t;
     decision_cycle_ = cycle_ - 1;
@@ -89,6 +93,7 @@ void ContactWindow::add(const sim::ArmDynamics& arm, double t, const sim::JointV
   else if (t > o.t) detection::estimate_point_and_force(arm, obs, config_.estimator, nullptr, o.estimate);
   o.t_force = t;
   o.observation = obs;
+  o.torque_sigma_lag_nm.assign(lag_sigma_.data(), lag_sigma_.data() + lag_sigma_.size());
   o.peak_force_n = o.estimate.force_n;
   o.t_peak = t;
   decision_cycle_ = cycle_ - 1;  // 0-based index of this cycle
@@ -112,6 +117,7 @@ void ContactWindow::set_truth(const sim::ArmDynamics& arm, const sim::CollisionE
     seen = keep * seen + (1.0 - keep) * contact_force_n[static_cast<std::size_t>(j)];
   }
   o.force_true_observed_n = seen;
+  o.force_true_target_n = config_.lag_correction ? o.force_true_n : seen;
   o.point_true = event.point_in_link;
   o.along_true_m = event.point_in_link.x();
   o.point_error_m = o.estimate.link == event.link ? (o.estimate.point_in_link - event.point_in_link).norm() : -1.0;

@@ -29,6 +29,12 @@ struct ContactWindowConfig {
   /// about the largest collision-free estimate: several sigma of the observer's noise).
   double noise_band_sigmas = 3.0;
   double observer_gain_per_s = 0.0;  ///< first-order observer gain for the lag correction (0: none)
+  /// The point's and force's torque spread (detection::WindowModel): the observer noise's
+  /// spread at the contact over the samples' sigma, and the lag correction's uncertainty
+  /// over its size. Calibrated on the 50-collision campaign of seed 1 (docs/results.md,
+  /// "Honest contact estimates"); the coverage is reported on seed 2.
+  double torque_noise_scale = 1.0;
+  double lag_uncertainty = 1.0;
   /// The point along the decided link from every clean cycle's torques (their log evidence
   /// summed, detection/contact_point.hpp), not from the decision's window alone.
   bool point_over_the_contact = false;
@@ -59,6 +65,10 @@ struct ContactOutcome {
   /// The true contact force as the observer sees it at the decision's cycle: first-order
   /// filtered with the observer's gain K (its estimate of a torque is that torque so filtered) [N]
   double force_true_observed_n = 0.0;
+  /// The truth the estimate aims at: the instant force with the lag correction, the force
+  /// as the observer sees it without (ContactWindowConfig::lag_correction) [N]
+  double force_true_target_n = 0.0;
+  std::vector<double> torque_sigma_lag_nm;  ///< of observation.sigma_nm, the lag correction's part [N·m]
   Eigen::Vector3d point_true = Eigen::Vector3d::Zero();  ///< the true point [m, link frame]
   /// The point and the force estimated on the true link (the link decision's errors left
   /// out): force magnitude [N], point along the link [m], 3-D point error [m].
@@ -82,7 +92,9 @@ class ContactWindow {
                  const std::vector<std::vector<double>>& tau_ext);
 
  private:
-  detection::TorqueObservation observe() const;
+  /// The window's observation; its lag correction's part of sigma is kept in lag_sigma_.
+  detection::TorqueObservation observe();
+  sim::JointVector lag_sigma_;
   ContactWindowConfig config_;
   double dt_;
   std::optional<detection::EvidenceGrid> grid_;
