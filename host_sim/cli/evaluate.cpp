@@ -13,6 +13,7 @@
 #include "cli/progress.hpp"
 #include "eval/experiments.hpp"
 #include "eval/parallel.hpp"
+#include "eval/pipeline.hpp"
 #include "eval/safety_experiments.hpp"
 #include "io/yaml_fields.hpp"
 #include "safety/body_regions.hpp"
@@ -40,7 +41,7 @@ struct EvaluateOptions {
   std::vector<std::string> regions;  ///< safety: only these (empty: all)
   std::string kind;                  ///< safety: free or clamp only (empty: both)
   bool compare_bus = false;
-  std::string shard, compare_scalar;
+  std::string shard, compare_scalar, plant_friction;
   unsigned long long seed = 1;
   ObserverOptions observer;
   robot::LoadOptions model_options;
@@ -187,6 +188,10 @@ Command add_evaluate(CLI::App& app) {
                 "(JSON: cases[].bus)");
   cmd->add_option("--model", o->model, "Robot file (YAML or URDF)")->capture_default_str()->check(CLI::ExistingFile);
   add_model_selection(cmd, o->model_options);
+  cmd->add_option("--plant-friction", o->plant_friction,
+                  "The simulated arm's true friction: a friction JSON (identify --json), e.g. identified on the real arm "
+                  "(default: the paper's Table 1, its joint 3 beyond the third)")
+      ->check(CLI::ExistingFile);
   cmd->add_option("--rate", o->rate, "Control and observer rate [Hz]")->capture_default_str()->check(CLI::Range(50.0, 20000.0));
   cmd->add_option("--scalar", o->scalar, "Firmware scalar")->check(CLI::IsMember({"float", "q"}))->capture_default_str();
   cmd->add_option("--seed", o->seed, "Seed of noise, campaign and motion")->capture_default_str();
@@ -283,6 +288,7 @@ Command add_evaluate(CLI::App& app) {
                             io::YamlFields::load_file(o->scenario).text("model")).string();
             }
             c.model = robot::load_robot(model_path, o->model_options);
+            if (!o->plant_friction.empty()) c.plant_friction = eval::read_friction_json(o->plant_friction);
             c.rate_hz = scenario ? scenario->setup.control_rate_hz : o->rate;
             c.scalar = o->scalar;
             c.seed = o->seed;
@@ -332,7 +338,8 @@ Command add_evaluate(CLI::App& app) {
               if (split.shard == 1) fig.runs = eval::held_experiments(c);
               for (std::size_t i = 0; i < fig.runs.size(); ++i) fig.runs[i].index = static_cast<int>(i);
             } else if (o->scenario == "campaign") {
-              fig.runs = eval::campaign(c, o->count, {2, 3}, [&](double f) { bar.update(0.3 + 0.5 * f); }, split);
+              fig.runs = eval::campaign(c, o->count, eval::campaign_links(c.model.joints.size()),
+                                        [&](double f) { bar.update(0.3 + 0.5 * f); }, split);
               runs_total = static_cast<std::size_t>(o->count);
             } else if (split.takes(0)) {
               auto est = eval::estimator_for(c);

@@ -177,6 +177,12 @@ nlohmann::json evaluate_json(const EvaluateFigures& f) {
   s.update({{"detection_rate", sum.detected / n},
             {"isolation_accuracy", sum.isolated / n},
             {"isolation_ceiling", sum.isolable / n},
+            // Named right where the true torques distinguish the link (<= the ceiling by
+            // construction), its share of the ceiling, and right names where they do not (a
+            // guess between links the torques cannot tell apart within the noise band).
+            {"isolation_distinguished", sum.isolated_of_isolable / n},
+            {"isolation_of_ceiling", sum.isolable > 0 ? static_cast<double>(sum.isolated_of_isolable) / sum.isolable : 1.0},
+            {"isolated_not_distinguishable", sum.isolated - sum.isolated_of_isolable},
             {"isolable", sum.isolable},
             {"isolated_of_isolable", sum.isolated_of_isolable},
             {"isolation_ceiling_at_decision", sum.isolable_at_decision / n},
@@ -239,6 +245,10 @@ void print_figures(const EvaluateFigures& f) {
   std::printf("isolable (the true torques name the link: the highest joint over its moving threshold): %d/%d; "
               "isolated of those %d/%d; detections first seen by the holding detector %d\n",
               sum.isolable, sum.runs, sum.isolated_of_isolable, sum.isolable, sum.detected_by_hold);
+  std::printf("isolation against its ceiling: %d/%d distinguished and named (ceiling %d/%d, %.1f %% of it); "
+              "named right where the torques do not distinguish the link (a guess): %d\n",
+              sum.isolated_of_isolable, sum.runs, sum.isolable, sum.runs,
+              sum.isolable > 0 ? 100.0 * sum.isolated_of_isolable / sum.isolable : 100.0, sum.isolated - sum.isolated_of_isolable);
   std::printf("isolable at decision time (the same from the cycles up to the isolation decision only): %d/%d; "
               "isolated of those %d/%d\n",
               sum.isolable_at_decision, sum.runs, sum.isolated_of_isolable_at_decision, sum.isolable_at_decision);

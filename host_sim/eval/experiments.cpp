@@ -6,6 +6,7 @@
 #include <iterator>
 #include <random>
 #include <stdexcept>
+#include <string>
 
 #include "detection/contact_point.hpp"
 #include "eval/firmware_estimator.hpp"
@@ -30,7 +31,13 @@ sim::SimulationSetup base_setup(const ExperimentConfig& c, std::shared_ptr<const
   robot::check_simulatable(c.model);  // a singular mass matrix would make NaN torques
   s.plant.links = c.model.plant_links();
   const std::size_t n = s.plant.links.size();
-  for (std::size_t j = 0; j < n; ++j) s.plant.friction.push_back({sim::kPaperTable1[std::min<std::size_t>(j, 2)], {}});
+  if (!c.plant_friction.empty() && c.plant_friction.size() != n) {
+    throw std::invalid_argument("the plant's friction has " + std::to_string(c.plant_friction.size()) + " joints, the model " +
+                                std::to_string(n));
+  }
+  for (std::size_t j = 0; j < n; ++j) {
+    s.plant.friction.push_back({c.plant_friction.empty() ? sim::kPaperTable1[std::min<std::size_t>(j, 2)] : c.plant_friction[j], {}});
+  }
   s.plant.plant_rate_hz = std::max(2000.0, 2.0 * c.rate_hz);
   s.sensors.drives = c.model.drives();
   for (auto& d : s.sensors.drives) {
@@ -506,6 +513,12 @@ std::vector<RunResult> held_experiments(const ExperimentConfig& c) {
   }
   out.push_back(held_push(c, 1, 0.0, false));
   return out;
+}
+
+std::vector<int> campaign_links(std::size_t joints) {
+  std::vector<int> links{2, 3};
+  for (int link = 4; link <= static_cast<int>(joints); ++link) links.push_back(link);
+  return links;
 }
 
 std::vector<RunResult> campaign(const ExperimentConfig& c, int count, const std::vector<int>& links,

@@ -19,7 +19,10 @@ struct ExperimentConfig {
   double rate_hz = 1000.0;
   std::string scalar = "float";
   ObserverGains gains{ObserverKind::first_order, 150.0, 0.0, 0.0};
-  std::vector<LuGreParams<double>> friction;  ///< identified (the plant's truth is the paper's Table 1)
+  std::vector<LuGreParams<double>> friction;  ///< identified (the plant's truth is plant_friction)
+  /// The plant's true LuGre per joint (e.g. identified on a real arm); empty: the paper's
+  /// Table 1 (its joint 3 for every joint beyond the third).
+  std::vector<LuGreParams<double>> plant_friction;
   std::vector<double> thresholds;
   std::vector<double> low_speed_extra;
   double low_speed_width = 0.03;
@@ -121,6 +124,10 @@ RunResult held_push(const ExperimentConfig& c, int link, double torque_nm, bool 
 sim::SimulationSetup held_push_setup(const ExperimentConfig& c, int link, double torque_nm);
 /// held_push on every link with 0.5, 1, 1.5, 2 and 3 N·m, and one hold without contact.
 std::vector<RunResult> held_experiments(const ExperimentConfig& c);
+
+/// The links a campaign collides with: 2 and 3 on a 3-joint arm (the reference figures),
+/// every link but the base's first on a longer chain (2..n: upper arm, forearm and wrist).
+std::vector<int> campaign_links(std::size_t joints);
 
 /// Random collisions (seeded) on `links`, each in its own short run from random motion.
 /// Runs of other shards are left out; the result is in index order.

@@ -54,6 +54,50 @@ void Plant::reset(const JointVector& q0) {
   state_.theta_dot = JointVector::Zero(n);
   state_.bristles.assign(static_cast<std::size_t>(n), LuGreTruthState{});
   friction_ = external_ = JointVector::Zero(n);
+  // A light joint with stiff friction (the bristles of sigma0 ~ 1e5 N·m/rad at a wrist of
+  // 0.01 kg m^2) is not resolved by friction held from the step's start: step it implicitly.
+  implicit_friction_ = !elastic() && !config_.friction.empty() && stiffest_friction_mode(q0) > kExplicitFrictionLimit;
+}
+
+double Plant::stiffest_friction_mode(const JointVector& q, int* joint) const {
+  if (config_.friction.empty()) return 0.0;
+  const double h = 1.0 / config_.plant_rate_hz;
+  const JointMatrix inverse = arm_.mass_matrix(q).inverse();
+  double worst = 0.0;
+  for (Eigen::Index i = 0; i < q.size(); ++i) {
+    const LuGreParams<double>& p = config_.friction[static_cast<std::size_t>(i)].lugre;
+    const double slope = p.sigma0 * h + p.sigma1 + p.sigma2;
+    const double mode = h * slope * inverse(i, i);
+    if (mode > worst) {
+      worst = mode;
+      if (joint != nullptr) *joint = static_cast<int>(i);
+    }
+  }
+  return worst;
+}
+
+void Plant::implicit_friction_correction(double h, const JointVector& motor_torque,
+                                         const std::vector<LuGreTruthState>& bristles_before, const JointVector& w) {
+  const Eigen::Index n = state_.q.size();
+  // D: the slope of the stepped friction in the held velocity (central difference on
+  // copies of the bristle state before the step), >= 0 so that M + h D stays positive.
+  JointVector slope(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    const double eps = 1e-6 * std::max(1.0, std::fabs(w(i)));
+    const double transmitted = motor_torque(i) - friction_(i);
+    LuGreTruthState up = bristles_before[k], down = bristles_before[k];
+    const double f_up = friction_truth_step(config_.friction[k], up, w(i) + eps, state_.q(i), transmitted, state_.time, h);
+    const double f_down = friction_truth_step(config_.friction[k], down, w(i) - eps, state_.q(i), transmitted, state_.time, h);
+    slope(i) = std::max(0.0, (f_up - f_down) / (2.0 * eps));
+  }
+  const JointVector drive = motor_torque - friction_ + external_;
+  const JointVector a0 = arm_.forward_dynamics(state_.q, state_.qd, drive);
+  const JointMatrix mass = arm_.mass_matrix(state_.q);
+  JointMatrix system = mass;
+  for (Eigen::Index i = 0; i < n; ++i) system(i, i) += h * slope(i);
+  const JointVector dv = system.ldlt().solve(h * (mass * a0));
+  friction_ += slope.cwiseProduct(dv);
 }
 
 void Plant::reset(const JointVector& q0, const JointVector& theta0) {
@@ -119,6 +163,7 @@ void Plant::step(double h, const JointVector& motor_torque, const ContactModel& 
   // friction (previous step's friction: the load is not known before the step).
   // Joint by joint, the load read before the joint's friction is replaced.
   const bool previous = friction_.size() == n;
+  const std::vector<LuGreTruthState> bristles_before = implicit_friction_ ? state_.bristles : std::vector<LuGreTruthState>{};
   friction_.conservativeResize(n);
   for (Eigen::Index i = 0; i < n; ++i) {
     const double transmitted = motor_torque(i) - (previous ? friction_(i) : 0.0);
@@ -127,6 +172,7 @@ void Plant::step(double h, const JointVector& motor_torque, const ContactModel& 
                                             : friction_truth_step(config_.friction[k], state_.bristles[k], w(i),
                                                                   state_.q(i), transmitted, state_.time, h);
   }
+  if (implicit_friction_) implicit_friction_correction(h, motor_torque, bristles_before, w);
   if (!elastic()) {
     // Classical RK4 on plain arrays (four forward dynamics per step, the plant's hot path):
     // element for element the operations of the vector form

@@ -1,10 +1,45 @@
 #include "sim/simulation.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
 namespace jg::sim {
+namespace {
+/// Names the joint and parameter of the plant's stiffest mode at the plant step (for the
+/// message of a run that diverged).
+std::string stiffest_mode(const PlantConfig& config, const Plant& plant, const JointVector& q) {
+  const double h = 1.0 / config.plant_rate_hz;
+  int friction_joint = 0;
+  const double friction_mode = plant.stiffest_friction_mode(q, &friction_joint);
+  double elastic_mode = 0.0;
+  std::size_t elastic_joint = 0;
+  for (std::size_t j = 0; j < config.elasticity.size(); ++j) {
+    const double omega_h = h * std::sqrt(config.elasticity[j].stiffness / config.links[j].rotor_inertia);
+    if (omega_h > elastic_mode) {
+      elastic_mode = omega_h;
+      elastic_joint = j;
+    }
+  }
+  char text[400];
+  if (elastic_mode >= friction_mode) {
+    std::snprintf(text, sizeof text,
+                  "joint %zu's elasticity (stiffness %g N·m/rad on rotor_inertia %g kg m^2) oscillates at %.3g rad per plant "
+                  "step of %g s (RK4 resolves < 2.8)",
+                  elastic_joint + 1, config.elasticity[elastic_joint].stiffness, config.links[elastic_joint].rotor_inertia,
+                  elastic_mode, h);
+  } else {
+    const auto& p = config.friction[static_cast<std::size_t>(friction_joint)].lugre;
+    std::snprintf(text, sizeof text,
+                  "joint %d's friction (sigma0 %g, sigma1 %g, sigma2 %g) is the stiffest mode, h D / inertia = %.3g at the plant "
+                  "step of %g s%s",
+                  friction_joint + 1, p.sigma0, p.sigma1, p.sigma2, friction_mode, h,
+                  plant.implicit_friction() ? " (stepped implicitly)" : "");
+  }
+  return text;
+}
+}  // namespace
 
 SimulationResult run_simulation(const SimulationSetup& setup, const ControlOverride& override,
                                 const std::function<void(double)>& progress) {
@@ -105,8 +140,8 @@ SimulationResult run_simulation(const SimulationSetup& setup, const ControlOverr
       const auto& st = plant.state();
       if (!st.q.allFinite() || !st.qd.allFinite() || !st.theta.allFinite() || !st.theta_dot.allFinite()) {
         throw std::runtime_error("the simulation diverged at t = " + std::to_string(t + dt) +
-                                 " s (the plant's state is not finite): a joint stiffer than plant_rate_hz resolves, or a "
-                                 "model that is not physical; raise plant_rate_hz or check the robot file");
+                                 " s (the plant's state is not finite): " + stiffest_mode(setup.plant, plant, start.q) +
+                                 "; raise plant_rate_hz or check the robot file");
       }
     }
     external = plant.external_torque();
