@@ -14,8 +14,10 @@ of zero first moment and tiny mass, a Coulomb change of 0). Scored:
 With --vocabulary, per-joint effects too: every effect of the vocabulary the recording's torque
 channel can carry (no current-channel or rotor effects on a joint torque sensor), on every
 joint, at 3x and 10x the joint's own noise level (torque RMS added, measured on the injected
-file against the original), and a link's mass error on two links. Scored: named on its joint
-(arm level for a link), by its vocabulary word.
+file against the original). Scored: named on its joint (a torque constant may be named with the
+arm's causes, against the robot file: it counts for its joint), by its vocabulary word; an effect
+the untouched recording is diagnosed with already counts only if its size moved by the injected
+one (torque constants: within 20 %), never merely for being claimed.
 Only the Python standard library (the CI machine's /usr/bin/python3).
 """
 import json
@@ -69,10 +71,43 @@ def try_run(cmd):
 
 
 def claims(diag):
-    out = {("arm", f["effect"]) for f in diag["arm"]["findings"]}
+    # A drive's torque constant is named with the arm's causes (against the robot file) but
+    # belongs to its joint.
+    out = {(int(f["params"]["joint"]), f["effect"]) if f["effect"] == "torque_constant" else ("arm", f["effect"])
+           for f in diag["arm"]["findings"]}
     for j in diag["joints"]:
         out |= {(j["joint"], f["effect"]) for f in j["findings"] if f["effect"] != "none"}
     return out
+
+
+def scale_errors(diag):
+    """Torque-constant scale error per joint, wherever it was named (arm level or per joint)."""
+    out = {}
+    for f in diag["arm"]["findings"]:
+        if f["effect"] == "torque_constant":
+            out[int(f["params"]["joint"])] = f["params"]["scale_error"]
+    for j in diag["joints"]:
+        for f in j["findings"]:
+            if f["effect"] == "torque_constant" and "scale_error" in f["params"]:
+                out.setdefault(j["joint"], f["params"]["scale_error"])
+    return out
+
+
+def named_on_joint(got, base, d, base_diag, joint, effect, size):
+    """Named: claimed on its joint, and not merely a claim the untouched recording makes
+    already. A torque constant claimed on both counts when its scale moved by the injected
+    one within 20 % ((1 + k') = (1 + k)(1 + c)); any other effect claimed on both does not."""
+    if (joint, effect) not in got:
+        return False
+    if (joint, effect) not in base:
+        return True
+    if effect == "torque_constant":
+        k0, k1 = scale_errors(base_diag).get(joint), scale_errors(d).get(joint)
+        if k0 is None or k1 is None:
+            return False
+        moved = (1.0 + k1) / (1.0 + k0) - 1.0
+        return abs(moved - size) <= 0.2 * abs(size)
+    return False
 
 
 def payloads(diag):
@@ -132,7 +167,8 @@ def vocabulary_cases(jg, recording, model, work, joints, sensor):
                 continue
             for k in SIZES_X_NOISE:
                 scale = k * noise[j - 1] / rms
-                cases.append((f"{effect}@{j}x{k:g}", effect_yaml(effect, j, setting, [c * scale for c in unit]), j, effect))
+                coefficients = [c * scale for c in unit]
+                cases.append((f"{effect}@{j}x{k:g}", effect_yaml(effect, j, setting, coefficients), j, effect, coefficients[0]))
     return cases
 
 
@@ -190,7 +226,7 @@ def main():
         header, _ = read_csv(recording)
         joints = len(torque_columns(header, sum(1 for h in header if h.startswith("q") and h[1:].isdigit())))
         sensor = "--torque-kind" in model and model[model.index("--torque-kind") + 1] == "joint"
-        for n, (name, text, joint, effect) in enumerate(vocabulary_cases(jg, recording, model, work, joints, sensor)):
+        for n, (name, text, joint, effect, size) in enumerate(vocabulary_cases(jg, recording, model, work, joints, sensor)):
             effects = os.path.join(work, f"v{n}.yaml")
             with open(effects, "w") as f:
                 f.write(text)
@@ -203,7 +239,9 @@ def main():
             run([jg, "diagnose", "--real", rec, *model, "--json", dj])
             d = json.load(open(dj))
             got = claims(d)
-            row = {"kind": "joint_effect", "case": name, "named": (joint, effect) in got,
+            row = {"kind": "joint_effect", "case": name,
+                   "named": named_on_joint(got, base_claims, d, base, joint, effect, size),
+                   "claimed_untouched": (joint, effect) in base_claims,
                    "extra_claims": sorted(map(str, got - base_claims - {(joint, effect)}))}
             rows.append(row)
             print(json.dumps(row), flush=True)

@@ -229,10 +229,13 @@ void withdraw_arm_causes(diag::ArmDiagnosis& a, const std::string& why) {
 /// parameters. Folded into `run.used`.
 void name_causes_against_file(const DiagnoseCliOptions& o, DiagnoseRun& run) {
   const sim::ArmDynamics prior_arm = run.used.dynamics();
-  const auto prior_ctx = model_context(prior_arm, run.model, run.nominal, o.friction, primary(run.reals));
+  const auto prior_ctx = model_context(prior_arm, run.used, run.nominal, o.friction, primary(run.reals));
   // Carried throughout only: a link holds it, and a step is found after the refit.
   diag::ArmDiagnosisOptions named_options = run.arm_options;
   named_options.payload_picked_up = false;
+  // A drive's torque constant scales what the currents read: named here, against the file,
+  // where the refit's base parameters have not yet taken it.
+  named_options.torque_constants = primary(run.reals).torque == io::TorqueKind::current;
   std::vector<diag::SampleSpan> spans;
   const auto signals = model_signals(run.reals, prior_ctx, &spans);
   run.named = diag::diagnose_arm(signals, named_options, &prior_arm);
@@ -252,6 +255,7 @@ void name_causes_against_file(const DiagnoseCliOptions& o, DiagnoseRun& run) {
   robot::RobotModel with_named = run.used;
   with_named.plant_effects = diag::plant_effects_of(run.named, {});
   diag::fold_arm_effects(with_named, &run.folded);
+  diag::fold_drive_effects(with_named, &run.folded);
   with_named.plant_effects = run.used.plant_effects;
   run.used = with_named;
 }
@@ -279,7 +283,7 @@ std::vector<diag::JointSignals> diagnosis_signals(const DiagnoseCliOptions& o, c
                                                   std::vector<diag::SampleSpan>& spans) {
   const LoadedRecording& real = primary(run.reals);
   // With the arm identified, its friction is the identified one (below), not --friction's.
-  const diag::ModelContext ctx = model_context(arm, run.model, run.nominal, run.rb ? std::string() : o.friction, real);
+  const diag::ModelContext ctx = model_context(arm, run.used, run.nominal, run.rb ? std::string() : o.friction, real);
   std::vector<diag::JointSignals> signals = o.sim.empty() ? model_signals(run.reals, ctx, &spans)
                                                           : paired_signals(run.reals, o.sim, o.input.max_gap_s, ctx, run.j, &spans);
   std::size_t segments = 0;
@@ -447,6 +451,9 @@ int run_diagnose(const DiagnoseCliOptions& o) {
   // A robot file written by --model-out carries what an earlier diagnosis found: in the
   // prediction too (arm-level effects folded into the links, per-joint ones below).
   run.model_effect_notes = diag::fold_arm_effects(run.used, &run.folded);
+  // The file's torque-constant errors in its drives' K_I, as they read the currents (against
+  // the robot file; a simulated recording made with them carries them already).
+  if (o.sim.empty() && real.torque == io::TorqueKind::current) diag::fold_drive_effects(run.used, &run.folded);
   if (!run.used.joints.empty()) run.arm_options.com_bound_m = std::max(run.arm_options.com_bound_m, run.used.joints.back().reach_m + 0.5);
   run.arm_options.max_payload_kg = run.model.rated_payload_kg;
   run.arm_options.joint.trace = o.trace;

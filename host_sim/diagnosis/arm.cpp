@@ -21,6 +21,7 @@ struct ArmCandidate {
   std::string effect;
   std::vector<std::vector<std::vector<double>>> columns;
   int link = 0;            ///< 1-based link the cause belongs to
+  int joint = 0;           ///< 1-based joint of a drive's cause (torque constant), 0: none
   double pickup_s = -1.0;  ///< step time of a payload picked up during the recording (< 0: throughout)
   int nonlinear_params = 0;
 };
@@ -242,6 +243,27 @@ ArmCandidate link_candidate(const std::vector<JointSignals>& js, const sim::ArmD
   return c;
 }
 
+/// A drive's current-to-torque constant off (current data only): the measured torque of
+/// joint `j` (0-based) is (1 + k) times the true one. Its column is the robot file's torque
+/// on that joint, zero on the others; the friction the file lacks is the nuisance's (offset,
+/// Coulomb, viscous), so k scales the rigid body's torque. Against the robot file, before
+/// the rigid-body refit: afterwards the refit's base parameters have taken most of it.
+ArmCandidate torque_constant_candidate(const std::vector<JointSignals>& js, std::size_t j) {
+  ArmCandidate c;
+  c.effect = "torque_constant";
+  c.joint = js[j].joint;
+  c.columns.assign(1, std::vector<std::vector<double>>(js.size(), std::vector<double>(js[j].size(), 0.0)));
+  c.columns[0][j] = js[j].tau_model;
+  return c;
+}
+
+/// What a cause is called in notes: "payload", "link 3 mass error", "joint 2 torque constant".
+std::string cause_label(const ArmCandidate& c) {
+  if (c.effect == "payload") return "payload";
+  if (c.effect == "torque_constant") return "joint " + std::to_string(c.joint) + " torque constant";
+  return "link " + std::to_string(c.link) + " mass error";
+}
+
 MatrixXd hstack(const std::vector<MatrixXd>& parts) {
   Eigen::Index cols = 0;
   for (const auto& p : parts) cols += p.cols();
@@ -296,6 +318,9 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
   if (arm != nullptr && arm->joints() == static_cast<int>(js.size())) {
     for (int l = 0; l + 1 < arm->joints(); ++l) all_groups.push_back({link_candidate(js, *arm, l)});
   }
+  if (o.torque_constants) {
+    for (std::size_t j = 0; j < js.size(); ++j) all_groups.push_back({torque_constant_candidate(js, j)});
+  }
   // A cause must be separable from what single joints add on their own (offset, friction,
   // a rotor inertia): at least min_separable of its columns' norm outside their span. On a
   // narrow sinusoidal motion the acceleration is proportional to the displacement and a
@@ -310,13 +335,13 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
       const double raw = Xc.norm();
       const double outside = (Xc - Q * (Q.transpose() * Xc)).norm();
       if (o.joint.trace) {
-        std::fprintf(stderr, "  arm %s link %d: %.2f outside per-joint effects\n", g.front().effect.c_str(), g.front().link, outside / std::max(raw, 1e-300));
+        std::fprintf(stderr, "  arm %s: %.2f outside per-joint effects\n", cause_label(g.front()).c_str(), outside / std::max(raw, 1e-300));
       }
       if (raw > 0.0 && outside >= o.min_separable * raw) {
         groups.push_back(std::move(g));
       } else {
         const auto& c = g.front();
-        d.notes.push_back((c.effect == "payload" ? std::string("payload") : "link " + std::to_string(c.link) + " mass error") +
+        d.notes.push_back(cause_label(c) +
                           ": not separable from per-joint effects on this motion (" +
                           std::to_string(static_cast<int>(100.0 * outside / std::max(raw, 1e-300))) + " % of it outside them)");
       }
@@ -372,9 +397,7 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
     }
     return &none;
   };
-  auto name_of = [](const ArmCandidate& c) {
-    return c.effect == "payload" ? std::string("payload") : "link " + std::to_string(c.link) + " mass error";
-  };
+  const auto name_of = cause_label;
   // The robot's own description bounds a payload: its rating, else its own mass.
   double payload_bound_kg = o.max_payload_kg;
   std::string payload_bound_name = "the arm's rated payload";
@@ -411,10 +434,23 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
     Eigen::Index at = 0;
     for (std::size_t i = 0; i < sub.cs.size(); ++i) {
       const ArmCandidate& c = *sub.cs[i];
-      const double mass = sub.b(at);
-      const Eigen::Vector3d first(sub.b(at + 1), sub.b(at + 2), sub.b(at + 3));
+      const double mass = sub.b(at);  // a torque constant's scale error k for a drive's cause
+      const Eigen::Vector3d first = c.columns.size() >= 4 ? Eigen::Vector3d(sub.b(at + 1), sub.b(at + 2), sub.b(at + 3))
+                                                          : Eigen::Vector3d::Zero();
       at += static_cast<Eigen::Index>(c.columns.size());
-      if (c.effect == "payload" && !(mass > o.min_mass_kg)) {
+      if (c.effect == "torque_constant") {
+        if (std::fabs(mass) > o.max_torque_constant_error) {
+          why << name_of(c) << " off by " << 100.0 * mass << " %, beyond the +/-" << 100.0 * o.max_torque_constant_error
+              << " % a drive's constant is known to: implausible, not claimed; an unexplained mismatch of that size";
+          Finding f;
+          f.effect = "torque_constant";
+          f.params["joint"] = c.joint;
+          f.params["scale_error"] = mass;
+          f.params["bound"] = o.max_torque_constant_error;
+          f.text = why.str();
+          d.unexplained.push_back(f);
+        }
+      } else if (c.effect == "payload" && !(mass > o.min_mass_kg)) {
         why << "payload fit gives a mass of " << mass << " kg (must be positive): not claimed";
       } else if (c.effect == "payload" && mass > payload_bound_kg) {
         why << "payload fit gives " << mass << " kg, above " << payload_bound_name << " (" << payload_bound_kg
@@ -492,7 +528,7 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
     const std::string why = reject(sub);
     if (trace) {
       std::fprintf(stderr, "  arm subset:");
-      for (const auto* c : sub.cs) std::fprintf(stderr, " %s(link %d, pickup %.2f)", c->effect.c_str(), c->link, c->pickup_s);
+      for (const auto* c : sub.cs) std::fprintf(stderr, " %s(pickup %.2f)", cause_label(*c).c_str(), c->pickup_s);
       std::fprintf(stderr, " dBIC %.1f %s\n", sub.bic - none.bic, why.c_str());
     }
     if (why.empty()) {
@@ -522,18 +558,32 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
                   bic((ya - Xa * ba).squaredNorm(), ya.size(), param_count(chosen));
     f.confidence = 1.0 / (1.0 + std::exp(-(f.delta_bic - o.joint.min_delta_bic) / 10.0));
     const double m = ba(at);
-    const Eigen::Vector3d h(ba(at + 1), ba(at + 2), ba(at + 3));
+    const Eigen::Vector3d h = p >= 4 ? Eigen::Vector3d(ba(at + 1), ba(at + 2), ba(at + 3)) : Eigen::Vector3d::Zero();
     f.null_z = jack[ci].z;
-    f.params["mass_kg_sigma"] = jack[ci].mass_sigma;
     FittedEffect fe;
     fe.effect = c.effect;
-    fe.setting["link"] = c.link;
+    if (c.effect == "torque_constant") {
+      fe.setting["joint"] = c.joint;
+    } else {
+      fe.setting["link"] = c.link;
+    }
     if (c.pickup_s >= 0.0) fe.setting["picked_up_at_s"] = c.pickup_s;
     for (Eigen::Index i = 0; i < p; ++i) fe.coefficients.push_back(ba(at + i));
     std::ostringstream text;
     text.precision(3);
-    f.params["link"] = c.link;
-    if (c.effect == "payload") {
+    if (c.effect != "torque_constant") {
+      f.params["link"] = c.link;
+      f.params["mass_kg_sigma"] = jack[ci].mass_sigma;
+    }
+    if (c.effect == "torque_constant") {
+      // tau_measured = (1 + k) tau_true (as the per-joint effect): true K_I = file's / (1 + k).
+      f.params["joint"] = c.joint;
+      f.params["scale_error"] = m;
+      f.params["scale_error_sigma"] = jack[ci].mass_sigma;
+      f.params["torque_constant_ratio"] = 1.0 / (1.0 + m);
+      text << "joint " << c.joint << "'s torque constant: the measured torque is " << 100.0 * m << " +/- "
+           << 100.0 * jack[ci].mass_sigma << " % off the robot file's (true K_I = file's x " << 1.0 / (1.0 + m) << ")";
+    } else if (c.effect == "payload") {
       const Eigen::Vector3d com = h / m;
       f.params["mass_kg"] = m;
       f.params["com_x_m"] = com.x();
@@ -606,6 +656,11 @@ std::vector<std::vector<double>> predict_arm_causes(const std::vector<FittedEffe
           for (std::size_t k = 0; k < per_joint[j].size(); ++k) per_joint[j][k] = js[j].t[k] >= pickup_s ? per_joint[j][k] : 0.0;
         }
       }
+    } else if (m.effect == "torque_constant") {
+      const auto joint = static_cast<int>(at("joint", 0.0));
+      const auto it = std::find_if(js.begin(), js.end(), [&](const JointSignals& s) { return s.joint == joint; });
+      if (it == js.end()) throw std::invalid_argument("torque_constant: no joint " + std::to_string(joint) + " in the signals");
+      c = torque_constant_candidate(js, static_cast<std::size_t>(it - js.begin()));
     } else if (m.effect == "link_inertial_error") {
       if (arm == nullptr) throw std::invalid_argument("a link's mass error cannot be predicted without the arm's model");
       c = link_candidate(js, *arm, static_cast<int>(at("link", 1.0)) - 1);

@@ -1,6 +1,7 @@
 // Arm-level diagnosis: causes that are one thing in the world (a payload on the last link,
-// picked up at some time or carried throughout) are fitted once, across every joint they
-// load, before the per-joint diagnosis. Their parameters are shared by all joints; each
+// picked up at some time or carried throughout; a link's mass; a drive's torque constant,
+// against the robot file) are fitted once, across every joint they load, before the
+// per-joint diagnosis. Their parameters are shared by all joints; each
 // joint's residual is weighted by its own noise level, and friction-like nuisance terms
 // per joint (offset, Coulomb sign, viscous) are fitted beside them so that a per-joint
 // friction error is not taken for a payload. A cause is claimed only with the same
@@ -39,6 +40,13 @@ struct ArmDiagnosisOptions {
   /// standstill before a motion, where static friction holds any torque, is then fitted as
   /// "not yet picked up".
   bool payload_picked_up = true;
+  /// Offer each drive's torque constant (current data against the robot file: the measured
+  /// torque a scale of the file's). Off for a joint torque sensor, and after the rigid-body
+  /// refit (its base parameters take most of a scale).
+  bool torque_constants = false;
+  /// A drive's current-to-torque constant is known to +/-30 % (datasheet tolerance plus
+  /// magnet temperature, as the per-joint effect's bound); beyond it: not claimed, unexplained.
+  double max_torque_constant_error = 0.3;
 };
 
 struct ArmDiagnosis {

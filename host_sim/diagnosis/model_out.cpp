@@ -12,6 +12,15 @@ std::vector<robot::PlantEffect> plant_effects_of(const ArmDiagnosis& arm, const 
   std::vector<robot::PlantEffect> out;
   for (std::size_t i = 0; i < arm.model.size(); ++i) {
     const auto& m = arm.model[i];
+    if (m.effect == "torque_constant") {  // named for the arm, but a drive's own: its joint's entry
+      robot::PlantEffect p{m.effect, static_cast<int>(m.setting.at("joint")), {}, m.coefficients, {}};
+      for (const auto& f : arm.findings) {
+        const auto j = f.params.find("joint");
+        if (f.effect == m.effect && j != f.params.end() && j->second == m.setting.at("joint")) p.params = f.params;
+      }
+      out.push_back(std::move(p));
+      continue;
+    }
     robot::PlantEffect p{m.effect, 0, m.setting, m.coefficients, {}};
     for (const auto& f : arm.findings) {
       const auto l = f.params.find("link");
@@ -98,9 +107,29 @@ std::vector<std::string> fold_arm_effects(robot::RobotModel& m, std::vector<robo
   return notes;
 }
 
+void fold_drive_effects(robot::RobotModel& m, std::vector<robot::PlantEffect>* folded) {
+  std::vector<robot::PlantEffect> kept;
+  for (const auto& e : m.plant_effects) {
+    const bool drive = e.effect == "torque_constant" && e.joint >= 1 && e.joint <= static_cast<int>(m.joints.size()) &&
+                       e.coefficients.size() == 1 && 1.0 + e.coefficients[0] > 0.0;
+    if (!drive) {
+      kept.push_back(e);
+      continue;
+    }
+    m.joints[static_cast<std::size_t>(e.joint - 1)].link.torque_constant /= 1.0 + e.coefficients[0];
+    if (folded != nullptr) folded->push_back(e);
+  }
+  m.plant_effects = kept;
+}
+
 std::vector<std::string> unfold_arm_effects(robot::RobotModel& m, const std::vector<robot::PlantEffect>& folded) {
   std::vector<std::string> notes;
   for (auto it = folded.rbegin(); it != folded.rend(); ++it) {
+    if (it->effect == "torque_constant") {  // back into the file as an effect: K_I as the file had it
+      m.joints[static_cast<std::size_t>(it->joint - 1)].link.torque_constant *= 1.0 + it->coefficients[0];
+      m.plant_effects = merge_plant_effects(m.plant_effects, {*it});
+      continue;
+    }
     const int l = foldable_link(*it, m.joints.size());
     if (l < 0) continue;
     const sim::PlantLink back = changed_link(m.plant_links()[static_cast<std::size_t>(l)], *it, -1.0);
@@ -123,8 +152,12 @@ std::vector<robot::PlantEffect> merge_plant_effects(std::vector<robot::PlantEffe
       continue;
     }
     // The same cause found again on top of itself: one entry, coefficients added (exact for
-    // a payload's mass and first moment; to first order for a scale such as K_I).
-    for (std::size_t k = 0; k < f.coefficients.size(); ++k) it->coefficients[k] += f.coefficients[k];
+    // a payload's mass and first moment; a scale such as K_I compounds).
+    if (it->effect == "torque_constant" && f.coefficients.size() == 1) {
+      it->coefficients[0] = (1.0 + it->coefficients[0]) * (1.0 + f.coefficients[0]) - 1.0;  // scales compound
+    } else {
+      for (std::size_t k = 0; k < f.coefficients.size(); ++k) it->coefficients[k] += f.coefficients[k];
+    }
     it->params = f.params;
     if (it->effect == "payload" && it->coefficients.size() >= 4 && it->coefficients[0] != 0.0) {
       it->params["mass_kg"] = it->coefficients[0];

@@ -35,8 +35,15 @@ std::vector<std::string> fold_arm_effects(robot::RobotModel& model, std::vector<
 /// link without a body's inertia (the link was re-identified meanwhile) stays inside; notes say so.
 std::vector<std::string> unfold_arm_effects(robot::RobotModel& model, const std::vector<robot::PlantEffect>& folded);
 
+/// A drive's torque-constant error (`torque_constant` plant effects, current data) held where
+/// it lives: in the drive's K_I, read as the file's K_I / (1 + k), so that every later stage
+/// (the named causes, the rigid-body refit, the per-joint diagnosis) reads the currents with
+/// it; removed from plant_effects and appended to `folded` (unfold_arm_effects writes it back).
+void fold_drive_effects(robot::RobotModel& model, std::vector<robot::PlantEffect>* folded);
+
 /// `found` added to `existing`: the same cause (effect, joint, setting) found again is one
-/// entry with its coefficients added, never a second entry (the loop converges in the file).
+/// entry with its coefficients added (a torque constant's scale errors compounded), never a
+/// second entry (the loop converges in the file).
 std::vector<robot::PlantEffect> merge_plant_effects(std::vector<robot::PlantEffect> existing, const std::vector<robot::PlantEffect>& found);
 
 /// The per-joint plant_effects' torque added to each joint's predicted torque (and taken off
