@@ -64,6 +64,31 @@ JointSignals at_rest_at_start(const JointSignals& s) {
   return r;
 }
 
+/// Dahl's hyperbolic presliding law (du/ds = -u²/delta, u = 1 - sgn(w) zeta): the state
+/// after travelling |dx| towards `dir` (the plant's FrictionEffects::dahl_exponent = 2).
+double hyperbolic_dahl_step(double zeta, double dir, double dx_abs, double delta) {
+  const double u = 1.0 - dir * zeta;
+  return dir * (1.0 - u / (1.0 + u * dx_abs / delta));
+}
+
+/// One direction's friction curve changed alone (side +1: w > 0, -1: w < 0): the nominal
+/// LuGre curve's Coulomb level and its static level, each raised on that side only (per N·m).
+Candidate one_sided_levels(const JointSignals& s, double side) {
+  Candidate c;
+  c.effect = "asymmetric_friction";
+  c.setting = {{"side", side}};
+  c.nonlinear_params = 0;  // two instances (one per side), like the model-curve instances
+  if (!s.friction) return c;
+  const double eps_c = 0.01 * std::max(s.friction->tau_c, 1e-3), eps_s = 0.01 * std::max(std::fabs(s.friction->tau_s), 1e-3);
+  auto dc = lugre_change(s, [eps_c](LuGreParams<double>& p) { p.tau_c += eps_c; }, eps_c);
+  auto ds = lugre_change(s, [eps_s](LuGreParams<double>& p) { p.tau_s += eps_s; }, eps_s);
+  for (std::size_t k = 0; k < dc.size(); ++k) {
+    if (!(s.dq[k] * side > 0.0)) dc[k] = ds[k] = 0.0;
+  }
+  c.columns = {std::move(dc), std::move(ds)};
+  return c;
+}
+
 // The effect's columns as computed from the signals, without the start offset.
 Candidate raw_candidate(const std::string& effect, const std::map<std::string, double>& setting,
                         const JointSignals& s) {
@@ -115,15 +140,23 @@ Candidate raw_candidate(const std::string& effect, const std::map<std::string, d
     for (std::size_t k = 0; k < n; ++k) col[k] = sgn(k) * std::exp(-(s.dq[k] / ws) * (s.dq[k] / ws));
   } else if (effect == "presliding") {
     // The bristles' smooth transition after a reversal: a Dahl state with characteristic
-    // displacement delta, minus the sign it tends to.
+    // displacement delta, minus the sign it tends to. Its law: exponential (Dahl's
+    // exponent 1, the default) or hyperbolic (`law` 2: a sharper onset, a longer tail).
     const double delta = get("displacement_rad");
+    const bool hyperbolic = setting.count("law") != 0U && setting.at("law") == 2.0;
+    if (hyperbolic) c.nonlinear_params = 1;  // the law is a structure choice, like model_curve
     double zeta = 0.0;
     for (std::size_t k = 0; k < n; ++k) {
       const double dx = s.dq[k] * s.dt;
       const double dir = dx > 0.0 ? 1.0 : (dx < 0.0 ? -1.0 : 0.0);
-      if (dir != 0.0) zeta = dir + (zeta - dir) * std::exp(-std::fabs(dx) / delta);
+      if (dir != 0.0) {
+        zeta = hyperbolic ? hyperbolic_dahl_step(zeta, dir, std::fabs(dx), delta)
+                          : dir + (zeta - dir) * std::exp(-std::fabs(dx) / delta);
+      }
       col[k] = zeta - sgn(k);
     }
+  } else if (effect == "asymmetric_friction" && setting.count("side") != 0U) {
+    return one_sided_levels(s, get("side"));
   } else if (effect == "asymmetric_friction") {
     // Friction levels that differ by direction: a Coulomb level (|sgn w|, constant while
     // moving, zero at rest: that tells it from an offset) and a viscous slope (|w|: the
@@ -149,8 +182,20 @@ Candidate raw_candidate(const std::string& effect, const std::map<std::string, d
     for (std::size_t k = 0; k < n; ++k) col[k] = sgn(k) * (1.0 - std::exp(-(s.t[k] - s.t.front()) / tc));
   } else if (effect == "load_dependent_friction") {
     // Gear-tooth friction grows with the torque the gear transmits: the rigid-body torque.
+    // With `power_flow`, one coefficient where the motor drives the load (power from the
+    // motor to the link, w load > 0) and one where the load back-drives the gear: a
+    // gear's efficiency differs with the direction of the power through it.
     if (s.load.empty()) return c;
     for (std::size_t k = 0; k < n; ++k) col[k] = sgn(k) * std::fabs(s.load[k]);
+    if (setting.count("power_flow") != 0U) {
+      c.nonlinear_params = 0;
+      auto back = column(n);
+      for (std::size_t k = 0; k < n; ++k) {
+        if (s.dq[k] * s.load[k] < 0.0) std::swap(col[k], back[k]);
+      }
+      c.columns = {std::move(col), std::move(back)};
+      return c;
+    }
   } else if (effect == "payload") {
     // Mass and first moment along the link: what a payload at the tool changes most.
     // (The other first moments are rarely excited enough to be told apart.)
@@ -168,6 +213,15 @@ Candidate raw_candidate(const std::string& effect, const std::map<std::string, d
     // torque, not the measured one, is the regressor: the prediction must never use the
     // signal it predicts.
     col = s.tau_model;
+    if (setting.count("saturation") != 0U) {
+      // A constant that falls with the current (magnetic saturation): K (1 + e - c' |i|).
+      // Measured over true torque 1 + e + c |tau|, c per N·m: the second column.
+      c.nonlinear_params = 0;
+      auto sat = column(n);
+      for (std::size_t k = 0; k < n; ++k) sat[k] = s.tau_model[k] * std::fabs(s.tau_model[k]);
+      c.columns = {std::move(col), std::move(sat)};
+      return c;
+    }
   } else if (effect == "current_offset") {
     col.assign(n, 1.0);
   } else if (effect == "time_delay") {
@@ -236,6 +290,14 @@ std::vector<std::vector<Candidate>> build_candidates(const JointSignals& s) {
       if (!c.columns.empty()) it->push_back(std::move(c));
     }
   };
+  // Richer shapes of the same cause: further instances of its group (same name, chosen
+  // over the plain shape by the same criterion).
+  auto richer = [&](const std::string& effect, const std::map<std::string, double>& setting) {
+    auto it = std::find_if(all.begin(), all.end(), [&](const std::vector<Candidate>& g) { return g.front().effect == effect; });
+    if (it == all.end()) return;
+    Candidate c = make_candidate(effect, setting, s);
+    if (!c.columns.empty()) it->push_back(std::move(c));
+  };
   group("coulomb", nullptr, {});
   group("viscous", nullptr, {});
   group("stribeck", "w_s", {0.003, 0.006, 0.01, 0.02, 0.04, 0.07, 0.1, 0.15, 0.25, 0.4});
@@ -243,7 +305,10 @@ std::vector<std::vector<Candidate>> build_candidates(const JointSignals& s) {
   model_instances("coulomb", "model_curve", {1.0});
   model_instances("stribeck", "model_curve", {1.0});
   model_instances("presliding", "sigma0_ratio", {0.5, 0.3, 0.2, 0.1, 0.05, 0.02});
+  for (const double d : {2e-5, 5e-5, 1e-4, 2e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2}) richer("presliding", {{"displacement_rad", d}, {"law", 2.0}});
   group("asymmetric_friction", nullptr, {});
+  richer("asymmetric_friction", {{"side", 1.0}});
+  richer("asymmetric_friction", {{"side", -1.0}});
   // Once per turn, a ripple cannot be told from a gravity-model error on one joint; with
   // a rigid-body model at hand that is the payload effect's job, so ripple starts at 2.
   // Nor can a ripple of which the motion covers less than 1.5 periods: over that range a
@@ -261,9 +326,13 @@ std::vector<std::vector<Candidate>> build_candidates(const JointSignals& s) {
   const double span = s.t.back() - s.t.front();
   group("temperature_drift", "time_constant_s", {0.1 * span, 0.25 * span, 0.5 * span, span, 3.0 * span});
   group("load_dependent_friction", nullptr, {});
+  richer("load_dependent_friction", {{"power_flow", 1.0}});
   if (!s.arm_level_fitted) group("payload", nullptr, {});  // else fitted once for the arm (arm.hpp)
   group("inertia_error", nullptr, {});
-  if (!s.joint_torque_sensor) group("torque_constant", nullptr, {});
+  if (!s.joint_torque_sensor) {
+    group("torque_constant", nullptr, {});
+    richer("torque_constant", {{"saturation", 1.0}});
+  }
   group("current_offset", nullptr, {});
   group("time_delay", nullptr, {});
   // Backlash from the torque alone (the load not driven after velocity reversals) only when
@@ -279,6 +348,7 @@ std::string implausible(const Candidate& c, const std::vector<double>& b, const 
   os.precision(3);
   const std::string& e = c.effect;
   const bool model_curve = c.setting.count("model_curve") != 0U;
+  const bool one_sided = e == "asymmetric_friction" && c.setting.count("side") != 0U;
   const double span = s.t.empty() ? 0.0 : s.t.back() - s.t.front();
   // No effect's torque can exceed everything the joint measured: the drive saw it.
   double tau_max = 0.0;
@@ -286,6 +356,7 @@ std::string implausible(const Candidate& c, const std::vector<double>& b, const 
   double w_max = 0.0;
   for (const double w : s.dq) w_max = std::max(w_max, std::fabs(w));
   const double level_of = e == "position_ripple" && b.size() > 1 ? std::hypot(b[0], b[1])
+                          : one_sided && b.size() > 1 ? std::max(std::fabs(b[0]), std::fabs(b[1]))
                           : e == "asymmetric_friction"
                               ? std::max(std::fabs(2.0 * b[0]), b.size() > 1 ? std::fabs(2.0 * b[1]) * w_max : 0.0)
                           : e == "viscous" ? std::fabs(b[0]) * w_max
@@ -312,12 +383,25 @@ std::string implausible(const Candidate& c, const std::vector<double>& b, const 
     // A thermal time constant between the sample time (x50) and three times the recording.
     const double tc = c.setting.at("time_constant_s");
     if (tc < std::max(50.0 * s.dt, 1.0) || tc > 3.0 * span) os << "drift time constant " << tc << " s outside [max(50 dt, 1 s), 3 x recording]";
+  } else if (one_sided && b.size() > 1) {
+    const double side = c.setting.at("side");
+    const double tc = (s.friction ? s.friction->tau_c : 0.0) + b[0], ts = (s.friction ? s.friction->tau_s : 0.0) + b[1];
+    if (tc < 0.0 || ts < 0.0) os << (side > 0.0 ? "positive" : "negative") << "-direction friction level would be negative (Coulomb " << tc << ", static " << ts << " N·m)";
   } else if (e == "load_dependent_friction") {
-    if (b[0] < 0.0 || b[0] > 0.5) os << "load coefficient " << b[0] << " outside [0, 0.5] N·m per N·m";
+    for (const double mu : b) {
+      if (mu < 0.0 || mu > 0.5) {
+        os << "load coefficient " << mu << " outside [0, 0.5] N·m per N·m";
+        break;
+      }
+    }
   } else if (e == "torque_constant") {
     // A drive's current-to-torque constant is known to +/-30 % (datasheet tolerance plus
     // magnet temperature); beyond that the drive or the model is wrong, not the constant.
+    // Saturation only lowers it as the current grows, to at most 30 % off at the largest
+    // torque measured.
     if (std::fabs(b[0]) > 0.3) os << "torque constant error " << 100.0 * b[0] << " % beyond +/-30 %";
+    else if (b.size() > 1 && b[1] < 0.0) os << "torque constant rising with the current (saturation " << b[1] << " per N·m < 0)";
+    else if (b.size() > 1 && std::fabs(b[0]) + b[1] * tau_max > 0.3) os << "torque constant " << 100.0 * (std::fabs(b[0]) + b[1] * tau_max) << " % off at the largest torque, beyond 30 %";
   } else if (e == "time_delay") {
     // Causal and short: the torque lags the motion by half a sample to 50 ms.
     const double delay = -b[0];
@@ -360,11 +444,20 @@ std::map<std::string, double> describe(const Candidate& c, const std::vector<dou
     os << "presliding (bristle) dynamics off: the bristles are softer than modelled, stiffness x"
        << c.setting.at("sigma0_ratio") << " (fit " << b[0] << " of that change)";
   } else if (e == "presliding") {
+    if (c.setting.count("law") != 0U) p["law"] = c.setting.at("law");
     p["level"] = -b[0];
     p["displacement_rad"] = c.setting.at("displacement_rad");
     p["sigma0"] = std::fabs(b[0]) / p["displacement_rad"];
     os << "presliding (bristle) dynamics missing: friction builds up over " << p["displacement_rad"]
-       << " rad after each reversal (stiffness ~" << p["sigma0"] << " N·m/rad)";
+       << " rad after each reversal (stiffness ~" << p["sigma0"] << " N·m/rad"
+       << (c.setting.count("law") != 0U ? ", Dahl's hyperbolic law)" : ")");
+  } else if (e == "asymmetric_friction" && c.setting.count("side") != 0U && b.size() > 1) {
+    const bool positive = c.setting.at("side") > 0.0;
+    p["side"] = c.setting.at("side");
+    p["delta_tau_c_one_side"] = b[0];
+    p["delta_tau_s_one_side"] = b[1];
+    os << "friction differs with direction: the " << (positive ? "positive" : "negative")
+       << " direction's Coulomb level off by " << b[0] << " N·m and its static level by " << b[1] << " N·m (the other direction as modelled)";
   } else if (e == "asymmetric_friction") {
     p["tau_c_positive_minus_negative"] = 2.0 * b[0];
     if (b.size() > 1) p["viscous_positive_minus_negative"] = 2.0 * b[1];
@@ -383,6 +476,11 @@ std::map<std::string, double> describe(const Candidate& c, const std::vector<dou
     p["time_constant_s"] = c.setting.at("time_constant_s");
     os << "friction drifts with time (temperature): level changes by " << b[0] << " N·m with time constant "
        << p["time_constant_s"] << " s";
+  } else if (e == "load_dependent_friction" && b.size() > 1) {
+    p["coefficient"] = b[0];
+    p["coefficient_backdriven"] = b[1];
+    os << "friction grows with the joint load, by the power flow: " << b[0] << " N·m per N·m where the motor drives, "
+       << b[1] << " where the load back-drives the gear";
   } else if (e == "load_dependent_friction") {
     p["coefficient"] = b[0];
     os << "friction grows with the joint load: " << b[0] << " N·m per N·m of load";
@@ -400,6 +498,10 @@ std::map<std::string, double> describe(const Candidate& c, const std::vector<dou
     p["torque_constant_ratio"] = 1.0 / (1.0 + b[0]);
     os << "torque constant (current to torque) off: measured torque is " << 100.0 * b[0]
        << " % off the true torque (true/nominal K_I " << 1.0 / (1.0 + b[0]) << ")";
+    if (b.size() > 1) {
+      p["saturation_per_nm"] = b[1];
+      os << ", and it saturates: " << 100.0 * b[1] << " % more per N·m of torque";
+    }
   } else if (e == "current_offset") {
     p["offset_nm"] = b[0];
     os << "current sensor offset worth " << b[0] << " N·m";

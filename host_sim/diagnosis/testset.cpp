@@ -281,7 +281,9 @@ CaseOutcome diagnose_pair(const ConcealedCase& c, const TestArm& arm, const sim:
   const auto signals = signals_from_pair(r, s, m);
   out.arm = diagnose_arm(signals, {}, &model);
   out.heldout_raw = heldout_rms_of(signals[static_cast<std::size_t>(std::max(1, c.joint) - 1)].residual);
-  for (const auto& sig : without_arm_causes(signals, out.arm)) out.joints.push_back(diagnose_joint(sig));
+  DiagnoseOptions joint_options;
+  joint_options.trace = std::getenv("JG_DIAG_TRACE_SELECTION") != nullptr;  // each selection step to stderr
+  for (const auto& sig : without_arm_causes(signals, out.arm)) out.joints.push_back(diagnose_joint(sig, joint_options));
   if (c.effect == "none" && !out.arm.findings.empty()) out.false_claim = true;
   // A payload belongs to the last link but shows on every joint it loads: it is named
   // once, at the arm level. Every other effect must be named on its joint.

@@ -72,6 +72,9 @@ EffectProblem setting_range_problem(const PlantEffect& p, std::size_t joints) {
       {"time_constant_s", 1e-6, 1e9, "(0, 1e9] s (a thermal time constant)"},
       {"picked_up_at_s", 0.0, 1e9, "[0, 1e9] s (a time in the recording)"},
       {"model_curve", 1.0, 1.0, "{1} (a flag: the nominal LuGre curve's parameter)"},
+      {"saturation", 1.0, 1.0, "{1} (a flag: a torque constant falling with the current, coefficients [scale, per N·m])"},
+      {"power_flow", 1.0, 1.0, "{1} (a flag: load coefficients [driving, back-driven])"},
+      {"law", 1.0, 2.0, "{1, 2} (presliding law: 1 exponential, 2 hyperbolic)"},
   };
   for (const auto& [key, value] : p.setting) {
     if (key == "link") {
@@ -85,6 +88,9 @@ EffectProblem setting_range_problem(const PlantEffect& p, std::size_t joints) {
     for (const auto& r : settings) {
       if (key != r.key) continue;
       if (auto e = out_of_range("setting." + key, value, r); !e.field.empty()) return e;
+    }
+    if ((key == "law" && value != std::floor(value)) || (key == "side" && value != 1.0 && value != -1.0)) {
+      return {"setting." + key, exact(value) + (key == "law" ? " is not a presliding law (1 or 2)" : " is not a direction (1 or -1)")};
     }
   }
   static const Range params[] = {
@@ -125,6 +131,13 @@ EffectProblem coefficient_range_problem(const PlantEffect& p) {
     return out_of_range("coefficients", b[0], {"", -kMaxPayloadKg, kMaxPayloadKg, "[-5000, 5000] kg (a mass change)"});
   }
   if (p.effect == "torque_constant") {
+    if (p.setting.count("saturation") != 0U && b.size() > 1) {
+      if (auto e = out_of_range("coefficients", b[1], {"", 0.0, 1.0, "[0, 1] per N·m: a saturation (coefficients[1]) lowers the "
+                                                                     "constant as the current grows"});
+          !e.field.empty()) {
+        return e;
+      }
+    }
     return out_of_range("coefficients", b[0], {"", -0.9, 9.0, "[-0.9, 9]: the measured torque's scale 1 + b (0.1 to 10 times "
                                                               "the true torque; <= 0 would flip or erase it)"});
   }
@@ -132,7 +145,12 @@ EffectProblem coefficient_range_problem(const PlantEffect& p) {
     return out_of_range("coefficients", -b[0], {"", 0.0, 1.0, "[0, 1] s as a delay (-coefficients[0])"});
   }
   if (p.effect == "inertia_error") return out_of_range("coefficients", b[0], {"", -kMaxRotorInertiaKgM2, kMaxRotorInertiaKgM2, "+/-1e4 kg·m²"});
-  if (p.effect == "load_dependent_friction") return out_of_range("coefficients", b[0], {"", -1.0, 1.0, "[-1, 1] N·m per N·m"});
+  if (p.effect == "load_dependent_friction") {
+    for (const double v : b) {
+      if (auto e = out_of_range("coefficients", v, {"", -1.0, 1.0, "[-1, 1] N·m per N·m"}); !e.field.empty()) return e;
+    }
+    return {};
+  }
   for (const double v : b) {  // friction levels, offsets, ripple: torques an arm's drive can hold
     if (auto e = out_of_range("coefficients", v, {"", -1e5, 1e5, "+/-1e5 (N·m or N·m·s/rad)"}); !e.field.empty()) return e;
   }
@@ -157,12 +175,12 @@ EffectProblem simulation_problem(const PlantEffect& p) {
       {"viscous", 1, nullptr},
       {"stribeck", 1, model_curve ? nullptr : "w_s"},
       {"presliding", 1, p.setting.count("sigma0_ratio") != 0U ? nullptr : "displacement_rad"},
-      {"asymmetric_friction", 1, nullptr},
+      {"asymmetric_friction", p.setting.count("side") != 0U ? 2U : 1U, nullptr},
       {"position_ripple", 2, "periods_per_rev"},
       {"temperature_drift", 1, "time_constant_s"},
-      {"load_dependent_friction", 1, nullptr},
+      {"load_dependent_friction", p.setting.count("power_flow") != 0U ? 2U : 1U, nullptr},
       {"inertia_error", 1, nullptr},
-      {"torque_constant", 1, nullptr},
+      {"torque_constant", p.setting.count("saturation") != 0U ? 2U : 1U, nullptr},
       {"current_offset", 1, nullptr},
       {"time_delay", 1, nullptr},
       {"backlash", 0, nullptr},

@@ -14,6 +14,26 @@ std::string joint_text(int joint, const std::string& what) { return "joint " + s
 /// Keeps a LuGre level physical (the friction truth refuses non-positive levels).
 double positive(double v) { return std::max(v, 1e-6); }
 
+/// One direction's Coulomb and static levels changed by b[0], b[1] N·m. The plant scales the
+/// negative direction's levels; the positive direction's change is the levels' change with
+/// the negative direction scaled back.
+void apply_one_sided(const robot::PlantEffect& e, JointFrictionTruth& f, std::ostringstream& os) {
+  auto& lugre = f.lugre;
+  const auto& b = e.coefficients;
+  const double tc = lugre.tau_c, ts = lugre.tau_s;
+  if (e.setting.at("side") < 0.0) {
+    f.effects.negative_tau_c_scale *= positive(tc + b[0]) / tc;
+    f.effects.negative_tau_s_scale *= positive(ts + b[1]) / ts;
+  } else {
+    lugre.tau_c = positive(tc + b[0]);
+    lugre.tau_s = positive(ts + b[1]);
+    f.effects.negative_tau_c_scale *= tc / lugre.tau_c;
+    f.effects.negative_tau_s_scale *= ts / lugre.tau_s;
+  }
+  os << "asymmetric_friction: " << (e.setting.at("side") < 0.0 ? "negative" : "positive") << " direction's Coulomb level "
+     << b[0] << " N·m, static level " << b[1] << " N·m off";
+}
+
 /// One torque-channel effect of joint j (0-based) into the setup.
 void apply_effect(const robot::PlantEffect& e, std::size_t j, int joint, SimulationSetup& s, std::vector<double>& delays,
                   EffectsReport& r) {
@@ -53,10 +73,15 @@ void apply_effect(const robot::PlantEffect& e, std::size_t j, int joint, Simulat
     lugre.sigma0 = positive(lugre.sigma0 * (e.setting.at("sigma0_ratio") * b[0] + (1.0 - b[0])));
     os << " -> " << lugre.sigma0 << " N·m/rad";
   } else if (e.effect == "presliding") {
-    // The fitted Dahl shape itself (a LuGre bristle stiffness would change the whole curve).
+    // The fitted Dahl shape itself (a LuGre bristle stiffness would change the whole curve),
+    // with its law (1 exponential, 2 hyperbolic).
     f.effects.dahl_extra_nm = b[0];
     f.effects.dahl_displacement_rad = e.setting.at("displacement_rad");
-    os << "presliding: Dahl shape " << b[0] << " N·m over " << f.effects.dahl_displacement_rad << " rad";
+    f.effects.dahl_exponent = e.setting.count("law") != 0U ? static_cast<int>(e.setting.at("law")) : 1;
+    os << "presliding: Dahl shape " << b[0] << " N·m over " << f.effects.dahl_displacement_rad << " rad"
+       << (f.effects.dahl_exponent == 2 ? " (hyperbolic law)" : "");
+  } else if (e.effect == "asymmetric_friction" && e.setting.count("side") != 0U) {
+    apply_one_sided(e, f, os);
   } else if (e.effect == "asymmetric_friction") {
     // The plant scales the Coulomb/static levels by 1 +/- a: a level difference b0 is a = b0 / tau_c.
     f.effects.asymmetry = std::clamp(f.effects.asymmetry + b[0] / lugre.tau_c, -0.95, 0.95);
@@ -74,8 +99,13 @@ void apply_effect(const robot::PlantEffect& e, std::size_t j, int joint, Simulat
     f.effects.drift_extra_time_constant_s = e.setting.at("time_constant_s");
     os << "temperature_drift: level + " << b[0] << " N·m (1 - exp(-t / " << f.effects.drift_extra_time_constant_s << " s))";
   } else if (e.effect == "load_dependent_friction") {
+    // By the power flow: the back-driven coefficient of its own (before: the driving one's).
+    const double backdriven = f.effects.load_coefficient_backdriven >= 0.0 ? f.effects.load_coefficient_backdriven
+                                                                           : f.effects.load_coefficient;
     f.effects.load_coefficient += b[0];
+    if (e.setting.count("power_flow") != 0U) f.effects.load_coefficient_backdriven = std::max(0.0, backdriven + b[1]);
     os << "load_dependent_friction: " << f.effects.load_coefficient << " N·m per N·m";
+    if (e.setting.count("power_flow") != 0U) os << " (back-driven " << f.effects.load_coefficient_backdriven << ")";
   } else if (e.effect == "inertia_error") {
     auto& link = s.plant.links[j];
     os << "inertia_error: rotor inertia " << link.rotor_inertia;
@@ -86,6 +116,13 @@ void apply_effect(const robot::PlantEffect& e, std::size_t j, int joint, Simulat
     // measurement is true / (1 + error).
     drive.torque_constant_error = (1.0 + drive.torque_constant_error) / (1.0 + b[0]) - 1.0;
     os << "torque_constant: true K_I = nominal x " << 1.0 + drive.torque_constant_error;
+    if (e.setting.count("saturation") != 0U) {
+      // Measured / true = 1 + c |tau|, tau = K i: the true K falls by c K per ampere.
+      auto& sat = s.sensors.torque_constant_saturation_per_a;
+      sat.resize(s.sensors.drives.size(), 0.0);
+      sat[j] += b[1] * drive.torque_constant_nominal;
+      os << ", saturating " << sat[j] << " per A";
+    }
   } else if (e.effect == "current_offset") {
     drive.current_offset_a += b[0] / drive.torque_constant_nominal;
     os << "current_offset: " << drive.current_offset_a << " A";

@@ -7,7 +7,10 @@
 #include <set>
 #include <string>
 
+#include "diagnosis/testset.hpp"
 #include "diagnosis/testset_second.hpp"
+#include "robot/plant_effects.hpp"
+#include "sim/apply_effects.hpp"
 #include "plant/friction_truth.hpp"
 #include "plant/sensors.hpp"
 
@@ -68,6 +71,37 @@ TEST(DiagnosisTestSetSecond, DrawsItsOwnCases) {
   }
   EXPECT_EQ(seen.size(), vocabulary.size());  // 100 effect cases cover all 16 words
   EXPECT_LT(same_effect, 20);                 // independent stream: about 1 in 16 (6 of 100) by chance
+}
+// The diagnosis's richer shapes of four causes, written back, reach the plant's own hooks
+// for them (what the second generator hides), and the file check refuses them malformed.
+TEST(DiagnosisTestSetSecond, RicherShapesWrittenBackReachThePlant) {
+  using jg::robot::PlantEffect;
+  auto s = jg::diag::nominal_setup(jg::diag::default_test_arm(), 1);
+  const double tc = s.plant.friction[0].lugre.tau_c, ts = s.plant.friction[0].lugre.tau_s;
+  const double tc3 = s.plant.friction[2].lugre.tau_c;
+  const double k2 = s.sensors.drives[1].torque_constant_nominal;
+  const std::vector<PlantEffect> effects = {
+      {"asymmetric_friction", 1, {{"side", -1.0}}, {0.1 * tc, 0.2 * ts}, {}},
+      {"asymmetric_friction", 3, {{"side", 1.0}}, {0.5, 0.5}, {}},
+      {"torque_constant", 2, {{"saturation", 1.0}}, {0.0, 0.01}, {}},
+      {"load_dependent_friction", 3, {{"power_flow", 1.0}}, {0.05, 0.02}, {}},
+      {"presliding", 1, {{"displacement_rad", 1e-3}, {"law", 2.0}}, {-0.1}, {}}};
+  const auto report = jg::sim::apply_plant_effects(effects, 0.002, s);
+  EXPECT_TRUE(report.not_modelled.empty());
+  const auto& f1 = s.plant.friction[0].effects;
+  EXPECT_NEAR(f1.negative_tau_c_scale, 1.1, 1e-12);
+  EXPECT_NEAR(f1.negative_tau_s_scale, 1.2, 1e-12);
+  EXPECT_EQ(f1.dahl_exponent, 2);
+  const auto& f3 = s.plant.friction[2];
+  EXPECT_NEAR(f3.lugre.tau_c, tc3 + 0.5, 1e-12);                                    // the positive side raised,
+  EXPECT_NEAR(f3.lugre.tau_c * f3.effects.negative_tau_c_scale, tc3, 1e-12);  // the negative side as before
+  EXPECT_NEAR(f3.effects.load_coefficient, 0.05, 1e-12);
+  EXPECT_NEAR(f3.effects.load_coefficient_backdriven, 0.02, 1e-12);
+  ASSERT_EQ(s.sensors.torque_constant_saturation_per_a.size(), 3U);
+  EXPECT_NEAR(s.sensors.torque_constant_saturation_per_a[1], 0.01 * k2, 1e-12);
+  EXPECT_FALSE(jg::robot::simulation_problem({"torque_constant", 2, {{"saturation", 1.0}}, {0.0}, {}}).field.empty());
+  EXPECT_FALSE(jg::robot::simulation_problem({"load_dependent_friction", 2, {{"power_flow", 1.0}}, {0.1}, {}}).field.empty());
+  EXPECT_FALSE(jg::robot::simulation_problem({"asymmetric_friction", 2, {{"side", 1.0}}, {0.1}, {}}).field.empty());
 }
 }  // namespace
 
