@@ -97,8 +97,8 @@ void calibrate_holds(Thresholds& t, const std::vector<io::Recording>& segments, 
   for (const auto& rec : segments) {
     if (rec.t.back() - rec.t.front() < settle_s) continue;
     const double dt = step_of(rec);
-    const auto d = observer_disturbance(rec, model, gains, true, friction, scalar);
     const auto held = holding_flags(rec, o);
+    const auto d = observer_disturbance(rec, model, gains, true, friction, scalar, held, o.held_deadband_steps);
     // A threshold never reached: the detector arms and takes its reference as in replay.
     const HoldChangeParams<double> p = hold_params(1e9, t.hold_settle_s, t.hold_reference_s, dt);
     std::vector<HoldChangeState<double>> s(n);

@@ -115,7 +115,8 @@ std::vector<std::vector<double>> motor_torque(const io::Recording& rec, const ro
 std::vector<std::vector<double>> observer_disturbance(const io::Recording& rec, const robot::RobotModel& model,
                                                      const ObserverGains& gains, bool compensate,
                                                      const std::vector<LuGreParams<double>>& friction,
-                                                     const std::string& scalar) {
+                                                     const std::string& scalar, const std::vector<bool>& held,
+                                                     double held_deadband_steps) {
   const auto tau = motor_torque(rec, model);
   FirmwareEstimatorConfig c;
   c.model = robot::for_torque_kind(model, rec.torque_kind);
@@ -123,6 +124,15 @@ std::vector<std::vector<double>> observer_disturbance(const io::Recording& rec, 
   c.observer = gains;
   c.compensate_friction = compensate;
   c.friction = friction;
+  if (!held.empty() && held_deadband_steps > 0.0) {
+    for (std::size_t j = 0; j < rec.joints(); ++j) {
+      double step = 1e300;  // the smallest nonzero |dq|: one count per sample
+      for (const double w : rec.dq[j]) {
+        if (std::fabs(w) > 1e-12) step = std::min(step, std::fabs(w));
+      }
+      c.holding_velocity_deadband.push_back(step < 1e300 ? held_deadband_steps * step : 0.0);
+    }
+  }
   auto est = make_firmware_estimator(c, scalar);
   const std::size_t n = rec.joints();
   std::vector<std::vector<double>> out(n, std::vector<double>(rec.samples()));
@@ -135,6 +145,7 @@ std::vector<std::vector<double>> observer_disturbance(const io::Recording& rec, 
       in.dq(static_cast<Eigen::Index>(j)) = rec.dq[j][k];
       in.tau_m(static_cast<Eigen::Index>(j)) = tau[j][k];
     }
+    if (k < held.size() && held[k]) in.holding = static_cast<JointMask>((1U << n) - 1U);
     if (k == 0) est->reset(in);
     est->step(in, mu);
     // The observer estimates d - f = tau_f - tau_ext - f: report it as a disturbance.
@@ -334,6 +345,15 @@ std::vector<bool> holding_flags(const io::Recording& rec, const ReplayOptions& o
   std::size_t at_rest = 0;
   bool holding = false;
   std::vector<double> rest(n, 0.0);
+  // Per joint, the smallest position step of the recording (its resolution).
+  std::vector<double> resolution(n, 1e300);
+  for (std::size_t j = 0; j < n; ++j) {
+    for (std::size_t k = 1; k < samples; ++k) {
+      const double step = std::fabs(rec.q[j][k] - rec.q[j][k - 1]);
+      if (step > 1e-12) resolution[j] = std::min(resolution[j], step);
+    }
+    if (resolution[j] > 1.0) resolution[j] = 0.0;  // never moves
+  }
   for (std::size_t k = 0; k < samples; ++k) {
     bool still = true;
     for (std::size_t j = 0; j < n && still; ++j) {
@@ -354,7 +374,24 @@ std::vector<bool> holding_flags(const io::Recording& rec, const ReplayOptions& o
     if (holding) {
       // A held joint yields a little under a push and comes back: the drive still holds.
       for (std::size_t j = 0; j < n; ++j) holding = holding && std::fabs(rec.q[j][k] - rest[j]) <= o.hold_radius;
-      if (!holding) at_rest = 0;  // moved away: it holds again only after arriving anew
+      if (!holding) {
+        at_rest = 0;  // moved away: it holds again only after arriving anew
+        // The drive stopped holding when it started this move, not when the arm left the
+        // radius: the samples before, back to the last one every joint was slower than the
+        // deadband, were moving (a recording carries no command; replay looks back for it).
+        // A smooth move creeps off for a while (a quintic's first 13 % of its time moves it
+        // one count in 400) with the drive's torque already rising: back to the last sample
+        // at which every joint had moved by at most two position steps of the recording
+        // (its resolution) over the arrive_s before, and arrive_s before that.
+        std::size_t i = k;
+        while (i > arrive && out[i - 1]) {
+          bool off = false;
+          for (std::size_t j = 0; j < n; ++j) off = off || std::fabs(rec.q[j][i - 1] - rec.q[j][i - 1 - arrive]) > 2.0 * resolution[j];
+          if (!off) break;
+          out[--i] = false;
+        }
+        for (std::size_t m = 0; m < arrive && i > 0 && out[i - 1]; ++m) out[--i] = false;
+      }
     }
     if (!holding && at_rest > arrive) {
       holding = true;
@@ -389,9 +426,9 @@ ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel&
     throw std::invalid_argument("holding-aware replay needs the threshold file's hold_change_threshold "
                                 "(calibrate again: it writes one by default)");
   }
-  const auto d = observer_disturbance(rec, model, gains, true, friction, scalar);
-  const double dt = sample_time(rec);
   const auto held = holding_flags(rec, opt);
+  const auto d = observer_disturbance(rec, model, gains, true, friction, scalar, held, opt.held_deadband_steps);
+  const double dt = sample_time(rec);
   std::vector<HoldChangeParams<double>> hold(n);
   std::vector<HoldChangeState<double>> hold_state(n);
   for (std::size_t j = 0; j < n && use_hold; ++j) {
