@@ -311,6 +311,26 @@ void Recording::resize(std::size_t n_joints, std::size_t n_samples, bool with_cu
   collision = with_collision ? std::vector<int>(n_samples, 0) : std::vector<int>{};
 }
 
+namespace {
+/// A header that is not comma-separated, unquoted CSV (the recording contract's dialect):
+/// refused naming the dialect it looks like, not as "no joint position column".
+void check_dialect(const std::string& path, const std::string& line, const std::vector<std::string>& header) {
+  if (header.size() == 1) {
+    for (const char sep : {';', '\t', '|'}) {
+      if (line.find(sep) == std::string::npos) continue;
+      const std::string name = sep == '\t' ? "tabs" : std::string("'") + sep + "'";
+      fail(path, 1, "", "the header is separated by " + name + ": recordings are comma-separated CSV (t,q1,...,dq1,...)");
+    }
+  }
+  for (const auto& raw : header) {
+    const std::string name = trim(raw);
+    if (!name.empty() && (name.front() == '"' || name.front() == '\'')) {
+      fail(path, 1, name, "quoted column names are not read: write the header without quotes (t,q1,...)");
+    }
+  }
+}
+}  // namespace
+
 Recording read_recording(const std::string& path, const ReadOptions& options) {
   std::ifstream in(path);
   if (!in) {
@@ -329,6 +349,7 @@ Recording read_recording(const std::string& path, const ReadOptions& options) {
     }
   }
   if (q_ids.empty()) {
+    check_dialect(path, line, header);
     fail(path, 1, "q<j>", "no joint position column (q1, q2, ...)");
   }
   Recording rec;
@@ -433,6 +454,7 @@ Recording read_recording(const std::string& path, const ReadOptions& options) {
 
   std::size_t line_no = 1;
   std::string previous_row;
+  std::set<std::size_t> text_columns;  ///< extra columns found to hold text
   while (std::getline(in, line)) {
     ++line_no;
     if (trim(line).empty() || trim(line) == "\r") {
@@ -456,8 +478,15 @@ Recording read_recording(const std::string& path, const ReadOptions& options) {
     for (std::size_t c = 0; c < cols.size(); ++c) {
       const Column& col = cols[c];
       double v = 0.0;
+      if (col.kind == Kind::extra && text_columns.count(c) != 0U) continue;
       if (!parse_double(fields[c], v)) {
-        if (col.kind == Kind::extra && options.ignore_non_numeric_extra) {
+        if (col.kind == Kind::extra) {
+          // An extra column is the user's (a label, a phase name): kept as a signal while it
+          // is numbers; text makes it a text column, not read, and a note says where.
+          text_columns.insert(c);
+          rec.extra.erase(col.name);
+          rec.notes.push_back(path + " line " + std::to_string(line_no) + ", column '" + col.name + "': " +
+                              quote(trim(fields[c])) + " is text: the extra column is not read as a signal");
           continue;
         }
         fail(path, line_no, col.name, quote(trim(fields[c])) + " is not a finite number (column " +

@@ -82,8 +82,6 @@ struct ReadOptions {
   /// Column holding the link-side motor torque when it is not tau_m<j>; "{j}" is
   /// replaced by the joint number (e.g. "q{j}_tau_J_compensate" for torque-sensor data).
   std::string torque_column_pattern;
-  /// Other non-numeric-tolerant columns are an error; set to skip non-numeric extras.
-  bool ignore_non_numeric_extra = false;
   /// Which torque to use; `joint` moves tau_m<j> columns to tau_j when there is no tau_j<j>.
   TorqueChoice torque = TorqueChoice::automatic;
 };

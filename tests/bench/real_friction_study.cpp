@@ -26,7 +26,6 @@ int main(int argc, char** argv) {
       sf.path = dir + "/" + f;
       sf.read.time_column = "time";
       sf.read.torque_column_pattern = "q{j}_tau_J_compensate";
-      sf.read.ignore_non_numeric_extra = true;
       sf.offset_at_start = offset_at_start;
       files.push_back(sf);
     }

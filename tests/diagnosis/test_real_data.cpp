@@ -27,7 +27,6 @@ TEST(RealData, FrankaJoint7NamedEffectsBeatPublishedLuGreOnHeldOutFiles) {
     sf.path = dir + "/" + f;
     sf.read.time_column = "time";
     sf.read.torque_column_pattern = "q{j}_tau_J_compensate";
-    sf.read.ignore_non_numeric_extra = true;
     files.push_back(sf);
   }
   jg::ident::SearchRanges ranges;

@@ -80,6 +80,23 @@ TEST_F(RecordingTest, AcceptsExtraColumnsAndMissingOptionalOnes) {
   EXPECT_TRUE(r.collision.empty());
   EXPECT_EQ(r.current[0][1], 1.5);
   EXPECT_EQ(r.extra.at("note")[1], 8.0);
+  // A text extra column (a phase label) is the user's: the recording is read, the column
+  // is not a signal, and a note names the line and column where the text begins.
+  const auto t = write("text.csv", "t,q1,dq1,i1,phase,note\n0,0.1,0.2,1.5,2,7\n0.001,0.1,0.2,1.5,lift,8\n");
+  const auto rt = jg::io::read_recording(t);
+  EXPECT_EQ(rt.extra.count("phase"), 0U);
+  EXPECT_EQ(rt.extra.at("note").size(), 2U);
+  ASSERT_FALSE(rt.notes.empty());
+  EXPECT_NE(rt.notes.back().find("text.csv line 3, column 'phase': 'lift' is text"), std::string::npos) << rt.notes.back();
+}
+
+TEST_F(RecordingTest, OtherCsvDialectsAreNamed) {
+  auto p = write("semi.csv", "t;q1;dq1;i1\n0;0;0;0\n");
+  EXPECT_NE(error_of(p).find("semi.csv:1: the header is separated by ';'"), std::string::npos) << error_of(p);
+  p = write("tab.csv", "t\tq1\tdq1\ti1\n0\t0\t0\t0\n");
+  EXPECT_NE(error_of(p).find("tab.csv:1: the header is separated by tabs"), std::string::npos) << error_of(p);
+  p = write("quoted.csv", "\"t\",\"q1\",\"dq1\",\"i1\"\n0,0,0,0\n");
+  EXPECT_NE(error_of(p).find("quoted.csv:1: field '\"t\"': quoted column names are not read"), std::string::npos) << error_of(p);
 }
 
 TEST_F(RecordingTest, RealDataLayoutWithTimeColumnAndTorquePattern) {
