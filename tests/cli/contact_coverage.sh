@@ -5,8 +5,8 @@
 # right; the force within 2 sigma over all) in >= 90 % of the estimates, where the estimate says the
 # force is determined it is within 20 % of the truth it aims at in >= 80 %, and every run
 # carries its set (intervals, line of action, consistent links) in the JSON and the
-# summary in the console. Fails when the spreads are too narrow (the former sigma: about 60 %
-# of the points covered on a campaign of this draw).
+# summary in the console. Fails when a stated set is narrower than the errors it should
+# cover, or a force said to be determined is not.
 # Usage: contact_coverage.sh JOINTGUARD
 set -euo pipefail
 J="$1"
