@@ -154,18 +154,25 @@ std::vector<YamlFields> YamlFields::sequence(const std::string& key) const {
 }
 
 double YamlFields::to_number(const YAML::Node& n, const std::string& key) const {
+  // At the value itself (a list's element "k_i[0]" is no key of this mapping: its line is
+  // the element's, not the mapping's first).
+  const auto fail_here = [&](const std::string& problem) {
+    if (n.Mark().is_null()) fail(key, problem);
+    const std::string field = path_.empty() ? key : path_ + "." + key;
+    throw FormatError(where(file_, n.Mark()) + ": field '" + field + "': " + problem);
+  };
   if (!n.IsScalar()) {
-    fail(key, "expected a number");
+    fail_here("expected a number");
   }
   const std::string s = n.Scalar();
   errno = 0;
   char* end = nullptr;
   const double v = std::strtod(s.c_str(), &end);
   if (s.empty() || end != s.c_str() + s.size() || errno == ERANGE) {
-    fail(key, "'" + s + "' is not a number in the unit the key names (SI)");
+    fail_here("'" + s + "' is not a number in the unit the key names (SI)");
   }
   if (!std::isfinite(v)) {
-    fail(key, "'" + s + "' is not finite");
+    fail_here("'" + s + "' is not finite");
   }
   return v;
 }
