@@ -84,6 +84,34 @@ TEST(HoldingFlags, StillArmHoldsWhileItYieldsWithinTheRadius) {
   EXPECT_TRUE(eval::holding_flags(r, o)[3]);
 }
 
+TEST(HoldingFlags, AHoldEndsWhereTheMoveBeganNotWhereItLeftTheRadius) {
+  // At rest (dq exactly 0) until sample 120, then a smooth start q = 1e-4 (k - 120)^2 that
+  // leaves the 5 mrad radius at sample 128: replay looks back for the start (the recording
+  // carries no command) and ends the hold where the position began to move, 50 ms before.
+  io::Recording r;
+  r.resize(1, 140, false, true, false, false);
+  for (std::size_t k = 0; k < 140; ++k) {
+    r.t[k] = 0.01 * static_cast<double>(k);
+    const double s = k > 120 ? static_cast<double>(k - 120) : 0.0;
+    r.q[0][k] = 1e-4 * s * s;
+    r.dq[0][k] = 2e-2 * s;
+  }
+  eval::ReplayOptions o;
+  o.holding = eval::HoldingSource::still;
+  const auto h = eval::holding_flags(r, o);
+  EXPECT_TRUE(h[110]);
+  EXPECT_TRUE(h[116]);
+  EXPECT_FALSE(h[117]) << "50 ms before the first position step that counts";
+  EXPECT_FALSE(h[125]) << "moving, though still within the radius";
+  EXPECT_FALSE(h[130]);
+  // A logged velocity that dithers at rest: still by position (within 1 mrad over 50 ms).
+  for (std::size_t k = 0; k < 140; ++k) r.dq[0][k] = k % 2 == 0 ? 1e-3 : -1e-3;
+  for (std::size_t k = 0; k < 140; ++k) r.q[0][k] = 0.0;
+  EXPECT_TRUE(eval::holding_flags(r, o)[20]);
+  for (std::size_t k = 0; k < 140; ++k) r.q[0][k] = 1e-3 * static_cast<double>(k);  // 0.1 rad/s
+  EXPECT_FALSE(eval::holding_flags(r, o)[20]) << "5 mrad in 50 ms: moving";
+}
+
 TEST(CalibrationMotion, CoversEverySliceAndStopsAtItsDeceleration) {
   sim::CalibrationMotion c;
   c.levels = 4;
