@@ -97,6 +97,8 @@ void contact_set_from_json(const nlohmann::json& j, ContactOutcome& c) {
   }
   if (j.contains("links_consistent")) e.links_consistent = j.at("links_consistent").get<std::vector<int>>();
   c.force_true_target_n = j.value("force_true_target", 0.0);
+  // Read back too: a merged result must be the bytes of the unsharded one.
+  if (j.contains("torque_sigma_lag")) c.torque_sigma_lag_nm = j.at("torque_sigma_lag").get<std::vector<double>>();
 }
 
 }  // namespace jg::eval

@@ -194,7 +194,7 @@ expect 1 "backlash.yaml:2:14: field 'plant_effects[0].effect': 'backlash' change
 bad joint '{effect: viscous, joint: 4, coefficients: [0.1]}'
 expect 1 "joint.yaml:2:30: field 'plant_effects[0].joint': expected 0 (the arm) or a joint 1..3" "${R[@]}" --effects "$W/joint.yaml"
 bad nan '{effect: viscous, joint: 1, coefficients: [.nan]}'
-expect 1 "nan.yaml:2:5: field 'plant_effects[0].coefficients[0]'" "${R[@]}" --effects "$W/nan.yaml"
+expect 1 "nan.yaml:2:48: field 'plant_effects[0].coefficients[0]'" "${R[@]}" --effects "$W/nan.yaml"
 bad typo '{effect: payload, joint: 0, setting: {picked_up_at: 1}, coefficients: [0.5, 0, 0, 0]}'
 expect 1 "field 'plant_effects[0].setting.picked_up_at': 'payload' has no setting 'picked_up_at'" "${R[@]}" --effects "$W/typo.yaml"
 bad count '{effect: viscous, joint: 1, coefficients: [0.1, 0.2]}'
