@@ -11,7 +11,7 @@
 // on every joint whose own torque steps. The stop reaction steps every joint's torque by
 // its damping term (21 N·m median, 60 N·m at the 95th percentile over a 200-collision
 // campaign), so the estimate of a joint without any contact torque jumps by several
-// newton-metres in the cycle after the detection (docs/results.md, "Isolation after the
+// newton-metres in the cycle after the detection (docs/history.md, "Isolation after the
 // stop: the cause measured").
 //
 // The aligned estimate pairs the momentum difference with the mean of the last two motor

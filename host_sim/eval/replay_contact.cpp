@@ -10,7 +10,7 @@ ContactWindowConfig replay_config(const robot::RobotModel& model, const Observer
   c.estimator = detection::default_contact_params(model.reaches(), model.reach_axes());
   c.observer_gain_per_s = gains.kind == ObserverKind::first_order ? gains.k1 : 0.0;
   // The point and the force on the link the replay reports (the campaign's best link
-  // figure: docs/results.md, "the contact estimate on the isolated link").
+  // figure: docs/history.md, "the contact estimate on the isolated link").
   c.link_from_isolation = true;
   return c;
 }

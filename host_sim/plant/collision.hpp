@@ -119,7 +119,7 @@ inline constexpr double kSkinFriction = 0.5;
 
 /// Draws a random campaign (seeded): link from `links`, point along the link, direction
 /// (random, unit), profile, time within [t_min, t_max] at least `spacing_s` apart, force.
-/// Clamps are drawn `into_motion` (every clamp a real contact, docs/results.md "Campaign
+/// Clamps are drawn `into_motion` (every clamp a real contact, docs/history.md "Campaign
 /// draw: every clamp a contact"); the draws themselves, and so every impact and push, are the
 /// same as before that change.
 struct CampaignSpec {

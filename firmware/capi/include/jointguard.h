@@ -105,7 +105,7 @@ typedef struct {
  *   0 (the one-count dither of a joint at rest); 1-2 motor-encoder counts per sample; 0: off.
  * - align_motor_torque: the observer balances the momentum change with the mean of the last
  *   two motor torques (jointguard/observer/momentum_observer.hpp; off by default, see
- *   docs/results.md "Motor torque aligned in the observer"). */
+ *   docs/history.md "Motor torque aligned in the observer"). */
 typedef struct {
   double hold_change_threshold;
   double hold_settle_s;

@@ -8,7 +8,7 @@
 // constant T) does not depend on the measured velocity: it shows a contact's rise almost
 // whole when the rise is short against T (for a ramp of rise time r the residual at its end
 // is (T / r)(1 - exp(-r / T)) of the ramp's height: 0.63 for r = T). Measured limit
-// (docs/results.md, "Campaign detection: the ceiling"): the unpredicted friction of a slow
+// (docs/history.md, "Campaign detection: the ceiling"): the unpredicted friction of a slow
 // joint also builds up within tens of ms (collision-free |mu - baseline| up to 3.1-3.8 N·m
 // with T = 50 ms, reached near standstill), so the calibrated threshold (4.9-6.0 N·m) lies
 // between the moving band and the standstill band: it brings some detections forward, it

@@ -21,7 +21,7 @@
 // centred on k-1, half a sample behind that torque. A motor torque step dT between samples
 // then leaves dT / 2 in d_k for one sample, an estimate blip of (1 - exp(-K dT)) dT / 2
 // (0.07 dT at K = 150/s, 1 kHz) on every joint whose torque steps, contact or not (the
-// stop reaction steps the torques by 21 N·m median: docs/results.md, "Isolation after the
+// stop reaction steps the torques by 21 N·m median: docs/history.md, "Isolation after the
 // stop: the cause measured"). With align_motor_torque (off by default) the balance takes the
 // mean of the last two motor torques, (tau_k + tau_{k-1}) / 2, centred on k-1 like the
 // momentum difference: a torque step then balances against the motion it causes. One more
@@ -31,7 +31,7 @@
 // sample and a torque held over it (the simulated drives). On the real UR10e recordings
 // (the controller's measured velocities, not position differences, and measured currents,
 // ~94 Hz) the mean put five false alarms into motion_contacts (ctest -R
-// cli.real_ur10e_detection): docs/results.md, "Motor torque aligned in the observer".
+// cli.real_ur10e_detection): docs/history.md, "Motor torque aligned in the observer".
 //
 // Q16.16: d_k, section states and output in N·m; the torque mean is midpoint() (exact
 // 64-bit sum, one rounding to 0.5 LSB, no overflow possible: the mean lies between its
