@@ -1,9 +1,6 @@
 """Scores the UR10e replays of real_ur10e_detection.sh against the data's README times.
 
-Visible onset of a push: the pre-push level of K·i per joint is its mean over the second
-that ends 0.5 s before the README's start, its noise the standard deviation there; the onset
-is the first row from 0.5 s before the README's start at which some joint's K·i has left
-its level by more than max(4 sigma, 0.3 N·m) for 3 rows in a row. A push's events are those
+Visible onset of a push: ur10e_pushes_data.py. A push's events are those
 from its onset - 0.1 s (one 100 Hz step of resampling) to its README end + 1.0 s (the release and the friction it leaves
 are part of the push); any other event is a false alarm.
 Usage: ur10e_score.py <data dir> <work dir>
@@ -13,47 +10,25 @@ import json
 import statistics
 import sys
 
+from ur10e_pushes_data import PUSHES, pre_push_level, static_pushes, visible_onset
+
 data, work = sys.argv[1], sys.argv[2]
-PUSHES = [(3.17, 5.64), (11.64, 15.87), (25.37, 30.94), (37.96, 43.26)]  # README, t - t0 [s]
 EPISODES = [(3.4, 4.2), (9.4, 10.0), (16.5, 16.93)]                        # motion_contacts
 STOP_FREE = 5.06                                                            # motion_free's stop
-
-
-def k_i():
-    for line in open(f"{data}/drive.yaml"):
-        if line.startswith("k_i:"):
-            return [float(v) for v in line.split("[")[1].split("]")[0].split(",")]
-    raise SystemExit("drive.yaml: no k_i")
 
 
 def events(name):
     return [e["t"] for e in json.load(open(f"{work}/{name}.json"))["events"]]
 
 
-K = k_i()
-rows = list(csv.DictReader(open(f"{data}/static_pushes.csv")))
-t0 = float(rows[0]["t"])
-t = [float(r["t"]) - t0 for r in rows]
-tau = [[K[j] * float(r[f"i{j + 1}"]) for r in rows] for j in range(6)]
+t0, t, tau = static_pushes(data)
 ok = True
 for run in ("static", "static_still"):
     ev = [e - t0 for e in events(run)]
     claimed = set()
     print(f"{run}: push  README start  visible onset  first event  delay [ms]  events in the push")
     for n, (a, b) in enumerate(PUSHES, 1):
-        onset = None
-        for j in range(6):
-            pre = [tau[j][i] for i, x in enumerate(t) if a - 1.5 <= x < a - 0.5]
-            level, sigma = statistics.mean(pre), statistics.pstdev(pre)
-            bar = max(4.0 * sigma, 0.3)
-            for i, x in enumerate(t):
-                if x < a - 0.5 or i + 3 > len(t):
-                    continue
-                if x > b:
-                    break
-                if all(abs(tau[j][i + q] - level) > bar for q in range(3)):
-                    onset = x if onset is None else min(onset, x)
-                    break
+        onset = visible_onset(t, tau, a, b)
         mine = [e for e in ev if onset - 0.1 <= e <= b + 1.0]
         claimed.update(mine)
         if not mine:
@@ -76,7 +51,7 @@ for n, (a, b) in enumerate(PUSHES, 1):
     if first is None:
         continue  # missed: reported above
     c = first.get("contact")
-    pre = [[tau[j][i] for i, x in enumerate(t) if a - 1.5 <= x < a - 0.5] for j in range(6)]
+    pre = [pre_push_level(t, tau[j], a) for j in range(6)]
     change = max(abs(tau[j][i] - statistics.mean(pre[j])) for j in range(6) for i, x in enumerate(t) if a <= x <= b)
     bound = change / 1.3
     if c is None:
