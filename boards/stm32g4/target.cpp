@@ -1,6 +1,7 @@
 // Compile-only: the STM32G4 FDCAN port and TIM2 clock on the real register block (fixed
 // addresses), and the joint node bound to that port for both firmware scalars, built with
-// the firmware flags for the Cortex-M4F and M7 cross builds. Nothing links this object (in
+// the firmware flags for every cross build. Board code, not HAL: it uses the core, which the
+// HAL may not (boards/stm32g4/CMakeLists.txt). Nothing links this object (in
 // particular not the qemu golden ELF, whose mps2-an386 has no FDCAN): it is here so that the
 // target code is compiled, warning-free, on every cross build until a board build uses it.
 #include "jointguard/hal/mcu/stm32g4_clock.hpp"
