@@ -15,6 +15,8 @@
 # that share one corpus; the parent counts the executions of all of them and stops the run at
 # RUNS. Timeouts and out-of-memory count as findings, as in the default mode (fork mode
 # ignores them unless told otherwise). Without it: one process.
+# JG_FUZZ_BUILD: the fuzz preset's build folder (default build/fuzz; configured with
+# `cmake --preset fuzz -B DIR` and built here when given).
 # ASAN_OPTIONS defaults to malloc_context_size=2: ASan records 2 frames, not 30, for each
 # allocation and free (the stack depot and unwinding were a fifth of the drive fuzzer's
 # time). Errors are detected as before and their inputs saved; replaying one through the
@@ -27,10 +29,11 @@ SECONDS_PER_READER="${1:-600}"
 RUNS="${2:-10000000}"
 shift $(( $# > 2 ? 2 : $# ))
 READERS=("$@")
-[ ${#READERS[@]} -gt 0 ] || READERS=(recording robot_yaml urdf scenario param_json dbc candump drive)
-cmake --preset fuzz > /dev/null
-cmake --build --preset fuzz
+[ ${#READERS[@]} -gt 0 ] || READERS=(recording robot_yaml urdf scenario param_json dbc candump drive merge_parts)
 ROOT="$PWD"
+BUILD="${JG_FUZZ_BUILD:-$ROOT/build/fuzz}"
+cmake --preset fuzz -B "$BUILD" > /dev/null
+cmake --build "$BUILD" -j2 --target jg_fuzz_all
 # The targets write each input to a file: in memory when /dev/shm is there.
 if [ -z "${JG_FUZZ_TMP:-}" ] && [ -w /dev/shm ]; then export JG_FUZZ_TMP=/dev/shm; fi
 OUT="${JG_FUZZ_OUT:-$ROOT/build/fuzz/long}"
@@ -54,7 +57,7 @@ for r in "${READERS[@]}"; do
   # driver.log has the parent's progress); -timeout:
   # an input taking $TIMEOUT s (10 by default) is a finding (a reader must refuse, not hang); -max_len: inputs up
   # to 8 kB (the seeds are smaller; the 23 kB DBC and 40 kB regression only start them).
-  (cd "$W" && nice -n 10 "$ROOT/build/fuzz/tests/fuzz/fuzz_$r" corpus "$ROOT/tests/fuzz/regressions/$r" \
+  (cd "$W" && nice -n 10 "$BUILD/tests/fuzz/fuzz_$r" corpus "$ROOT/tests/fuzz/regressions/$r" \
      "${MODE[@]}" -max_total_time="$SECONDS_PER_READER" -runs="$RUNS" -timeout="$TIMEOUT" -max_len=8192 -seed=1 \
      -print_final_stats=1 -artifact_prefix="$W/" > driver.log 2>&1)
   rc=$?

@@ -17,6 +17,7 @@ struct EvaluateFigures {
   double free_run_s = 0.0;                     ///< the whole free run [s]
   nlohmann::json config;  ///< the summary's configuration fields (thresholds, rate, gains, ...)
   nlohmann::json extra = nlohmann::json::object();  ///< further top-level fields (e.g. "safety")
+  nlohmann::json identity;  ///< what made the figures (merge: the parts' identity; null otherwise)
 };
 
 /// The contact estimate of a run (link, point, force with their spread) and the truth beside
