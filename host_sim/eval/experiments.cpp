@@ -57,6 +57,7 @@ sim::SimulationSetup base_setup(const ExperimentConfig& c, std::shared_ptr<const
   s.control_rate_hz = c.rate_hz;
   s.meta.model = c.model.name;
   s.meta.seed = seed;
+  if (c.plant_spec) sim::apply_plant_spec(*c.plant_spec, s);  // a second plant
   return s;
 }
 

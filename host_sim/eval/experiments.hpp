@@ -5,12 +5,14 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "eval/evaluate.hpp"
 #include "eval/pipeline.hpp"
 #include "robot/robot_model.hpp"
+#include "sim/scenario.hpp"
 
 namespace jg::eval {
 
@@ -23,6 +25,9 @@ struct ExperimentConfig {
   /// The plant's true LuGre per joint (e.g. identified on a real arm); empty: the paper's
   /// Table 1 (its joint 3 for every joint beyond the third).
   std::vector<LuGreParams<double>> plant_friction;
+  /// A second plant (evaluate --plant FILE): the simulated arm's friction, sensors,
+  /// controller and integration (sim::PlantSpec); null: the reference arm's.
+  std::shared_ptr<const sim::PlantSpec> plant_spec;
   std::vector<double> thresholds;
   std::vector<double> low_speed_extra;
   double low_speed_width = 0.03;

@@ -173,7 +173,14 @@ void Plant::step(double h, const JointVector& motor_torque, const ContactModel& 
                                                                   state_.q(i), transmitted, state_.time, h);
   }
   if (implicit_friction_) implicit_friction_correction(h, motor_torque, bristles_before, w);
-  if (!elastic()) {
+  if (!elastic() && config_.integrator == Integrator::semi_implicit_euler) {
+    // Semi-implicit (symplectic) Euler: the velocity first, then the position with it.
+    const JointVector a = arm_.forward_dynamics(state_.q, state_.qd, motor_torque - friction_ + external_);
+    state_.qd += h * a;
+    state_.q += h * state_.qd;
+    state_.theta = state_.q;
+    state_.theta_dot = state_.qd;
+  } else if (!elastic()) {
     // Classical RK4 on plain arrays (four forward dynamics per step, the plant's hot path):
     // element for element the operations of the vector form
     //   a1 = f(q0, v0), v1 = v0 + h/2 a1, a2 = f(q0 + h/2 v0, v1), v2 = v0 + h/2 a2,

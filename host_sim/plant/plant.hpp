@@ -35,6 +35,12 @@ struct PayloadChange {
   Eigen::Matrix3d inertia_com = Eigen::Matrix3d::Zero();
 };
 
+/// How the rigid arm's mechanical state is stepped (elastic joints: always RK4).
+enum class Integrator {
+  rk4,                  ///< classical Runge-Kutta, four forward dynamics per step (the default)
+  semi_implicit_euler,  ///< v += h a(q, v), q += h v: one forward dynamics per step (a second plant)
+};
+
 struct PlantConfig {
   std::vector<PlantLink> links;
   Eigen::Vector3d gravity{0.0, 0.0, -9.81};
@@ -42,6 +48,7 @@ struct PlantConfig {
   std::vector<JointElasticity> elasticity;   ///< one per joint (empty = rigid joints)
   std::optional<PayloadChange> payload;
   double plant_rate_hz = 2000.0;
+  Integrator integrator = Integrator::rk4;
 };
 
 /// A force on a link: `force_base` [N] in the base frame, applied at `point_in_link` [m].

@@ -1,7 +1,10 @@
 #include "sim/scenario.hpp"
 #include "safety/body_regions.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <stdexcept>
 
 #include "io/yaml_fields.hpp"
 #include "motion/calibration_motion.hpp"
@@ -108,7 +111,8 @@ std::shared_ptr<const Trajectory> parse_trajectory(const YamlFields& t, std::siz
 JointFrictionTruth parse_friction(const YamlFields& f, const JointFrictionTruth& base) {
   f.allow_only({"joint", "sigma0", "sigma1", "sigma2", "tau_c", "tau_s", "w_s", "ripple_amplitude_nm",
                 "ripple_periods_per_rev", "ripple_phase_rad", "asymmetry", "viscous_asymmetry", "drift", "drift_time_constant_s",
-                "load_coefficient"});
+                "load_coefficient", "viscous_power_nm", "viscous_power_exponent", "stribeck_extra_nm", "stribeck_extra_w_s",
+                "stribeck_extra_exponent"});
   JointFrictionTruth t = base;
   t.lugre.sigma0 = f.number("sigma0", t.lugre.sigma0);
   t.lugre.sigma1 = f.number("sigma1", t.lugre.sigma1);
@@ -128,6 +132,17 @@ JointFrictionTruth parse_friction(const YamlFields& f, const JointFrictionTruth&
   e.drift_time_constant_s = f.number("drift_time_constant_s", e.drift_time_constant_s);
   if (!(e.drift_time_constant_s > 0.0)) f.fail("drift_time_constant_s", "expected > 0");
   e.load_coefficient = f.number("load_coefficient", e.load_coefficient);
+  // Shapes beyond LuGre (friction_truth.hpp): a shear-thinning viscous term and a Stribeck
+  // excess of another law (1: exponential, 2: Gaussian).
+  e.viscous_power_nm = f.number("viscous_power_nm", e.viscous_power_nm);
+  if (e.viscous_power_nm < 0.0) f.fail("viscous_power_nm", "expected >= 0");
+  e.viscous_power_exponent = f.number("viscous_power_exponent", e.viscous_power_exponent);
+  if (!(e.viscous_power_exponent > 0.0) || e.viscous_power_exponent > 3.0) f.fail("viscous_power_exponent", "expected in (0, 3]");
+  e.stribeck_extra_nm = f.number("stribeck_extra_nm", e.stribeck_extra_nm);
+  e.stribeck_extra_w_s = f.number("stribeck_extra_w_s", e.stribeck_extra_w_s);
+  if (!(e.stribeck_extra_w_s > 0.0) || e.stribeck_extra_w_s > 100.0) f.fail("stribeck_extra_w_s", "expected in (0, 100] rad/s");
+  e.stribeck_extra_exponent = f.number("stribeck_extra_exponent", e.stribeck_extra_exponent);
+  if (!(e.stribeck_extra_exponent > 0.0) || e.stribeck_extra_exponent > 4.0) f.fail("stribeck_extra_exponent", "expected in (0, 4]");
   return t;
 }
 
@@ -185,7 +200,7 @@ Scenario load_scenario(const std::string& path, unsigned long long seed_override
   const YamlFields root = YamlFields::load_file(path);
   root.allow_only({"name", "model", "duration_s", "control_rate_hz", "plant_rate_hz", "seed", "trajectory",
                    "friction", "friction_enabled", "sensors", "controller", "collisions", "campaign", "elasticity",
-                   "payload"});
+                   "payload", "plant"});
   Scenario s;
   s.file = path;
   const std::filesystem::path model_path =
@@ -320,6 +335,20 @@ Scenario load_scenario(const std::string& path, unsigned long long seed_override
     const auto drawn = draw_campaign(spec, s.model.link_lengths);
     st.collisions.insert(st.collisions.end(), drawn.begin(), drawn.end());
   }
+  if (root.has("plant")) {
+    // The simulated arm's friction, sensors, controller and integration from a plant file
+    // (relative to the scenario), which then owns them: the scenario may not set them too.
+    for (const char* key : {"friction", "sensors", "controller", "plant_rate_hz"}) {
+      if (root.has(key)) root.fail(key, "set by the plant file ('plant'); give it there");
+    }
+    const std::filesystem::path plant_path = std::filesystem::path(path).parent_path() / root.text("plant");
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(plant_path, ec)) root.fail("plant", "'" + plant_path.string() + "' is not a file");
+    const PlantSpec spec = load_plant_spec(plant_path.string(), n);
+    apply_plant_spec(spec, st);
+    if (!root.boolean("friction_enabled", true)) st.plant.friction.clear();
+    if (!(st.plant.plant_rate_hz >= st.control_rate_hz)) root.fail("plant", "the plant file's plant_rate_hz must be >= control_rate_hz");
+  }
   if (!s.model.plant_effects.empty()) {
     // What `diagnose --model-out` found in the real arm, on top of the scenario's setting.
     s.effects = apply_plant_effects(s.model.plant_effects, 1.0 / st.control_rate_hz, st);
@@ -330,6 +359,117 @@ Scenario load_scenario(const std::string& path, unsigned long long seed_override
 }  // namespace jg::sim
 
 namespace jg::sim {
+
+PlantSpec load_plant_spec(const std::string& path, std::size_t joints) {
+  const YamlFields root = YamlFields::load_file(path);
+  root.allow_only({"name", "description", "plant_rate_hz", "integrator", "friction", "sensors", "controller"});
+  PlantSpec p;
+  p.file = path;
+  p.plant_rate_hz = root.number("plant_rate_hz", 0.0);
+  if (p.plant_rate_hz < 0.0 || p.plant_rate_hz > 1e6) root.fail("plant_rate_hz", "expected 0 (the default) .. 1000000");
+  const std::string integrator = root.text("integrator", "rk4");
+  if (integrator == "rk4") {
+    p.integrator = Integrator::rk4;
+  } else if (integrator == "semi_implicit_euler") {
+    p.integrator = Integrator::semi_implicit_euler;
+  } else {
+    root.fail("integrator", "expected rk4 or semi_implicit_euler");
+  }
+  if (root.has("friction")) {
+    p.friction.resize(joints);
+    for (std::size_t j = 0; j < joints; ++j) p.friction[j].lugre = kPaperTable1[std::min<std::size_t>(j, 2)];
+    std::vector<bool> given(joints, false);
+    for (const auto& f : root.sequence("friction")) {
+      const long j = f.integer("joint", -1);
+      if (j < 1 || j > static_cast<long>(joints)) f.fail("joint", "expected a joint number 1.." + std::to_string(joints));
+      if (given[static_cast<std::size_t>(j - 1)]) f.fail("joint", "joint " + std::to_string(j) + " given twice");
+      given[static_cast<std::size_t>(j - 1)] = true;
+      p.friction[static_cast<std::size_t>(j - 1)] = parse_friction(f, p.friction[static_cast<std::size_t>(j - 1)]);
+    }
+    for (std::size_t j = 0; j < joints; ++j) {
+      if (!given[j]) root.fail("friction", "joint " + std::to_string(j + 1) + " missing (a plant file gives every joint's friction)");
+    }
+  }
+  if (root.has("sensors")) {
+    const YamlFields se = root.child("sensors");
+    se.allow_only({"current_noise_rms_a", "current_lsb_a", "current_offset_a", "torque_constant_error", "delay_samples",
+                   "link_encoder_bits", "motor_encoder_counts_per_rev"});
+    p.has_sensors = true;
+    p.current_noise_rms_a = se.number("current_noise_rms_a");
+    if (!(p.current_noise_rms_a >= 0.0) || p.current_noise_rms_a > 10.0) se.fail("current_noise_rms_a", "expected 0 .. 10 A");
+    p.current_lsb_a = se.number("current_lsb_a");
+    if (!(p.current_lsb_a >= 0.0) || p.current_lsb_a > 1.0) se.fail("current_lsb_a", "expected 0 .. 1 A");
+    p.current_offset_a = se.number("current_offset_a", 0.0);
+    if (std::fabs(p.current_offset_a) > 10.0) se.fail("current_offset_a", "expected within +-10 A");
+    p.torque_constant_error = se.number("torque_constant_error", 0.0);
+    if (!(p.torque_constant_error > -0.9) || p.torque_constant_error > 9.0) se.fail("torque_constant_error", "expected in (-0.9, 9]");
+    const long delay = se.integer("delay_samples", 0);
+    if (delay < 0 || delay > 100) se.fail("delay_samples", "expected 0..100");
+    p.delay_samples = static_cast<int>(delay);
+    const long bits = se.integer("link_encoder_bits", 19);
+    if (bits < 8 || bits > 32) se.fail("link_encoder_bits", "expected 8..32");
+    p.link_encoder_bits = static_cast<int>(bits);
+    const long counts = se.integer("motor_encoder_counts_per_rev", 10000);
+    if (counts < 4 || counts > 100000000) se.fail("motor_encoder_counts_per_rev", "expected 4..1e8");
+    p.motor_encoder_counts_per_rev = static_cast<int>(counts);
+  }
+  if (root.has("controller")) {
+    const YamlFields c = root.child("controller");
+    c.allow_only({"bandwidth_rad_s", "damping_ratio", "integral_rad_s", "integral_limit_nm", "inertia_feedforward"});
+    p.has_controller = true;
+    p.bandwidth_rad_s = c.number("bandwidth_rad_s");
+    if (!(p.bandwidth_rad_s > 0.0) || p.bandwidth_rad_s > 1000.0) c.fail("bandwidth_rad_s", "expected in (0, 1000]");
+    p.damping_ratio = c.number("damping_ratio", 1.0);
+    if (!(p.damping_ratio > 0.0) || p.damping_ratio > 10.0) c.fail("damping_ratio", "expected in (0, 10]");
+    p.integral_rad_s = c.number("integral_rad_s", 0.0);
+    if (!(p.integral_rad_s >= 0.0) || p.integral_rad_s > 100.0) c.fail("integral_rad_s", "expected 0 .. 100");
+    p.integral_limit_nm = c.number("integral_limit_nm", 0.0);
+    if (!(p.integral_limit_nm >= 0.0) || p.integral_limit_nm > 1e5) c.fail("integral_limit_nm", "expected 0 .. 1e5");
+    if (p.integral_rad_s > 0.0 && !(p.integral_limit_nm > 0.0)) c.fail("integral_limit_nm", "integral action needs a limit > 0 (anti-windup)");
+    p.inertia_feedforward = c.boolean("inertia_feedforward", true);
+  }
+  return p;
+}
+
+void apply_plant_spec(const PlantSpec& spec, SimulationSetup& st) {
+  const std::size_t n = st.plant.links.size();
+  if (spec.plant_rate_hz > 0.0) st.plant.plant_rate_hz = spec.plant_rate_hz;
+  st.plant.integrator = spec.integrator;
+  if (!spec.friction.empty()) {
+    if (spec.friction.size() != n) throw std::invalid_argument(spec.file + ": friction for " + std::to_string(spec.friction.size()) +
+                                                               " joints, the model has " + std::to_string(n));
+    st.plant.friction = spec.friction;
+  }
+  if (spec.has_sensors) {
+    for (auto& d : st.sensors.drives) {
+      d.current_noise_rms_a = spec.current_noise_rms_a;
+      d.current_lsb_a = spec.current_lsb_a;
+      d.current_offset_a = spec.current_offset_a;
+      d.torque_constant_error = spec.torque_constant_error;
+    }
+    st.sensors.delay_samples = spec.delay_samples;
+    st.sensors.link_encoder_bits = spec.link_encoder_bits;
+    st.sensors.motor_encoder_counts_per_rev = spec.motor_encoder_counts_per_rev;
+  }
+  if (spec.has_controller) {
+    if (!st.trajectory) throw std::invalid_argument(spec.file + ": the controller needs the set-up's trajectory");
+    const ArmDynamics arm(st.plant.links, st.plant.gravity);
+    const auto M = arm.mass_matrix(st.trajectory->at(0.0).q);
+    const double bandwidth = std::min(spec.bandwidth_rad_s, st.control_rate_hz / 8.0);
+    st.controller = ControllerConfig{};
+    st.controller.inertia_feedforward = spec.inertia_feedforward;
+    for (std::size_t j = 0; j < n; ++j) {
+      const double inertia = M(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(j));
+      const double kp = inertia * bandwidth * bandwidth;
+      st.controller.kp.push_back(kp);
+      st.controller.kd.push_back(2.0 * spec.damping_ratio * inertia * bandwidth);
+      if (spec.integral_rad_s > 0.0) {
+        st.controller.ki.push_back(kp * spec.integral_rad_s);
+        st.controller.integral_limit_nm.push_back(spec.integral_limit_nm);
+      }
+    }
+  }
+}
 
 PlantModel load_plant_model(const std::string& path, const robot::LoadOptions& options) {
   const robot::RobotModel r = robot::load_robot(path, options);

@@ -1,5 +1,6 @@
 #include "sim/simulation.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -58,6 +59,13 @@ SimulationResult run_simulation(const SimulationSetup& setup, const ControlOverr
   if (setup.controller.kp.size() != static_cast<std::size_t>(n) || setup.controller.kd.size() != static_cast<std::size_t>(n)) {
     throw std::invalid_argument("simulation: controller gains needed for every joint");
   }
+  const bool integral = !setup.controller.ki.empty();
+  if (integral && (setup.controller.ki.size() != static_cast<std::size_t>(n) ||
+                   (!setup.controller.integral_limit_nm.empty() &&
+                    setup.controller.integral_limit_nm.size() != static_cast<std::size_t>(n)))) {
+    throw std::invalid_argument("simulation: integral gains (and limits) needed for every joint");
+  }
+  std::vector<double> integral_term(static_cast<std::size_t>(n), 0.0);
   const ArmDynamics nominal(setup.nominal_links.empty() ? setup.plant.links : setup.nominal_links,
                             setup.plant.gravity);
   JointSensors sensors(setup.sensors, n);
@@ -112,6 +120,15 @@ SimulationResult run_simulation(const SimulationSetup& setup, const ControlOverr
     for (int j = 0; j < n; ++j) {
       const auto u = static_cast<std::size_t>(j);
       demand(j) += setup.controller.kp[u] * (ref.q(j) - m.q(j)) + setup.controller.kd[u] * (ref.dq(j) - m.dq(j));
+      if (integral) {
+        double& acc = integral_term[u];
+        acc += setup.controller.ki[u] * (ref.q(j) - m.q(j)) * dt;
+        if (!setup.controller.integral_limit_nm.empty()) {
+          const double lim = setup.controller.integral_limit_nm[u];
+          acc = std::clamp(acc, -lim, lim);
+        }
+        demand(j) += acc;
+      }
     }
     if (override) {
       const CycleContext ctx{t, &m, &ref, &demand};

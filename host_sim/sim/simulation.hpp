@@ -22,6 +22,10 @@ struct ControllerConfig {
   std::vector<double> kp;  ///< [N·m/rad] per joint
   std::vector<double> kd;  ///< [N·m·s/rad] per joint
   bool inertia_feedforward = true;
+  /// Integral action (empty: none, the default): demand += clamp(sum ki e dt, +-integral_limit_nm),
+  /// e the position error; the sum stops growing at the clamp (anti-windup).
+  std::vector<double> ki;                 ///< [N·m/(rad·s)] per joint
+  std::vector<double> integral_limit_nm;  ///< [N·m] per joint (empty: no clamp)
 };
 
 /// What the arm does in a control cycle; the default follows the trajectory. A reaction
