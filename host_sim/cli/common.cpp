@@ -105,41 +105,10 @@ std::string torque_description(io::TorqueKind kind) {
 }
 
 LoadedRecording load_recording(const std::string& path, const RecordingOptions& o) {
-  LoadedRecording out;
-  out.path = path;
-  const io::Recording rec = io::read_recording(path, o.read_options());
-  out.torque = rec.torque_kind;
-  out.data = io::regularize(rec, o.regularize_options(), std::filesystem::path(path).filename().string());
+  LoadedRecording out = workflow::load_recording(path, o.read_options(), o.regularize_options());
   std::printf("%s\n", out.data.report.summary().c_str());
   std::printf("torque: %s\n", torque_description(out.torque).c_str());
   return out;
-}
-
-nlohmann::json resampling_json(const io::RegularizeReport& r) {
-  nlohmann::json j{{"source", r.source},
-                   {"method", r.method},
-                   {"rate_hz", r.rate_hz},
-                   {"step_s", r.step_s},
-                   {"rate_given", r.rate_given},
-                   {"median_step_in_s", r.median_step_in_s},
-                   {"min_step_in_s", r.min_step_in_s},
-                   {"max_step_in_s", r.max_step_in_s},
-                   {"split_gap_s", r.split_gap_s},
-                   {"rows_in", r.rows_in},
-                   {"rows_out", r.rows_out},
-                   {"repeats_dropped", r.repeats_dropped},
-                   {"gaps_bridged", r.gaps_bridged},
-                   {"longest_bridged_gap_s", r.longest_bridged_gap_s},
-                   {"gaps_split", r.gaps_split}};
-  auto spans = [](const std::vector<io::SegmentSpan>& v) {
-    nlohmann::json a = nlohmann::json::array();
-    for (const auto& s : v) a.push_back({{"t_begin", s.t_begin}, {"t_end", s.t_end}, {"rows_in", s.rows_in}, {"samples", s.samples}});
-    return a;
-  };
-  j["segments"] = spans(r.segments);
-  j["dropped_segments"] = spans(r.dropped);
-  j["summary"] = r.summary();
-  return j;
 }
 
 CLI::Validator output_file(bool creates_folders) {

@@ -10,6 +10,7 @@
 #include "io/regularize.hpp"
 #include "jointguard/observer/momentum_observer.hpp"
 #include "robot/robot_model.hpp"
+#include "workflow/steps.hpp"
 
 namespace jg::cli {
 
@@ -54,31 +55,18 @@ struct RecordingOptions {
   [[nodiscard]] io::RegularizeOptions regularize_options() const;
 };
 
-struct LoadedRecording {
-  std::string path;
-  io::Regularized data;  ///< uniform segments and what was done
-  io::TorqueKind torque = io::TorqueKind::tau_m;
-  [[nodiscard]] const io::Recording& longest() const { return data.segments[data.report.longest()]; }
-};
+using workflow::LoadedRecording;
 
 /// Reads and regularizes a recording; prints the resampling line and the torque used.
 LoadedRecording load_recording(const std::string& path, const RecordingOptions& o);
 
-/// {"method", "rate_hz", "rows_in", "rows_out", "repeats_dropped", ..., "segments": [...]}
-nlohmann::json resampling_json(const io::RegularizeReport& r);
+/// {"method", "rate_hz", "rows_in", ...} (workflow/steps.hpp)
+using workflow::resampling_json;
 /// "i" | "tau_m" | "tau_j" and a description, for the stdout line.
 std::string torque_description(io::TorqueKind kind);
 
-/// Runs `work`; an std::invalid_argument it throws (the data cannot give what is asked:
-/// too short, never moving, ...) is re-thrown with the recording's file name in front.
-template <class Work>
-auto about_recording(const std::string& path, Work&& work) -> decltype(work()) {
-  try {
-    return work();
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(path + ": " + e.what());
-  }
-}
+/// The recording's file name in front of an std::invalid_argument (workflow/steps.hpp).
+using workflow::about_recording;
 
 /// SHA-256 (hex) of a file's bytes; throws naming the file when it cannot be read.
 std::string file_sha256(const std::string& path);

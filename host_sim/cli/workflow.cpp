@@ -10,10 +10,8 @@
 #include "cli/identify_rigid.hpp"
 #include "cli/progress.hpp"
 #include "eval/calibration_region.hpp"
-#include "eval/firmware_estimator.hpp"
-#include "eval/pipeline.hpp"
-#include "report/contact_report.hpp"
 #include "io/atomic_write.hpp"
+#include "workflow/steps.hpp"
 
 namespace jg::cli {
 namespace {
@@ -27,13 +25,11 @@ struct WorkflowOptions {
   RecordingOptions input;
 };
 
-/// --holding and its companions (calibrate, replay): how the drive's holding is known.
-struct HoldingCliOptions {
-  std::string holding = "auto";
-  eval::ReplayOptions replay;
-  double settle = 0.15, reference = 0.016, floor = 0.0;
+/// --holding and its companions (calibrate, replay): how the drive's holding is known
+/// (workflow::Holding), as options.
+struct HoldingCliOptions : workflow::Holding {
   void add_to(CLI::App* cmd, bool for_replay) {
-    cmd->add_option("--holding", holding,
+    cmd->add_option("--holding", mode,
                     for_replay ? "When the drive holds a setpoint (holding-aware change detection): auto (still when the "
                                  "threshold file has the holding detector's thresholds, calibrate writes them; else the "
                                  "band alone); still (derived: at rest, then within --hold-radius of where it stopped); "
@@ -73,59 +69,9 @@ struct HoldingCliOptions {
           ->check(finite_range(0.0, 10.0));
     }
   }
-  [[nodiscard]] eval::ReplayOptions options() const {
-    eval::ReplayOptions o = replay;
-    o.holding = holding == "always"                         ? eval::HoldingSource::always
-                : holding == "still" || holding == "auto" ? eval::HoldingSource::still
-                                                          : eval::HoldingSource::none;
-    return o;
-  }
-  /// --holding always: the arm must not move; refused naming the file, time and joint.
-  void check_held(const std::string& path, const std::vector<io::Recording>& segments, const std::vector<int>& ids) const {
-    if (holding != "always") return;
-    for (const auto& rec : segments) {
-      if (const auto m = eval::first_move(rec, replay)) {
-        throw std::invalid_argument(path + ": --holding always, but the arm moves: joint " + std::to_string(ids[m->joint]) +
-                                    " is " + std::to_string(m->distance) + " rad from its first position at t = " +
-                                    std::to_string(m->t) + " s (|dq| " + std::to_string(m->speed) +
-                                    " rad/s there; a held arm stays within --hold-radius " + std::to_string(replay.hold_radius) +
-                                    " rad). Use --holding auto (derived from the recording) for a moving arm");
-      }
-    }
-  }
 };
 
-/// The "resampling" and "torque" fields every workflow JSON carries.
-nlohmann::json input_json(const LoadedRecording& in) {
-  return {{"resampling", resampling_json(in.data.report)}, {"torque", io::to_string(in.torque)}};
-}
 }  // namespace
-
-/// Warnings where the replay left the calibration's region, into stdout and the JSON.
-void report_region(const eval::ReplayResult& r, const eval::Thresholds& t, const std::vector<int>& ids, nlohmann::json& j) {
-  if (t.q_min.size() != ids.size()) {
-    std::printf("note: the threshold file states no calibrated region (calibrate again to get one)\n");
-    return;
-  }
-  j["outside_region"] = nlohmann::json::array();
-  for (std::size_t k = 0; k < ids.size(); ++k) {
-    j["outside_region"].push_back({{"joint", ids[k]}, {"position_samples", r.outside_q[k]}, {"velocity_samples", r.outside_dq[k]},
-                                   {"stop_widened_samples", r.stop_widened[k]}});
-    if (r.outside_q[k] + r.outside_dq[k] == 0) continue;
-    std::printf("warning: joint %d outside the calibrated region in %zu samples (position) and %zu (velocity): the band there "
-                "was not calibrated; calibrate on a motion that covers it\n",
-                ids[k], r.outside_q[k], r.outside_dq[k]);
-  }
-  if (r.gated_samples > 0) std::printf("stop gate: detector gated in %zu samples\n", r.gated_samples);
-  j["stop_gated_samples"] = r.gated_samples;
-  std::size_t widened = 0;
-  for (const auto w : r.stop_widened) widened += w;
-  if (widened > 0) {
-    std::printf("stop allowance: band widened for accelerations beyond the calibration's in");
-    for (std::size_t k = 0; k < ids.size(); ++k) std::printf(" %zu", r.stop_widened[k]);
-    std::printf(" samples (joints in order)\n");
-  }
-}
 
 Command add_identify(CLI::App& app) {
   auto o = std::make_shared<WorkflowOptions>();
@@ -159,19 +105,15 @@ Command add_identify(CLI::App& app) {
             if (rigid->enabled) {
               return run_identify_rigid(rec, o->recording, resampling_json(in.data.report), model, o->model, o->json, *rigid);
             }
-            ident::GaSettings ga;
-            ga.seed = o->seed;
-            ga.runs = o->runs;
-            // The file must run where the user runs it: calibrate, replay and the drive at this rate.
-            ga.firmware.enabled = true;
-            ga.firmware.dt = 1.0 / in.data.report.rate_hz;
+            workflow::IdentifySettings settings;
+            settings.gain = o->observer.gains[0];
+            settings.align_motor_torque = o->observer.align_motor_torque;
+            settings.seed = o->seed;
+            settings.runs = o->runs;
             Progress bar("identify");
-            const auto r = about_recording(o->recording, [&] {
-              const ObserverGains gains{ObserverKind::first_order, o->observer.gains[0], 0, 0,
-                                        o->observer.align_motor_torque};
-              return eval::identify_recording(rec, model, gains, ga, [&](double f) { bar.update(f); });
-            });
+            auto id = workflow::identify_friction(in, model, settings, [&](double f) { bar.update(f); });
             bar.finish();
+            const auto& r = id.joints;
             std::printf("joint  sigma0      sigma1    sigma2   tau_c    tau_s    w_s      rms [N·m]\n");
             for (std::size_t j = 0; j < r.size(); ++j) {
               const auto& p = r[j].params;
@@ -181,10 +123,7 @@ Command add_identify(CLI::App& app) {
               for (const auto& b : r[j].bounded) std::printf("       note: %s\n", b.reason.c_str());
             }
             if (!o->json.empty()) {
-              auto extra = input_json(in);
-              extra["segment_used"] = {{"t_begin", rec.t.front()}, {"t_end", rec.t.back()}};
-              extra["firmware_rate_hz"] = in.data.report.rate_hz;  // the parameters fit both scalars at this rate
-              eval::write_friction_json(o->json, r, rec.joint_ids, extra);
+              workflow::write_friction(o->json, id);
               std::printf("wrote %s\n", o->json.c_str());
             }
             return 0;
@@ -221,32 +160,13 @@ Command add_calibrate(CLI::App& app) {
             const auto& rec = in.data.segments.front();
             const auto friction = eval::read_friction_json(o->friction, rec.joint_ids);
             const auto gains = o->observer.to_gains(in.data.report.rate_hz);
-            constexpr double kSettleS = 0.5;  // calibrate_segments' default: the observer settling
-            const auto t = about_recording(o->recording, [&] {
-              auto segments = in.data.segments;
-              if (!window->empty()) {
-                const double t0 = segments.front().t.front();
-                segments = eval::time_window(segments, t0 + (*window)[0], t0 + (*window)[1]);
-                std::printf("calibrating on t = %.3f .. %.3f s (--time-window)\n", segments.front().t.front(), segments.back().t.back());
-              }
-              hold->check_held(o->recording, segments, rec.joint_ids);
-              auto th = eval::calibrate_segments(segments, model, friction, gains, o->margin, kSettleS);
-              eval::cover_region(th, segments, model, friction, gains, kSettleS);
-              if (hold->holding != "none") {
-                th.hold_settle_s = hold->settle;
-                th.hold_reference_s = hold->reference;
-                eval::calibrate_holds(th, segments, model, friction, gains, hold->options(), kSettleS, hold->holding != "auto");
-                // A held joint may hold any friction up to its static level: a calibration on a
-                // few holds (or none) saw only the levels they happened to keep. The band's
-                // standstill allowance covers the whole range (a joint settling at rest after a
-                // move never crosses it); small changes are the holding detector's job.
-                for (std::size_t j = 0; j < th.low_speed_extra.size(); ++j) {
-                  th.low_speed_extra[j] = std::max(th.low_speed_extra[j], eval::friction_level(friction[j]));
-                  th.hold_change[j] = std::max(th.hold_change[j], hold->floor * friction[j].tau_s);
-                }
-              }
-              return th;
-            });
+            auto segments = in.data.segments;
+            if (!window->empty()) {
+              const double t0 = segments.front().t.front();
+              segments = about_recording(o->recording, [&] { return eval::time_window(segments, t0 + (*window)[0], t0 + (*window)[1]); });
+              std::printf("calibrating on t = %.3f .. %.3f s (--time-window)\n", segments.front().t.front(), segments.back().t.back());
+            }
+            const auto t = workflow::calibrate_thresholds(o->recording, segments, model, friction, gains, o->margin, *hold);
             std::printf("joint  band without / with compensation [N·m]  shrink  threshold (moving)  + at standstill\n");
             for (std::size_t j = 0; j < t.threshold.size(); ++j) {
               // The band without compensation over the band with it, as the JSON's shrink_factor;
@@ -268,7 +188,7 @@ Command add_calibrate(CLI::App& app) {
               std::printf("\n");
             }
             if (!o->json.empty()) {
-              eval::write_threshold_json(o->json, t, rec.joint_ids, input_json(in));
+              eval::write_threshold_json(o->json, t, rec.joint_ids, workflow::input_json(in));
               std::printf("wrote %s\n", o->json.c_str());
             }
             return 0;
@@ -298,89 +218,22 @@ Command add_replay(CLI::App& app) {
             const auto model = robot::load_robot(o->model, o->model_options);
             const auto in = load_recording(o->recording, o->input);
             const auto& ids = in.data.segments.front().joint_ids;
-            const auto friction = eval::read_friction_json(o->friction, ids);
-            const auto thresholds = eval::read_threshold_json(o->threshold, ids);
-            eval::check_friction_fits(o->friction, friction, ids, 1.0 / in.data.report.rate_hz, o->scalar);
-            // The holding detector needs its change thresholds from the threshold file.
-            if (thresholds.hold_change.size() != ids.size()) {
-              if (hold->holding == "always" || hold->holding == "still") {
-                throw std::invalid_argument(o->threshold + ": --holding " + hold->holding +
-                                            " needs the holding detector's change thresholds (hold_change_threshold), "
-                                            "which this threshold file lacks: calibrate again (it writes them by default)");
-              }
-              if (hold->holding == "auto") {
-                std::printf("note: %s has no holding detector thresholds (hold_change_threshold): the band alone; "
-                            "calibrate again to get them\n",
-                            o->threshold.c_str());
-                hold->holding = "none";
-              }
-            }
-            hold->check_held(o->recording, in.data.segments, ids);
-            // Each segment runs from a fresh state; events keep the recording's time stamps.
-            const auto r = about_recording(o->recording, [&] {
-              return eval::replay_segments(in.data.segments, model, friction, thresholds, o->observer.to_gains(in.data.report.rate_hz),
-                                           o->scalar, o->debounce, hold->options());
-            });
-            nlohmann::json j = input_json(in);
-            report_region(r, thresholds, ids, j);
-            if (hold->holding != "none") {
-              std::printf("holding (%s): %zu of %zu samples held; holding detector re-armed %zu time(s)\n", hold->holding.c_str(),
+            const workflow::ReplaySettings settings{o->scalar, o->debounce, *hold};
+            const auto out = workflow::replay_files(in, model, o->friction, o->threshold, o->observer.to_gains(in.data.report.rate_hz),
+                                                    settings);
+            const auto& r = out.result;
+            for (const auto& n : out.notes) std::printf("%s\n", n.c_str());
+            if (out.holding != "none") {
+              std::printf("holding (%s): %zu of %zu samples held; holding detector re-armed %zu time(s)\n", out.holding.c_str(),
                           r.held_samples, r.t.size(), r.rearms);
-              j["holding"] = {{"source", hold->holding}, {"held_samples", r.held_samples}, {"rearms", r.rearms}};
             }
             std::printf("%zu detection(s)\n", r.events.size());
-            j["events"] = nlohmann::json::array();
-            for (const auto& e : r.events) {
-              std::printf("  t = %.4f s: link %d (joints over threshold:", e.t, e.link);
-              for (const int k : e.joints_over) std::printf(" %d", k);
-              std::printf(")%s\n", e.by_hold ? " by the holding detector" : "");
-              nlohmann::json event = {{"t", e.t}, {"link", e.link}, {"joints_over", e.joints_over}, {"by_hold", e.by_hold}};
-              if (e.contact && e.contact->link >= 1) {
-                const auto& c = *e.contact;
-                const int link_id = ids[static_cast<std::size_t>(c.link - 1)];
-                std::printf("    contact (at %.4f s): link %d, %.3f +- %.3f m along it, force %.1f +- %.1f N (%d of 3 components "
-                            "determined), peak %.1f N at %.4f s\n",
-                            e.contact_t, link_id, c.along_m, c.along_sigma_m, c.force_n, c.force_sigma_n, c.determined_components,
-                            e.contact_peak_force_n, e.contact_t_peak);
-                event["contact"] = {{"t", e.contact_t},
-                                    {"link", link_id},
-                                    {"along_m", c.along_m},
-                                    {"along_sigma_m", c.along_sigma_m},
-                                    {"point_base_m", {c.point_base.x(), c.point_base.y(), c.point_base.z()}},
-                                    {"force_n", c.force_n},
-                                    {"force_sigma_n", c.force_sigma_n},
-                                    {"force_base_n", {c.force_base.x(), c.force_base.y(), c.force_base.z()}},
-                                    {"determined_components", c.determined_components},
-                                    {"peak_force_n", e.contact_peak_force_n},
-                                    {"t_peak", e.contact_t_peak},
-                                    {"along_interval_m", {c.along_lo_m, c.along_hi_m}},
-                                    {"force_interval_n", {c.force_lo_n, c.force_hi_n}},
-                                    {"force_determined", c.force_determined},
-                                    {"line_direction_base", {c.line_direction_base.x(), c.line_direction_base.y(), c.line_direction_base.z()}}};
-                // What the torques allow: a value where they determine the force, else the set.
-                std::printf("    %s\n", report::describe_contact(c, link_id).c_str());
-              }
-              j["events"].push_back(event);
-            }
+            for (const auto& e : r.events) std::printf("  %s\n", workflow::describe_event(e, ids).c_str());
             if (!trace->empty()) {
-              std::string text = "t";
-              for (const int id : ids) text += ",mu" + std::to_string(id);
-              text += "\n";
-              char buf[32];
-              for (std::size_t k = 0; k < r.t.size(); ++k) {
-                std::snprintf(buf, sizeof buf, "%.4f", r.t[k]);
-                text += buf;
-                for (const auto& m : r.mu) {
-                  std::snprintf(buf, sizeof buf, ",%.4f", m[k]);
-                  text += buf;
-                }
-                text += "\n";
-              }
-              io::write_text_atomic(*trace, text);
+              io::write_text_atomic(*trace, workflow::trace_csv(r, ids));
               std::printf("wrote %s\n", trace->c_str());
             }
-            j["external_torque_max"] = r.external_torque_max;
-            j["scalar"] = o->scalar;
+            nlohmann::json j = out.json;
             if (!o->json.empty()) {
               write_json_file(o->json, j);
               std::printf("wrote %s\n", o->json.c_str());
