@@ -14,12 +14,33 @@
 
 namespace jg::cli {
 namespace {
+constexpr int kMaxShards = 100000;        ///< as parse_shard allows
+constexpr int kMaxPartItems = 100000000;  ///< runs or free-run segments of one campaign
+
+/// A whole number in [lo, hi] from a part's field, refused naming the field otherwise (a
+/// count of 2e9 would otherwise be taken as far as the memory goes).
+int bounded_int(const nlohmann::json& v, const std::string& field, int lo, int hi) {
+  if (!v.is_number_integer() && !(v.is_number_float() && std::floor(v.get<double>()) == v.get<double>())) {
+    throw std::invalid_argument("field '" + field + "': not a whole number");
+  }
+  const double x = v.get<double>();
+  if (!(x >= lo && x <= hi)) {
+    throw std::invalid_argument("field '" + field + "': " + v.dump() + " outside " + std::to_string(lo) + ".." + std::to_string(hi));
+  }
+  return static_cast<int>(x);
+}
+
+/// A whole number read as an int: within [-1e6, 1e6] (links, joints, counts of a few). nlohmann's
+/// get<int>() casts a double such as 1e300 unchecked: undefined behaviour (fuzz_merge_parts).
+constexpr int kMaxSmallInt = 1000000;
+int small_int(const nlohmann::json& j, const char* key) { return bounded_int(j.at(key), key, -kMaxSmallInt, kMaxSmallInt); }
+
 Eigen::Vector3d vector_of(const nlohmann::json& j) { return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()}; }
 
 eval::ContactOutcome contact_from_json(const nlohmann::json& j) {
   eval::ContactOutcome c;
   c.t = j.at("t").get<double>();
-  c.estimate.link = j.at("link").get<int>();
+  c.estimate.link = small_int(j, "link");
   c.estimate.link_chi2 = j.at("link_residual_chi2").get<std::vector<double>>();
   c.estimate.along_m = j.at("along_link").get<double>();
   c.estimate.along_sigma_m = j.at("along_link_sigma").get<double>();
@@ -28,7 +49,7 @@ eval::ContactOutcome contact_from_json(const nlohmann::json& j) {
   c.estimate.force_n = j.at("force").get<double>();
   c.estimate.force_sigma_n = j.at("force_sigma").get<double>();
   c.estimate.force_base = vector_of(j.at("force_base"));
-  c.estimate.determined_components = j.at("determined_force_components").get<int>();
+  c.estimate.determined_components = small_int(j, "determined_force_components");
   c.estimate.residual_chi2 = j.at("residual_chi2").get<double>();
   const auto tau = j.at("torque").get<std::vector<double>>();
   const auto sigma = j.at("torque_sigma").get<std::vector<double>>();
@@ -49,6 +70,9 @@ eval::ContactOutcome contact_from_json(const nlohmann::json& j) {
     c.point_error_given_true_link_m = j.at("point_error_given_true_link").get<double>();
   }
   if (j.contains("point_true")) c.point_true = vector_of(j.at("point_true"));
+  if (j.contains("links_consistent")) {
+    for (const auto& l : j.at("links_consistent")) bounded_int(l, "links_consistent[]", -kMaxSmallInt, kMaxSmallInt);
+  }
   eval::contact_set_from_json(j, c);
   return c;
 }
@@ -66,18 +90,18 @@ eval::RunResult run_from_json(const nlohmann::json& j) {
   r.t_collision = j.at("t_collision").get<double>();
   r.t_detected = optional_of(j, "t_detected");
   r.t_threshold = optional_of(j, "t_threshold_crossed");
-  r.link_true = j.at("link_true").get<int>();
-  r.link_isolated = j.at("link_isolated").get<int>();
+  r.link_true = small_int(j, "link_true");
+  r.link_isolated = small_int(j, "link_isolated");
   r.peak_force_n = j.at("peak_force").get<double>();
   r.max_true_ratio = j.at("max_true_torque_over_threshold").get<double>();
   r.max_true_ratio_moving = j.at("max_true_torque_over_moving_threshold").get<double>();
   r.isolable = j.at("isolable").get<bool>();
   r.isolable_at_decision = j.value("isolable_at_decision", false);
-  r.link_first_cycle = j.at("link_first_cycle").get<int>();
+  r.link_first_cycle = small_int(j, "link_first_cycle");
   r.detected_by_hold = j.at("detected_by_hold").get<bool>();
   r.peak_true_torque_held = j.at("peak_true_torque_held").get<double>();
   r.held_push_nm = j.at("held_push").get<double>();
-  r.peak_joint = j.value("peak_joint", 0);
+  r.peak_joint = j.contains("peak_joint") ? small_int(j, "peak_joint") : 0;
   r.detected_by_residual = j.value("detected_by_residual", false);
   r.peak_true_torque_nm = j.value("peak_true_torque", 0.0);
   r.speed_at_peak_rad_s = j.value("speed_at_peak", 0.0);
@@ -85,22 +109,6 @@ eval::RunResult run_from_json(const nlohmann::json& j) {
   if (r.compared) r.t_detected_other = optional_of(j, "t_detected_other_scalar");
   if (j.contains("contact_estimate") && !j.at("contact_estimate").is_null()) r.contact = contact_from_json(j.at("contact_estimate"));
   return r;
-}
-
-constexpr int kMaxShards = 100000;        ///< as parse_shard allows
-constexpr int kMaxPartItems = 100000000;  ///< runs or free-run segments of one campaign
-
-/// A whole number in [lo, hi] from a part's field, refused naming the field otherwise (a
-/// count of 2e9 would otherwise be taken as far as the memory goes).
-int bounded_int(const nlohmann::json& v, const std::string& field, int lo, int hi) {
-  if (!v.is_number_integer() && !(v.is_number_float() && std::floor(v.get<double>()) == v.get<double>())) {
-    throw std::invalid_argument("field '" + field + "': not a whole number");
-  }
-  const double x = v.get<double>();
-  if (!(x >= lo && x <= hi)) {
-    throw std::invalid_argument("field '" + field + "': " + v.dump() + " outside " + std::to_string(lo) + ".." + std::to_string(hi));
-  }
-  return static_cast<int>(x);
 }
 
 /// The first field in which two identities differ, said for a user ("option --seed: 3 here,
