@@ -93,8 +93,9 @@ Command add_pipeline(CLI::App& app) {
             std::printf("\njoint  threshold (moving)  + at standstill  holding change [N·m]\n");
             const auto& t = res.thresholds;
             for (std::size_t k = 0; k < res.joint_ids.size(); ++k) {
-              std::printf("%5d  %10.3f          %+8.3f        %s\n", res.joint_ids[k], t.threshold[k], t.low_speed_extra[k],
-                          k < t.hold_change.size() ? std::to_string(t.hold_change[k]).c_str() : "-");
+              char hold[24] = "-";
+              if (k < t.hold_change.size()) std::snprintf(hold, sizeof hold, "%.3f", t.hold_change[k]);
+              std::printf("%5d  %10.3f          %+8.3f        %s\n", res.joint_ids[k], t.threshold[k], t.low_speed_extra[k], hold);
             }
             for (const auto& rp : res.replays) {
               std::printf("%s (%s): %zu detection(s)\n", rp.recording.c_str(), rp.file.c_str(), rp.outcome.result.events.size());
