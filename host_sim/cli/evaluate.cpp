@@ -41,7 +41,7 @@ struct EvaluateOptions {
   std::vector<std::string> regions;  ///< safety: only these (empty: all)
   std::string kind;                  ///< safety: free or clamp only (empty: both)
   bool compare_bus = false;
-  std::string shard, compare_scalar, plant_friction;
+  std::string shard, compare_scalar, plant_friction, plant_file;
   unsigned long long seed = 1;
   ObserverOptions observer;
   robot::LoadOptions model_options;
@@ -192,6 +192,11 @@ Command add_evaluate(CLI::App& app) {
                   "The simulated arm's true friction: a friction JSON (identify --json), e.g. identified on the real arm "
                   "(default: the paper's Table 1, its joint 3 beyond the third)")
       ->check(CLI::ExistingFile);
+  cmd->add_option("--plant", o->plant_file,
+                  "paper/campaign/held/safety: the simulated arm's friction, sensors, controller and integrator from a plant file "
+                  "(YAML, docs/scenarios.md; e.g. models/second3_plant.yaml), the hidden truth detection never reads "
+                  "(default: the reference arm's)")
+      ->check(CLI::ExistingFile);
   cmd->add_option("--rate", o->rate, "Control and observer rate [Hz]")->capture_default_str()->check(CLI::Range(50.0, 20000.0));
   cmd->add_option("--scalar", o->scalar, "Firmware scalar")->check(CLI::IsMember({"float", "q"}))->capture_default_str();
   cmd->add_option("--seed", o->seed, "Seed of noise, campaign and motion")->capture_default_str();
@@ -289,6 +294,18 @@ Command add_evaluate(CLI::App& app) {
             }
             c.model = robot::load_robot(model_path, o->model_options);
             if (!o->plant_friction.empty()) c.plant_friction = eval::read_friction_json(o->plant_friction);
+            if (!o->plant_file.empty()) {
+              if (scenario) {
+                std::fprintf(stderr, "jointguard evaluate: error: --plant: a scenario file names its plant file itself (its 'plant' key)\n");
+                return 2;
+              }
+              auto spec = std::make_shared<sim::PlantSpec>(sim::load_plant_spec(o->plant_file, c.model.joints.size()));
+              if (!spec->friction.empty() && !c.plant_friction.empty()) {
+                std::fprintf(stderr, "jointguard evaluate: error: --plant-friction and a plant file with friction: give one\n");
+                return 2;
+              }
+              c.plant_spec = std::move(spec);
+            }
             c.rate_hz = scenario ? scenario->setup.control_rate_hz : o->rate;
             c.scalar = o->scalar;
             c.seed = o->seed;
