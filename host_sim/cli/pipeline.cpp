@@ -1,7 +1,5 @@
 // jointguard pipeline: identify, calibrate, replay and report on a user's recordings in one
 // command. Parses, calls workflow::run_pipeline (workflow/pipeline_run.hpp), prints.
-#include <unistd.h>
-
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -13,21 +11,18 @@
 
 namespace jg::cli {
 namespace {
-/// --out: a folder (created when missing); the nearest existing one must be a writable
-/// folder. Checked when the command line is read (exit 2, the option named).
+/// --out: a folder (created when missing) where output_file's checks hold for a file in it:
+/// the nearest existing folder writable, no file in the way. Checked when the command line is
+/// read (exit 2, the option named).
 CLI::Validator output_folder() {
+  const CLI::Validator file_in_it = output_file(true);
   return CLI::Validator(
-      [](std::string& path) {
-        namespace fs = std::filesystem;
+      [file_in_it](std::string& path) {
         std::error_code ec;
         if (path.empty()) return std::string("an empty path");
-        fs::path folder(path);
-        if (fs::exists(folder, ec) && !fs::is_directory(folder, ec)) return "'" + path + "' is a file, not a folder";
-        while (!fs::exists(folder, ec) && folder.has_parent_path() && folder.parent_path() != folder) folder = folder.parent_path();
-        if (!fs::exists(folder, ec)) folder = ".";
-        if (!fs::is_directory(folder, ec)) return "'" + folder.string() + "' in '" + path + "' is a file, not a folder";
-        if (::access(folder.c_str(), W_OK) != 0) return "the folder '" + folder.string() + "' of '" + path + "' is not writable";
-        return std::string();
+        if (std::filesystem::exists(path, ec) && !std::filesystem::is_directory(path, ec)) return "'" + path + "' is a file, not a folder";
+        std::string summary = (std::filesystem::path(path) / "pipeline.json").string();
+        return file_in_it(summary);
       },
       "DIR (created when missing)");
 }
