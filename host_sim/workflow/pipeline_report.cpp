@@ -27,6 +27,7 @@ report::Plot estimate_plot(const ReplayedRecording& rp) {
   p.title = std::filesystem::path(rp.recording).filename().string() + ": estimated external torque per joint";
   p.x_label = "t [s]";
   p.y_label = "torque [N·m]";
+  p.width = 960;  // room for a legend of seven joints
   for (std::size_t j = 0; j < res.mu.size(); ++j) {
     p.series.push_back({"joint " + std::to_string(rp.outcome.joint_ids[j]), res.t, res.mu[j], kColors[j % 8], 1.0});
   }

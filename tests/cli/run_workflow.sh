@@ -7,7 +7,7 @@ SRC="$2"
 W=$(mktemp -d)
 trap 'rm -rf "$W"' EXIT
 cd "$SRC"
-for c in simulate identify calibrate evaluate replay diagnose inject bench demo node plant decode; do
+for c in simulate identify calibrate evaluate replay diagnose inject bench demo node plant decode pipeline; do
   "$J" "$c" --help > /dev/null
 done
 "$J" simulate scenarios/paper_excitation.yaml --out "$W/excitation.csv"
@@ -25,6 +25,10 @@ set -e
 { [ "$rc" = 1 ] && [ ! -e "$W/never.yaml" ]; } || { echo "rigid-body on a mismatched model: exit 1, nothing written (got $rc)"; exit 1; }
 "$J" replay "$W/shoulder.csv" --model models/ref3.yaml --friction "$W/friction.json" --threshold "$W/threshold.json" --scalar q --json "$W/events.json"
 grep -q '"link": 2' "$W/events.json" || { echo "replay did not isolate link 2"; exit 1; }
+# The three steps in one command (tests/cli/pipeline.sh checks it against them by hand).
+"$J" pipeline --model models/ref3.yaml --identify "$W/excitation.csv" --calibrate "$W/free.csv" "$W/shoulder.csv" --out "$W/arm" \
+  --runs 2 > /dev/null
+grep -q '"link": 2' "$W/arm/replay_shoulder.json" || { echo "pipeline: replay did not isolate link 2"; exit 1; }
 "$J" evaluate --scenario paper --rate 125 --scalar q --free-run 20 --json "$W/paper.json"
 grep -q '"detection_rate": 1.0' "$W/paper.json" || { echo "paper scenarios not all detected"; exit 1; }
 "$J" diagnose --model models/ref3.yaml --real "$W/shoulder.csv" --sim "$W/shoulder.csv" --json "$W/diag.json" > "$W/diag.txt"
