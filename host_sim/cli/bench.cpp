@@ -299,7 +299,7 @@ Command add_bench(CLI::App& app) {
             if (*firmware_only) {
               print_firmware();
               if (!json->empty()) {
-                io::write_json_atomic(*json, nlohmann::json{{"firmware", firmware_json()}});
+                write_json_file(*json, nlohmann::json{{"firmware", firmware_json()}});  // with the identity
                 std::printf("wrote %s\n", json->c_str());
               }
               bool all = m.ok;
@@ -337,7 +337,7 @@ Command add_bench(CLI::App& app) {
               j["firmware"] = firmware_json();
               j["host"] = {{"sim_realtime_factor", r.simulated_s / sim_wall}, {"identify_seconds", ga_s},
                            {"identify_definition", "one GA run, population 200 x 300 generations, 1251 samples"}};
-              io::write_json_atomic(*json, j);
+              write_json_file(*json, j);  // with the identity
               std::printf("wrote %s\n", json->c_str());
             }
             return 0;

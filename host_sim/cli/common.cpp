@@ -105,6 +105,10 @@ std::string torque_description(io::TorqueKind kind) {
 }
 
 LoadedRecording load_recording(const std::string& path, const RecordingOptions& o) {
+  // The side file jointguard wrote beside it: which command and version made the recording.
+  if (io::classify_side_file(io::side_file_path(path)) == io::SideFile::ours) {
+    report_input_identity("recording side file", io::side_file_path(path));
+  }
   LoadedRecording out = workflow::load_recording(path, o.read_options(), o.regularize_options());
   std::printf("%s\n", out.data.report.summary().c_str());
   std::printf("torque: %s\n", torque_description(out.torque).c_str());
@@ -191,6 +195,57 @@ nlohmann::json command_identity(const CLI::App& cmd, const std::vector<std::stri
   return id;
 }
 
-void write_json_file(const std::string& path, const nlohmann::json& j) { io::write_json_atomic(path, j); }
+namespace {
+const CLI::App* g_running = nullptr;
+}  // namespace
+
+void set_running_command(const CLI::App& cmd) { g_running = &cmd; }
+
+nlohmann::json result_identity() {
+  if (g_running == nullptr) return nlohmann::json::object();
+  return command_identity(*g_running, {"--json", "--out", "--model-out", "--trace", "--jobs", "--shard"});
+}
+
+void report_input_identity(const std::string& what, const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return;
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const nlohmann::json j = nlohmann::json::parse(bytes, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) return;
+  const nlohmann::json* id = nullptr;
+  if (j.contains("identity") && j["identity"].is_object()) {
+    id = &j["identity"];
+  } else if (j.contains("jointguard_partial") && j["jointguard_partial"].is_object() &&
+             j["jointguard_partial"].contains("identity") && j["jointguard_partial"]["identity"].is_object()) {
+    id = &j["jointguard_partial"]["identity"];
+  }
+  const auto text = [](const nlohmann::json& o, const char* key) {
+    return o.contains(key) && o[key].is_string() ? o[key].get<std::string>() : std::string("?");
+  };
+  const std::string sha = io::sha256_hex(bytes).substr(0, 12);
+  if (id == nullptr) {
+    std::printf("%s: %s (no identity: written by hand, by another tool or by a jointguard before %s; sha256 %s)\n", what.c_str(), path.c_str(),
+                JG_VERSION, sha.c_str());
+    return;
+  }
+  const std::string version = text(*id, "version");
+  std::printf("%s: %s (jointguard %s %s, sha256 %s)\n", what.c_str(), path.c_str(), version.c_str(), text(*id, "command").c_str(),
+              sha.c_str());
+  if (version != JG_VERSION) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "warning: %s %s was written by jointguard %s, this is %s: its figures may differ from what this version writes\n",
+                 what.c_str(), path.c_str(), version.c_str(), JG_VERSION);
+  }
+}
+
+void write_json_file(const std::string& path, const nlohmann::json& j) {
+  if (j.is_object() && !j.contains("identity") && g_running != nullptr) {
+    nlohmann::json with = j;
+    with["identity"] = result_identity();
+    io::write_json_atomic(path, with);
+    return;
+  }
+  io::write_json_atomic(path, j);
+}
 
 }  // namespace jg::cli

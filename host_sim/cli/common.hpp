@@ -76,8 +76,25 @@ std::string file_sha256(const std::string& path);
 /// SHA-256 of every option value that names a file. Parts of one result must agree on it.
 nlohmann::json command_identity(const CLI::App& cmd, const std::vector<std::string>& skip);
 
+/// The identity every JSON the tool writes carries (issue 29 item 2), one function for all:
+/// main.cpp registers the command being run once its command line is read.
+void set_running_command(const CLI::App& cmd);
+/// command_identity of the running command without what does not change a figure: where the
+/// outputs go (--json, --out, --model-out, --trace) and how the work is split (--jobs,
+/// --shard). No time stamps and no paths but those given: the same command on the same
+/// files gives the same bytes. An empty object when no command was registered.
+nlohmann::json result_identity();
+
+/// One console line for a JSON file this tool wrote that a command reads (`what`: "friction",
+/// "threshold", "part", "recording side file", ...), e.g.
+///   friction: out/f.json (jointguard 0.2.0 identify, sha256 ab12cd34ef56)
+/// and a warning on stderr when the version that wrote it is not this one. Says nothing for a
+/// file that is not JSON (its reader names the problem).
+void report_input_identity(const std::string& what, const std::string& path);
+
 /// Writes JSON to a temporary file renamed into place; throws when it cannot (a missing
-/// folder, a full disk): success is only reported for a complete file.
+/// folder, a full disk): success is only reported for a complete file. An object without
+/// "identity" gets result_identity().
 void write_json_file(const std::string& path, const nlohmann::json& j);
 
 }  // namespace jg::cli

@@ -112,7 +112,7 @@ Command add_decode(CLI::App& app) {
                                {"nominal_bps", o->nominal_bps}, {"data_bps", o->data_bps}};
               // Bad input writes nothing (README): the problems are printed above, exit 1.
               if (undecodable == 0) {
-                io::write_json_atomic(o->json, j);
+                write_json_file(o->json, j);  // with the identity
               } else {
                 std::fprintf(stderr, "jointguard decode: %s: %zu frames not decodable: %s not written\n", o->capture.c_str(), undecodable,
                              o->json.c_str());

@@ -94,7 +94,10 @@ diag::ModelContext model_context(const sim::ArmDynamics& arm, const robot::Robot
   ctx.arm = &arm;
   for (const auto& jd : model.joints) ctx.torque_constant.push_back(jd.link.torque_constant);
   for (const auto& jd : nominal.joints) ctx.rotor_inertia.push_back(jd.link.rotor_inertia);
-  if (!friction_file.empty()) ctx.friction = eval::read_friction_json(friction_file, real.longest().joint_ids);
+  if (!friction_file.empty()) {
+    ctx.friction = eval::read_friction_json(friction_file, real.longest().joint_ids);
+    report_input_identity("friction", friction_file);
+  }
   return ctx;
 }
 

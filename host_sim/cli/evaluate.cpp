@@ -293,7 +293,10 @@ Command add_evaluate(CLI::App& app) {
                             io::YamlFields::load_file(o->scenario).text("model")).string();
             }
             c.model = robot::load_robot(model_path, o->model_options);
-            if (!o->plant_friction.empty()) c.plant_friction = eval::read_friction_json(o->plant_friction);
+            if (!o->plant_friction.empty()) {
+              c.plant_friction = eval::read_friction_json(o->plant_friction);
+              report_input_identity("plant friction", o->plant_friction);
+            }
             if (!o->plant_file.empty()) {
               if (scenario) {
                 std::fprintf(stderr, "jointguard evaluate: error: --plant: a scenario file names its plant file itself (its 'plant' key)\n");
@@ -405,13 +408,13 @@ Command add_evaluate(CLI::App& app) {
                           {"contact_point_over_the_contact", c.contact_point_over_the_contact},
                           {"contact_force_after_s", c.contact_force_after_s}, {"contact_lag_correction", c.contact_lag_correction},
                           {"contact_link_from_isolation", c.contact_link_from_isolation}};
+            // Every option that changes a figure, the inputs' content and the version: parts
+            // made otherwise do not merge; the whole run and the merged parts carry the same.
+            nlohmann::json identity = result_identity();
+            identity["model"] = c.model.name;
+            identity["model_sha256"] = file_sha256(model_path);
             if (!o->shard.empty()) {
               const auto segments = static_cast<std::size_t>(std::max(1.0, std::ceil(free_s / eval::kFreeRunSegmentS - 1e-9)));
-              // Every option that changes a figure, the inputs' content and the version: parts
-              // made otherwise do not merge.
-              nlohmann::json identity = command_identity(*cmd, {"--shard", "--json", "--jobs"});
-              identity["model"] = c.model.name;
-              identity["model_sha256"] = file_sha256(model_path);
               write_json_file(o->json, partial_json(fig, split.shard, split.shards, runs_total, segments, identity));
               std::printf("part %d/%d: %zu runs, %zu free-run segments; wrote %s (combine the parts with jointguard merge)\n",
                           split.shard, split.shards, fig.runs.size(), fig.free_run.size(), o->json.c_str());
@@ -419,7 +422,9 @@ Command add_evaluate(CLI::App& app) {
             }
             print_figures(fig);
             if (!o->json.empty()) {
-              write_json_file(o->json, evaluate_json(fig));
+              nlohmann::json out = evaluate_json(fig);
+              out["identity"] = identity;
+              write_json_file(o->json, out);
               std::printf("wrote %s\n", o->json.c_str());
             }
             return 0;
@@ -444,8 +449,13 @@ Command add_merge(CLI::App& app) {
               }
             }
             const EvaluateFigures fig = merge_partials(*paths);
+            for (const auto& part : *paths) report_input_identity("part", part);
             print_figures(fig);
-            write_json_file(*json, evaluate_json(fig));
+            // The parts' identity (equal in all of them): the merged file is the bytes of the
+            // unsharded run.
+            nlohmann::json out = evaluate_json(fig);
+            if (fig.identity.is_object()) out["identity"] = fig.identity;
+            write_json_file(*json, out);
             std::printf("merged %zu parts; wrote %s\n", paths->size(), json->c_str());
             return 0;
           }};

@@ -51,12 +51,16 @@ int run_node(const NodeOptions& o) {
   fc.model = model;
   fc.dt = 1.0 / o.rate;
   fc.observer = o.observer.to_gains(o.rate);
-  if (!o.friction.empty()) fc.friction = eval::read_friction_json(o.friction);
+  if (!o.friction.empty()) {
+    fc.friction = eval::read_friction_json(o.friction);
+    report_input_identity("friction", o.friction);
+  }
   fc.compensate_friction = !fc.friction.empty();
   std::vector<JointThreshold<double>> bands;
   eval::Thresholds thresholds;
   if (!o.threshold.empty()) {
     thresholds = eval::read_threshold_json(o.threshold);
+    report_input_identity("threshold", o.threshold);
     bands = eval::threshold_bands(thresholds);
   }
   if (!bands.empty() && bands.size() != n) throw std::invalid_argument(o.threshold + ": one threshold per joint needed");
@@ -139,7 +143,7 @@ int run_node(const NodeOptions& o) {
                       {"faults", {{"frames_delayed", fault_counts.frames_delayed}, {"bus_off_entries", fault_counts.bus_off_entries},
                                   {"bus_off_recoveries", fault_counts.bus_off_recoveries}, {"refused_bus_off", fault_counts.refused_bus_off},
                                   {"bus_off_at_end", port.error_state() == hal::CanErrorState::bus_off}}}};
-    io::write_json_atomic(o.json, js);  // every write checked: no exit 0 without the file
+    write_json_file(o.json, js);  // every write checked: no exit 0 without the file; with the identity
   }
   return 0;
 }

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "can/fault_spec.hpp"
+#include "cli/common.hpp"
 #include "cli/evaluate_output.hpp"
 #include "hil/hil_run.hpp"
 #include "hil/socketcan_master.hpp"
@@ -63,6 +64,8 @@ int run_hil_command(const HilOptions& o) {
   c.model = robot::load_robot(model_path, o.model_options);
   if (!o.friction.empty()) c.friction = eval::read_friction_json(o.friction);
   c.thresholds = eval::read_threshold_json(o.threshold);
+  if (!o.friction.empty()) report_input_identity("friction", o.friction);
+  report_input_identity("threshold", o.threshold);
   c.gains = o.observer.to_gains(scenario.setup.control_rate_hz);
   c.scalar = o.scalar;
   c.debounce_cycles = o.debounce;
@@ -130,7 +133,9 @@ int run_hil_command(const HilOptions& o) {
   }
   if (!o.trace.empty()) hil::write_trace_csv(o.trace, run.trace);
   if (!o.out.empty()) {
-    io::write_recording(o.out, run.recording);
+    io::Recording rec = run.recording;
+    rec.meta.identity_json = result_identity().dump();  // in the side file
+    io::write_recording(o.out, rec);
     std::printf("wrote %s\n", o.out.c_str());
   }
   if (!o.json.empty()) {
@@ -174,7 +179,7 @@ int run_hil_command(const HilOptions& o) {
       mu_max.push_back(v);
     }
     j["external_torque_max"] = mu_max;
-    io::write_json_atomic(o.json, j);
+    write_json_file(o.json, j);  // with the identity
     std::printf("wrote %s\n", o.json.c_str());
   }
   return 0;

@@ -185,6 +185,7 @@ int run_identify_rigid(const io::Recording& rec, const std::string& recording, c
     std::printf("wrote %s\n", o.model_out.c_str());
   }
   if (!json.empty()) {
+    out["identity"] = result_identity();
     io::write_text_atomic(json, out.dump(2) + "\n");
     std::printf("wrote %s\n", json.c_str());
   }

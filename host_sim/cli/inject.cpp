@@ -77,7 +77,7 @@ void write_outputs(const std::string& out, const std::string& text, const nlohma
   if (fs::path(out).has_parent_path()) fs::create_directories(fs::path(out).parent_path());
   const std::string side_path = inject::side_file_path(out);
   io::check_side_file_writable(out);  // another program's <stem>.json is never overwritten
-  io::write_json_atomic(side_path, side);
+  write_json_file(side_path, side);  // with the identity
   try {
     io::write_text_atomic(out, text);
   } catch (...) {
@@ -107,7 +107,10 @@ int run(const InjectCliOptions& o) {
   r.torque = rec.torque;
   r.model.model = &model;
   for (const auto& j : model.joints) r.model.torque_constant.push_back(j.link.torque_constant);
-  if (!o.friction.empty()) r.model.friction = eval::read_friction_json(o.friction, first.joint_ids);
+  if (!o.friction.empty()) {
+    r.model.friction = eval::read_friction_json(o.friction, first.joint_ids);
+    report_input_identity("friction", o.friction);
+  }
   r.torque_constant_known = torque_constant_known(o);
   r.effects = inject::read_effects_file(o.effects, target);
   const inject::InjectResult res = about_recording(o.recording, [&] { return inject::inject(r); });

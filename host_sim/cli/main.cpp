@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "cli/commands.hpp"
+#include "cli/common.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"jointguard: sensorless collision detection for robot arms (host tools)"};
@@ -26,6 +27,7 @@ int main(int argc, char** argv) {
   }
   for (const auto& c : commands) {
     if (c.app->parsed()) {
+      jg::cli::set_running_command(*c.app);  // the identity of what it writes (cli/common.hpp)
       try {
         return c.run();
       } catch (const std::exception& e) {

@@ -62,9 +62,10 @@ Command add_simulate(CLI::App& app) {
     }
     Progress progress("simulate");
     const auto t0 = std::chrono::steady_clock::now();
-    const sim::SimulationResult r = sim::run_simulation(s.setup, {}, [&](double f) { progress.update(f); });
+    sim::SimulationResult r = sim::run_simulation(s.setup, {}, [&](double f) { progress.update(f); });
     progress.finish();
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r.recording.meta.identity_json = result_identity().dump();  // in the side file
     io::write_recording(opt->out, r.recording);
     std::printf("wrote %s: %zu samples, %.3f s at %.0f Hz, %zu collision(s), peak contact force %.1f N\n",
                 opt->out.c_str(), r.recording.samples(), r.simulated_s, s.setup.control_rate_hz,

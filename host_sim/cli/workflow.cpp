@@ -71,6 +71,13 @@ struct HoldingCliOptions : workflow::Holding {
   }
 };
 
+/// The "resampling" and "torque" fields every workflow JSON carries.
+nlohmann::json input_with_identity(const LoadedRecording& in) {
+  // The identity of the result (cli/common.hpp) in every JSON identify, calibrate and replay write.
+  nlohmann::json j = workflow::input_json(in);
+  j["identity"] = result_identity();
+  return j;
+}
 }  // namespace
 
 Command add_identify(CLI::App& app) {
@@ -123,6 +130,7 @@ Command add_identify(CLI::App& app) {
               for (const auto& b : r[j].bounded) std::printf("       note: %s\n", b.reason.c_str());
             }
             if (!o->json.empty()) {
+              id.json["identity"] = result_identity();
               workflow::write_friction(o->json, id);
               std::printf("wrote %s\n", o->json.c_str());
             }
@@ -159,6 +167,7 @@ Command add_calibrate(CLI::App& app) {
             const auto in = load_recording(o->recording, o->input);
             const auto& rec = in.data.segments.front();
             const auto friction = eval::read_friction_json(o->friction, rec.joint_ids);
+            report_input_identity("friction", o->friction);
             const auto gains = o->observer.to_gains(in.data.report.rate_hz);
             auto segments = in.data.segments;
             if (!window->empty()) {
@@ -188,7 +197,7 @@ Command add_calibrate(CLI::App& app) {
               std::printf("\n");
             }
             if (!o->json.empty()) {
-              eval::write_threshold_json(o->json, t, rec.joint_ids, workflow::input_json(in));
+              eval::write_threshold_json(o->json, t, rec.joint_ids, input_with_identity(in));
               std::printf("wrote %s\n", o->json.c_str());
             }
             return 0;
@@ -218,6 +227,8 @@ Command add_replay(CLI::App& app) {
             const auto model = robot::load_robot(o->model, o->model_options);
             const auto in = load_recording(o->recording, o->input);
             const auto& ids = in.data.segments.front().joint_ids;
+            report_input_identity("friction", o->friction);
+            report_input_identity("threshold", o->threshold);
             const workflow::ReplaySettings settings{o->scalar, o->debounce, *hold};
             const auto out = workflow::replay_files(in, model, o->friction, o->threshold, o->observer.to_gains(in.data.report.rate_hz),
                                                     settings);
@@ -234,6 +245,7 @@ Command add_replay(CLI::App& app) {
               std::printf("wrote %s\n", trace->c_str());
             }
             nlohmann::json j = out.json;
+            j["identity"] = result_identity();
             if (!o->json.empty()) {
               write_json_file(o->json, j);
               std::printf("wrote %s\n", o->json.c_str());

@@ -186,6 +186,7 @@ RecordingMeta read_meta(const std::filesystem::path& json_path, std::vector<std:
   if (j.contains("seed") && j["seed"].is_number_unsigned()) {
     meta.seed = j["seed"].get<unsigned long long>();
   }
+  if (j.contains("identity") && j["identity"].is_object()) meta.identity_json = j["identity"].dump();
   return meta;
 }
 
@@ -652,6 +653,7 @@ void write_recording(const std::string& path, const Recording& rec) {
                       {"sample_time", rec.meta.sample_time},
                       {"scenario", rec.meta.scenario}};
   if (rec.meta.seed) meta["seed"] = *rec.meta.seed;
+  if (!rec.meta.identity_json.empty()) meta["identity"] = nlohmann::json::parse(rec.meta.identity_json);
   TempFile json(side_file_path(path));
   {
     std::ofstream jout(json.path(), std::ios::binary | std::ios::trunc);

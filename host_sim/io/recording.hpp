@@ -47,6 +47,9 @@ struct RecordingMeta {
   double sample_time = 0.0; ///< [s], 0 when unknown
   std::optional<unsigned long long> seed;
   std::string scenario;
+  /// What made the recording (the writing command's identity, cli/common.hpp) as JSON text;
+  /// written to and read from the side file's "identity" when not empty.
+  std::string identity_json;
 };
 
 /// Column-major storage: signal[joint][sample]. Joint numbers are those of the column
