@@ -77,7 +77,11 @@ void write_outputs(const std::string& out, const std::string& text, const nlohma
   if (fs::path(out).has_parent_path()) fs::create_directories(fs::path(out).parent_path());
   const std::string side_path = inject::side_file_path(out);
   io::check_side_file_writable(out);  // another program's <stem>.json is never overwritten
-  write_json_file(side_path, side);  // with the identity
+  // This command's identity; the source recording's (copied with its metadata) kept beside it.
+  nlohmann::json j = side;
+  if (j.contains("identity")) j["source_identity"] = j["identity"];
+  j["identity"] = result_identity();
+  write_json_file(side_path, j);
   try {
     io::write_text_atomic(out, text);
   } catch (...) {
