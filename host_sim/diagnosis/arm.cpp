@@ -24,6 +24,10 @@ struct ArmCandidate {
   int joint = 0;           ///< 1-based joint of a drive's cause (torque constant), 0: none
   double pickup_s = -1.0;  ///< step time of a payload picked up during the recording (< 0: throughout)
   int nonlinear_params = 0;
+  /// Columns held at zero (a payload centred on the last joint's axis has no first moment
+  /// across it): kept so every cause of one effect has the same coefficient layout, not
+  /// counted as parameters.
+  int zeroed_columns = 0;
 };
 
 /// The stacked, noise-weighted problem: rows = (joint, sample) for the given samples.
@@ -192,30 +196,39 @@ Finding implausible_payload(double mass_kg, const Eigen::Vector3d& first_moment,
 
 /// Payload: carried throughout, or picked up during the recording (a step at pickup_s,
 /// on a 5 % grid of the recording): the model's sensitivities to the last link's mass
-/// and first moment.
+/// and first moment. Each also centred on the last joint's axis (the last link frame's z,
+/// the DH convention every robot file is read into): the usual tool, mounted on the
+/// flange. Its first moment across the axis is what a short motion resolves worst, and a
+/// free fit of it lends the payload torque on the last joint that a centred one never has.
+/// The order is the carried-throughout free fit first (predict_arm_causes relies on it).
 std::vector<ArmCandidate> payload_candidates(const std::vector<JointSignals>& js, bool picked_up) {
   std::vector<ArmCandidate> out;
   const auto& t = js.front().t;
   const double t0 = t.front(), span = t.back() - t.front();
-  for (int i = 0; i <= (picked_up ? 17 : 0); ++i) {
-    ArmCandidate c;
-    c.effect = "payload";
-    c.link = static_cast<int>(js.size());
-    if (i > 0) {
-      c.pickup_s = t0 + span * (0.05 + 0.05 * i);
-      c.nonlinear_params = 1;
-    }
-    c.columns.assign(4, std::vector<std::vector<double>>(js.size()));
-    for (std::size_t p = 0; p < 4; ++p) {
-      for (std::size_t j = 0; j < js.size(); ++j) {
-        auto col = js[j].payload_columns[p];
-        if (c.pickup_s >= 0.0) {
-          for (std::size_t k = 0; k < col.size(); ++k) col[k] = t[k] >= c.pickup_s ? col[k] : 0.0;
-        }
-        c.columns[p][j] = std::move(col);
+  for (const bool on_axis : {false, true}) {
+    for (int i = 0; i <= (picked_up ? 17 : 0); ++i) {
+      ArmCandidate c;
+      c.effect = "payload";
+      c.link = static_cast<int>(js.size());
+      if (i > 0) {
+        c.pickup_s = t0 + span * (0.05 + 0.05 * i);
+        c.nonlinear_params = 1;
       }
+      c.columns.assign(4, std::vector<std::vector<double>>(js.size()));
+      for (std::size_t p = 0; p < 4; ++p) {
+        for (std::size_t j = 0; j < js.size(); ++j) {
+          auto col = js[j].payload_columns[p];
+          if (on_axis && (p == 1 || p == 2)) {
+            std::fill(col.begin(), col.end(), 0.0);
+          } else if (c.pickup_s >= 0.0) {
+            for (std::size_t k = 0; k < col.size(); ++k) col[k] = t[k] >= c.pickup_s ? col[k] : 0.0;
+          }
+          c.columns[p][j] = std::move(col);
+        }
+      }
+      c.zeroed_columns = on_axis ? 2 : 0;
+      out.push_back(std::move(c));
     }
-    out.push_back(std::move(c));
   }
   return out;
 }
@@ -259,7 +272,7 @@ ArmCandidate torque_constant_candidate(const std::vector<JointSignals>& js, std:
 
 /// What a cause is called in notes: "payload", "link 3 mass error", "joint 2 torque constant".
 std::string cause_label(const ArmCandidate& c) {
-  if (c.effect == "payload") return "payload";
+  if (c.effect == "payload") return c.zeroed_columns > 0 ? "payload (centred)" : "payload";
   if (c.effect == "torque_constant") return "joint " + std::to_string(c.joint) + " torque constant";
   return "link " + std::to_string(c.link) + " mass error";
 }
@@ -355,7 +368,7 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
   };
   auto param_count = [&](const std::vector<const ArmCandidate*>& cs) {
     int k = static_cast<int>(kNuisance * js.size());
-    for (const auto* c : cs) k += static_cast<int>(c->columns.size()) + c->nonlinear_params;
+    for (const auto* c : cs) k += static_cast<int>(c->columns.size()) - c->zeroed_columns + c->nonlinear_params;
     return k;
   };
   // Every subset of at most max_causes causes (one instance per group), scored by BIC on
@@ -448,7 +461,11 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
           f.params["scale_error"] = mass;
           f.params["bound"] = o.max_torque_constant_error;
           f.text = why.str();
-          d.unexplained.push_back(f);
+          // One drive, one report: the same joint's constant rejected again beside another cause adds nothing.
+          const bool known = std::any_of(d.unexplained.begin(), d.unexplained.end(), [&](const Finding& u) {
+            return u.effect == "torque_constant" && u.params.count("joint") != 0 && u.params.at("joint") == c.joint;
+          });
+          if (!known) d.unexplained.push_back(f);
         }
       } else if (c.effect == "payload" && !(mass > o.min_mass_kg)) {
         why << "payload fit gives a mass of " << mass << " kg (must be positive): not claimed";
@@ -595,6 +612,11 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
       if (c.pickup_s >= 0.0) f.params["picked_up_at_s"] = c.pickup_s;
       text << "payload on the last link: " << m << " +/- " << jack[ci].mass_sigma << " kg, centre of mass (" << com.x() << ", " << com.y() << ", " << com.z()
            << ") m in its frame";
+      if (c.zeroed_columns > 0) {
+        // The centred fit won the selection: its sideways offset is not resolved, not zero.
+        f.params["centred_on_last_axis"] = 1.0;
+        text << " (centred on joint " << js.back().joint << "'s axis: an offset across it does not beat the centred fit)";
+      }
       if (c.pickup_s >= 0.0) text << ", picked up at t = " << c.pickup_s << " s";
     } else {
       f.params["delta_mass_kg"] = m;
