@@ -12,6 +12,7 @@
 #include "cli/evaluate_output.hpp"
 #include "cli/progress.hpp"
 #include "eval/experiments.hpp"
+#include "eval/firmware_estimator.hpp"
 #include "eval/parallel.hpp"
 #include "eval/pipeline.hpp"
 #include "eval/safety_experiments.hpp"
@@ -41,7 +42,7 @@ struct EvaluateOptions {
   std::vector<std::string> regions;  ///< safety: only these (empty: all)
   std::string kind;                  ///< safety: free or clamp only (empty: both)
   bool compare_bus = false;
-  std::string shard, compare_scalar, plant_friction, plant_file;
+  std::string shard, compare_scalar, plant_friction, plant_file, friction;
   unsigned long long seed = 1;
   ObserverOptions observer;
   robot::LoadOptions model_options;
@@ -161,6 +162,19 @@ void write_safety(const eval::ExperimentConfig& c, const EvaluateOptions& o, int
     std::printf("wrote %s\n", o.json.c_str());
   }
 }
+/// evaluate --friction: the file's LuGre per joint as the estimator's friction, checked as
+/// calibrate checks it (one entry per model joint; each fits every firmware scalar the run
+/// uses at its rate), so a file the run cannot use stops it before any work (exit 1).
+void use_friction_file(eval::ExperimentConfig& c, const std::string& path, const std::vector<std::string>& scalars) {
+  c.friction = eval::read_friction_json_for_model(path, c.model.joints.size());
+  std::vector<int> ids(c.friction.size());
+  for (std::size_t j = 0; j < ids.size(); ++j) ids[j] = static_cast<int>(j + 1);
+  for (const auto& scalar : scalars) {
+    if (!scalar.empty()) eval::check_friction_fits(path, c.friction, ids, 1.0 / c.rate_hz, scalar);
+  }
+  c.friction_given = true;
+  report_input_identity("friction", path);
+}
 }  // namespace
 
 Command add_evaluate(CLI::App& app) {
@@ -191,6 +205,11 @@ Command add_evaluate(CLI::App& app) {
   cmd->add_option("--plant-friction", o->plant_friction,
                   "The simulated arm's true friction: a friction JSON (identify --json), e.g. identified on the real arm "
                   "(default: the paper's Table 1, its joint 3 beyond the third)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--friction", o->friction,
+                  "The estimator's friction: a friction JSON (identify --json, as calibrate and replay read it) used as is, "
+                  "instead of identifying it from a simulated excitation run (default; the GA is most of a preparation's "
+                  "cost on six or seven joints)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--plant", o->plant_file,
                   "paper/campaign/held/safety: the simulated arm's friction, sensors, controller and integrator from a plant file "
@@ -310,6 +329,7 @@ Command add_evaluate(CLI::App& app) {
               c.plant_spec = std::move(spec);
             }
             c.rate_hz = scenario ? scenario->setup.control_rate_hz : o->rate;
+            if (!o->friction.empty()) use_friction_file(c, o->friction, {o->scalar, o->compare_scalar});
             c.scalar = o->scalar;
             c.seed = o->seed;
             c.gains = o->observer.to_gains(c.rate_hz);
@@ -393,6 +413,7 @@ Command add_evaluate(CLI::App& app) {
             fig.free_run = eval::free_run_segments(c, free_s, split, [&](double f) { bar.update(0.8 + 0.2 * f); });
             fig.free_run_s = free_s;
             bar.finish();
+            print_false_alarms(fig.free_run);
             fig.config = {{"threshold", c.thresholds}, {"threshold_low_speed_extra", c.low_speed_extra},
                           {"threshold_low_speed_width", c.low_speed_width}, {"calibration_s", c.calibration_s},
                           {"margin", o->margin}, {"rate", c.rate_hz}, {"scalar", c.scalar},
@@ -407,7 +428,8 @@ Command add_evaluate(CLI::App& app) {
                           {"campaign_surface_contacts", c.campaign_surface_contacts}, {"contact_surface_prior", c.contact_surface_prior},
                           {"contact_point_over_the_contact", c.contact_point_over_the_contact},
                           {"contact_force_after_s", c.contact_force_after_s}, {"contact_lag_correction", c.contact_lag_correction},
-                          {"contact_link_from_isolation", c.contact_link_from_isolation}};
+                          {"contact_link_from_isolation", c.contact_link_from_isolation},
+                          {"friction", c.friction_given ? "given (--friction)" : "identified from a simulated excitation"}};
             // Every option that changes a figure, the inputs' content and the version: parts
             // made otherwise do not merge; the whole run and the merged parts carry the same.
             nlohmann::json identity = result_identity();

@@ -28,6 +28,10 @@ nlohmann::json contact_json(const eval::ContactOutcome& c);
 nlohmann::json evaluate_json(const EvaluateFigures& f);
 /// The table and figures on stdout.
 void print_figures(const EvaluateFigures& f);
+/// Each false alarm of the collision-free run at its first cycle: the joints that flagged,
+/// through which detector (band, residual, hold), and every joint's posture, velocity,
+/// estimate and moving band, so that its cause can be found without a rerun.
+void print_false_alarms(const std::vector<eval::FreeRunSegment>& segments);
 
 /// One shard's part: its runs and segments with their indices, the totals every shard must
 /// add up to, and the configuration (equal in every part of one campaign).

@@ -178,12 +178,13 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       }
     }
     JointMask now = 0;
-    JointMask by_band = 0, by_residual = 0;
+    JointMask by_band = 0, by_residual = 0, by_hold = 0;
     for (std::size_t j = 0; j < n; ++j) {
       const auto i = static_cast<Eigen::Index>(j);
       const bool held_change = hold_change_step(hold_detector[j], hold_states[j], ((holding >> j) & 1U) != 0U, mu(i));
       const bool residual_change = residual_change_step(residual_detector[j], residual_states[j], mu(i));
       if (residual_change) by_residual |= static_cast<JointMask>(1U << j);
+      if (held_change) by_hold |= static_cast<JointMask>(1U << j);
       const bool changed = residual_change || held_change;
       if (detector_step(thresholds[j], debounce, states[j], mu(i), m.dq(i), changed)) {
         now |= static_cast<JointMask>(1U << j);
@@ -203,6 +204,15 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
       // every threshold), re-arm, do not react.
       if (ctx.t - last_alarm_t > 0.5) {
         out.false_alarm_times.push_back(ctx.t);
+        FalseAlarm a{ctx.t, now, by_band, by_residual, by_hold, {}, {}, {}, {}};
+        for (std::size_t j = 0; j < n; ++j) {
+          const auto i = static_cast<Eigen::Index>(j);
+          a.q_rad.push_back(m.q(i));
+          a.dq_rad_s.push_back(m.dq(i));
+          a.mu_nm.push_back(mu(i));
+          a.band_nm.push_back(threshold_at(thresholds[j], m.dq(i)));
+        }
+        out.false_alarms.push_back(std::move(a));
       }
       last_alarm_t = ctx.t;
       for (auto& st : states) reset_detector(st);

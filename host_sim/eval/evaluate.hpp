@@ -60,6 +60,15 @@ struct Trace {
   std::vector<std::vector<double>> mu, tau_ext;  ///< [joint][sample]
 };
 
+/// What a false alarm looked like at its first cycle, to find its cause: which joints
+/// flagged and through which detector, and every joint's posture, velocity, estimate and
+/// moving band (the band at the measured velocity) then.
+struct FalseAlarm {
+  double t_s = 0.0;
+  JointMask flagged = 0, by_band = 0, by_residual = 0, by_hold = 0;
+  std::vector<double> q_rad, dq_rad_s, mu_nm, band_nm;
+};
+
 struct RunResult {
   std::string name;
   int index = 0;                           ///< position in its campaign (0-based): the merge order
@@ -74,6 +83,7 @@ struct RunResult {
   double max_true_ratio = 0.0;
   double max_true_ratio_moving = 0.0;      ///< the same against the moving threshold eps0 alone
   std::vector<double> false_alarm_times;   ///< detections with no contact in the preceding 0.5 s
+  std::vector<FalseAlarm> false_alarms;    ///< the same alarms in detail (their first cycle)
   std::optional<double> t_node_flagged;    ///< first cycle a drive's own detector flagged (distributed runs)
   int link_node_isolated = 0;              ///< highest joint flagged by the drives at that cycle
   std::optional<double> t_input_fault;     ///< first cycle a drive reported an input fault (the arm holds)

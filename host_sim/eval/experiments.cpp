@@ -374,8 +374,9 @@ Thresholds calibrate(const ExperimentConfig& c, double margin_nm) {
   return t;
 }
 
-Preparation prepare(ExperimentConfig& c, double margin_nm, const std::function<void(double)>& progress) {
-  Preparation p;
+namespace {
+/// The friction identified from a simulated excitation run, as `identify` would write it.
+void identify_friction(ExperimentConfig& c, Preparation& p, const std::function<void(double)>& progress) {
   const std::size_t n = c.model.joints.size();
   auto excitation = std::make_shared<sim::ExcitationTrajectory>(home_of(c.model), std::vector<bool>(n, true),
                                                                 sim::PaperExcitation(0.6, 0.2, 4, 2.5));
@@ -406,6 +407,19 @@ Preparation prepare(ExperimentConfig& c, double margin_nm, const std::function<v
   }
   c.friction.clear();
   for (const auto& r : p.identification) c.friction.push_back(r.params);
+}
+}  // namespace
+
+Preparation prepare(ExperimentConfig& c, double margin_nm, const std::function<void(double)>& progress) {
+  Preparation p;
+  if (c.friction_given) {
+    if (c.friction.size() != c.model.joints.size()) {
+      throw std::invalid_argument("the given friction has " + std::to_string(c.friction.size()) + " joints, the model " +
+                                  std::to_string(c.model.joints.size()));
+    }
+  } else {
+    identify_friction(c, p, progress);
+  }
   p.thresholds = calibrate(c, margin_nm);
   c.thresholds = p.thresholds.threshold;
   c.low_speed_extra = p.thresholds.low_speed_extra;
@@ -614,6 +628,10 @@ std::vector<FreeRunSegment> free_run_segments(const ExperimentConfig& c, double 
     seg.index = static_cast<int>(k);
     seg.seconds = length;
     for (const double t : r.false_alarm_times) seg.alarm_times.push_back(start + t);
+    for (FalseAlarm a : r.false_alarms) {
+      a.t_s += start;
+      seg.alarms.push_back(std::move(a));
+    }
   }, progress);
   return out;
 }

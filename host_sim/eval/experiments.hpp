@@ -22,6 +22,10 @@ struct ExperimentConfig {
   std::string scalar = "float";
   ObserverGains gains{ObserverKind::first_order, 150.0, 0.0, 0.0};
   std::vector<LuGreParams<double>> friction;  ///< identified (the plant's truth is plant_friction)
+  /// `friction` was given (evaluate --friction, a file identify wrote): prepare takes it as is
+  /// instead of identifying it from a simulated excitation run (the GA, the cost of a
+  /// preparation on six or seven joints).
+  bool friction_given = false;
   /// The plant's true LuGre per joint (e.g. identified on a real arm); empty: the paper's
   /// Table 1 (its joint 3 for every joint beyond the third).
   std::vector<LuGreParams<double>> plant_friction;
@@ -147,6 +151,7 @@ struct FreeRunSegment {
   int index = 0;
   double seconds = 0.0;
   std::vector<double> alarm_times;  ///< [s] from the start of the whole free run
+  std::vector<FalseAlarm> alarms;    ///< the same in detail (t_s from the start of the whole run)
 };
 std::vector<FreeRunSegment> free_run_segments(const ExperimentConfig& c, double seconds, const RunSplit& split = {},
                                               const std::function<void(double)>& progress = {});

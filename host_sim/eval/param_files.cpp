@@ -79,11 +79,13 @@ double number(const nlohmann::json& e, const char* key, const std::string& path,
 }
 
 /// For each of `joint_ids`, the index of its entry in the file's "joints" array.
-std::vector<std::size_t> joint_order(const std::string& path, const std::vector<int>& joint_ids) {
+/// `holder`: what the joints belong to, for the message ("the recording", "the model").
+std::vector<std::size_t> joint_order(const std::string& path, const std::vector<int>& joint_ids,
+                                     const std::string& holder = "the recording") {
   const auto j = read_json(path);
   const auto& a = joints_of(j, path);
   if (a.size() != joint_ids.size()) {
-    fail(path, "joints", std::to_string(a.size()) + " entries, the recording has " + std::to_string(joint_ids.size()) + " joints");
+    fail(path, "joints", std::to_string(a.size()) + " entries, " + holder + " has " + std::to_string(joint_ids.size()) + " joints");
   }
   std::vector<std::size_t> order(joint_ids.size(), a.size());
   for (std::size_t i = 0; i < a.size(); ++i) {
@@ -97,7 +99,7 @@ std::vector<std::size_t> joint_order(const std::string& path, const std::vector<
       id = static_cast<int>(it->get<std::int64_t>());
     }
     const auto found = std::find(joint_ids.begin(), joint_ids.end(), id);
-    if (found == joint_ids.end()) fail(path, entry(i) + ".joint", "joint " + std::to_string(id) + " is not in the recording");
+    if (found == joint_ids.end()) fail(path, entry(i) + ".joint", "joint " + std::to_string(id) + " is not in " + holder);
     const auto k = static_cast<std::size_t>(found - joint_ids.begin());
     if (order[k] != a.size()) fail(path, entry(i) + ".joint", "joint " + std::to_string(id) + " given twice");
     order[k] = i;
@@ -143,6 +145,16 @@ std::vector<LuGreParams<double>> read_friction_json(const std::string& path) {
 
 std::vector<LuGreParams<double>> read_friction_json(const std::string& path, const std::vector<int>& joint_ids) {
   const auto order = joint_order(path, joint_ids);
+  const auto all = read_friction_json(path);
+  std::vector<LuGreParams<double>> out;
+  for (const std::size_t i : order) out.push_back(all[i]);
+  return out;
+}
+
+std::vector<LuGreParams<double>> read_friction_json_for_model(const std::string& path, std::size_t joints) {
+  std::vector<int> ids(joints);
+  for (std::size_t j = 0; j < joints; ++j) ids[j] = static_cast<int>(j + 1);
+  const auto order = joint_order(path, ids, "the model");
   const auto all = read_friction_json(path);
   std::vector<LuGreParams<double>> out;
   for (const std::size_t i : order) out.push_back(all[i]);

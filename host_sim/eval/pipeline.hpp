@@ -28,6 +28,10 @@ std::vector<LuGreParams<double>> read_friction_json(const std::string& path);
 /// entries have none): a file for other joints, with fewer or more of them, or with a
 /// joint twice is refused, naming the file and the joint.
 std::vector<LuGreParams<double>> read_friction_json(const std::string& path, const std::vector<int>& joint_ids);
+/// The same for a robot model of `joints` joints numbered 1..joints (evaluate --friction):
+/// a file with another number of joints is refused naming the file, the field "joints" and
+/// both counts.
+std::vector<LuGreParams<double>> read_friction_json_for_model(const std::string& path, std::size_t joints);
 
 struct Thresholds {
   std::vector<double> threshold;               ///< with friction compensation, while moving [N·m]

@@ -9,9 +9,13 @@
 #  - at least half of the collisions detected, and no false alarm in the collision-free run;
 #  - float and Q16.16 (--compare-scalar q, the same measurements) detect every collision
 #    either detects on the same cycle.
-# Its cost is the simulated excitation's identification (the GA on 6 and 7 joints: 42 s of
-# CPU for the Panda whatever --count and the run lengths, docs/results.md "Six and seven
-# joints"), not the campaign: shrinking it further saves nothing.
+# Friction is identified once per arm with `jointguard identify` (the Panda on a simulated
+# excitation of all seven joints, the UR10e on the real motion_free, which is also its plant's
+# truth) and given to evaluate with --friction: the identification (the GA on 6 and 7 joints,
+# 42 s of CPU for the Panda) was most of the cost when evaluate ran it itself.
+# A friction file evaluate cannot use (another arm's joint count; LuGre the firmware scalar
+# does not hold at --rate) must stop it before any work with exit 1 and a message naming the
+# file and the field.
 # Usage: campaign_arms.sh <jointguard> <source dir>
 set -euo pipefail
 J="$1"
@@ -44,14 +48,64 @@ for b in bad: print("FAIL: %s: %s" % (name, b))
 sys.exit(1 if bad else 0)
 PYEOF
 }
+refused() {  # refused NAME FIELD-TEXT ARGS...: evaluate must exit 1 naming the file and the field
+  local name="$1" field="$2" rc=0
+  shift 2
+  "$J" evaluate "$@" > "$W/refused.txt" 2>&1 || rc=$?
+  if [ "$rc" -ne 1 ] || ! grep -q "$W/$name" "$W/refused.txt" || ! grep -q -- "$field" "$W/refused.txt"; then
+    echo "FAIL: evaluate with the friction file $name: exit $rc (1 expected, naming the file and '$field'):"; tail -3 "$W/refused.txt"
+    return 1
+  fi
+}
 fail=0
-"$J" evaluate "${SMALL[@]}" --model "$SRC/models/panda.yaml" --json "$W/panda.json" > "$W/panda.txt" 2>&1 || { tail -3 "$W/panda.txt"; fail=1; }
+# The Panda's friction: identify on a simulated excitation of every joint about evaluate's home
+# posture (its plant: the paper's Table 1, joint 3's beyond the third, as evaluate's).
+cat > "$W/panda_excitation.yaml" <<YAML
+name: panda_excitation
+model: $SRC/models/panda.yaml
+control_rate_hz: 1000
+seed: 1
+trajectory:
+  type: excitation
+  offset_rad: [0.0, 0.6, -0.8, 0.0, 0.0, 0.0, 0.0]
+  joints: [1, 2, 3, 4, 5, 6, 7]
+  amplitude_rad: 0.6
+  frequency_hz: 0.2
+  periods: 4
+  blend_s: 2.5
+sensors:
+  current_noise_rms_a: 0.01
+  current_lsb_a: 0.0005
+YAML
+"$J" simulate "$W/panda_excitation.yaml" --out "$W/panda_excitation.csv" > /dev/null
+"$J" identify "$W/panda_excitation.csv" --model "$SRC/models/panda.yaml" --json "$W/panda_fr.json" > /dev/null
+# Refused files: the Panda's friction for the 3-joint reference arm (joint count), and a
+# joint whose bristle stiffness Q16.16 does not hold at 1 kHz.
+refused panda_fr.json "field 'joints': 7 entries, the model has 3 joints" --scenario paper --friction "$W/panda_fr.json" || fail=1
+"$PY" - "$W/panda_fr.json" "$W/stiff_fr.json" <<'PYEOF'
+import json, sys
+f = json.load(open(sys.argv[1]))
+f["joints"][3]["sigma0"] = 1e14
+json.dump(f, open(sys.argv[2], "w"))
+PYEOF
+refused stiff_fr.json "joint 4: LuGre parameters" --scenario campaign --count 1 --model "$SRC/models/panda.yaml" --scalar q --friction "$W/stiff_fr.json" || fail=1
+"$J" evaluate "${SMALL[@]}" --model "$SRC/models/panda.yaml" --friction "$W/panda_fr.json" --json "$W/panda.json" > "$W/panda.txt" 2>&1 || { tail -3 "$W/panda.txt"; fail=1; }
+[ -f "$W/panda.json" ] && { grep -q "friction: $W/panda_fr.json" "$W/panda.txt" || { echo "FAIL: panda: the friction file's identity not printed"; fail=1; }; }
+[ -f "$W/panda.json" ] && { "$PY" - "$W/panda.json" "$W/panda_fr.json" <<'PYEOF' || fail=1
+import hashlib, json, sys
+d = json.load(open(sys.argv[1]))
+want = hashlib.sha256(open(sys.argv[2], "rb").read()).hexdigest()
+got = d["identity"]["input_sha256"].get(sys.argv[2])
+if got != want:
+    print("FAIL: panda: identity.input_sha256 of the friction file %s, expected %s" % (got, want)); sys.exit(1)
+PYEOF
+}
 [ -f "$W/panda.json" ] && { check panda "$W/panda.json" || fail=1; }
 U="$SRC/../shared/data/real/ur10e-static"
 if [ -f "$U/ur10e.urdf" ] && [ -f "$U/motion_free.csv" ]; then
   M=(--model "$U/ur10e.urdf" --drive "$SRC/models/ur10e_drive.yaml")
   "$J" identify "$U/motion_free.csv" --model "$U/ur10e.urdf" --drive "$U/drive.yaml" --json "$W/ur_fr.json" > /dev/null 2>&1
-  "$J" evaluate "${SMALL[@]}" "${M[@]}" --plant-friction "$W/ur_fr.json" --json "$W/ur.json" > "$W/ur.txt" 2>&1 || { tail -3 "$W/ur.txt"; fail=1; }
+  "$J" evaluate "${SMALL[@]}" "${M[@]}" --plant-friction "$W/ur_fr.json" --friction "$W/ur_fr.json" --json "$W/ur.json" > "$W/ur.txt" 2>&1 || { tail -3 "$W/ur.txt"; fail=1; }
   [ -f "$W/ur.json" ] && { check ur10e "$W/ur.json" || fail=1; }
   [ $fail -eq 0 ] || exit 1
 else
