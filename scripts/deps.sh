@@ -9,7 +9,7 @@ packages=(
   clang clang-tidy cppcheck
   qemu-system-x86 can-utils iproute2 busybox-static cpio xz-utils
   parallel slurm-wlm munge
-  chromium
+  chromium gnuplot-nox
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -10,10 +10,14 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <mutex>
+#include <set>
 #include <stdexcept>
 
 #include "io/atomic_write.hpp"
 #include "io/sha256.hpp"
+#include "robot/robot_model.hpp"
+#include "robot/robot_writer.hpp"
 #include "tuning/observer_tuning.hpp"
 
 namespace jg::cli {
@@ -197,9 +201,35 @@ nlohmann::json command_identity(const CLI::App& cmd, const std::vector<std::stri
 
 namespace {
 const CLI::App* g_running = nullptr;
+
+/// One console line for a robot file a jointguard command wrote (its `identity` key), as
+/// report_input_identity says it for JSON; once per file and run (a command may load its model
+/// in several steps or threads). Hand-written robot files (no key) pass in silence: they are
+/// the common case and their path is on the command line.
+void report_robot_identity(const robot::RobotModel& m) {
+  if (m.written_by_version.empty()) return;
+  static std::mutex mutex;
+  static std::set<std::string> reported;
+  const std::lock_guard<std::mutex> lock(mutex);
+  if (!reported.insert(m.source).second) return;
+  std::ifstream in(m.source, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::printf("robot file: %s (jointguard %s %s, sha256 %s)\n", m.source.c_str(), m.written_by_version.c_str(),
+              m.written_by_command.c_str(), io::sha256_hex(bytes).substr(0, 12).c_str());
+  if (m.written_by_version != JG_VERSION) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "warning: robot file %s was written by jointguard %s, this is %s: its figures may differ from what this version writes\n",
+                 m.source.c_str(), m.written_by_version.c_str(), JG_VERSION);
+  }
+}
 }  // namespace
 
-void set_running_command(const CLI::App& cmd) { g_running = &cmd; }
+void set_running_command(const CLI::App& cmd) {
+  g_running = &cmd;
+  // Robot files written by this command carry its identity; those it reads say theirs.
+  robot::set_identity_source([] { return result_identity(); });
+  robot::set_read_observer(report_robot_identity);
+}
 
 nlohmann::json result_identity() {
   if (g_running == nullptr) return nlohmann::json::object();

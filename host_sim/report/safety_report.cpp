@@ -85,7 +85,7 @@ std::string safety_section(const eval::ExperimentConfig& c, const SafetySectionO
 
   Plot p;
   p.title = "Contact force by reaction: " + o.plot_region + ", " + sim::to_string(o.plot_kind);
-  p.width = 900;  // the legend of five reactions follows the title on its line
+  p.width = 900;
   p.x_label = "time from the contact's onset [s]";
   p.y_label = "contact force [N]";
   const double dt = 1.0 / c.rate_hz;

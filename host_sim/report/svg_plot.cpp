@@ -1,56 +1,306 @@
 #include "report/svg_plot.hpp"
 
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
+#include <mutex>
+#include <set>
 #include <sstream>
+#include <utility>
+
+extern char** environ;
 
 namespace jg::report {
 namespace {
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.1f", v);
-  return buf;
-}
+namespace fs = std::filesystem;
 
-std::string tick_label(double v, double step) {
-  char buf[32];
-  const int decimals = step >= 1.0 ? 0 : std::min(6, static_cast<int>(std::ceil(-std::log10(step))));
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
-}
-
-double nice_step(double span, int target) {
-  const double raw = span / std::max(1, target);
-  const double mag = std::pow(10.0, std::floor(std::log10(raw)));
-  for (const double m : {1.0, 2.0, 2.5, 5.0, 10.0}) {
-    if (m * mag >= raw) return m * mag;
-  }
-  return 10.0 * mag;
-}
+struct Ranges {
+  double xlo, xhi, ylo, yhi;
+};
 
 /// Keeps min and max of each bucket so that short spikes survive decimation.
-void decimate(const Series& s, std::vector<double>& xs, std::vector<double>& ys) {
-  const std::size_t n = std::min(s.x.size(), s.y.size());
+void decimate(const std::vector<double>& sx, const std::vector<double>& sy, std::vector<double>& xs, std::vector<double>& ys) {
+  const std::size_t n = std::min(sx.size(), sy.size());
   const std::size_t buckets = 1000;
   if (n <= 2 * buckets) {
-    xs.assign(s.x.begin(), s.x.begin() + static_cast<std::ptrdiff_t>(n));
-    ys.assign(s.y.begin(), s.y.begin() + static_cast<std::ptrdiff_t>(n));
+    xs.assign(sx.begin(), sx.begin() + static_cast<std::ptrdiff_t>(n));
+    ys.assign(sy.begin(), sy.begin() + static_cast<std::ptrdiff_t>(n));
     return;
   }
   for (std::size_t b = 0; b < buckets; ++b) {
     const std::size_t lo = b * n / buckets, hi = std::max(lo + 1, (b + 1) * n / buckets);
     std::size_t imin = lo, imax = lo;
     for (std::size_t i = lo; i < hi; ++i) {
-      if (s.y[i] < s.y[imin]) imin = i;
-      if (s.y[i] > s.y[imax]) imax = i;
+      if (sy[i] < sy[imin]) imin = i;
+      if (sy[i] > sy[imax]) imax = i;
     }
     for (const std::size_t i : {std::min(imin, imax), std::max(imin, imax)}) {
-      xs.push_back(s.x[i]);
-      ys.push_back(s.y[i]);
+      xs.push_back(sx[i]);
+      ys.push_back(sy[i]);
     }
   }
+}
+
+/// The points of `s` inside [xlo, xhi] plus one on each side, so that the line reaches the
+/// frame's edge (gnuplot clips it there) while the decimation spends its points on what is shown.
+void window(const Series& s, double xlo, double xhi, std::vector<double>& xs, std::vector<double>& ys) {
+  const std::size_t n = std::min(s.x.size(), s.y.size());
+  std::size_t first = n, last = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (s.x[i] >= xlo && s.x[i] <= xhi) {
+      first = std::min(first, i);
+      last = i;
+    }
+  }
+  if (first == n) return;
+  first = first > 0 ? first - 1 : 0;
+  last = std::min(n - 1, last + 1);
+  const std::vector<double> wx(s.x.begin() + static_cast<std::ptrdiff_t>(first), s.x.begin() + static_cast<std::ptrdiff_t>(last + 1));
+  const std::vector<double> wy(s.y.begin() + static_cast<std::ptrdiff_t>(first), s.y.begin() + static_cast<std::ptrdiff_t>(last + 1));
+  decimate(wx, wy, xs, ys);
+}
+
+/// The x range (fixed or the data's), then the y range of what lies inside it and the
+/// reference lines, 5 % padded: a trace outside the window does not flatten the one inside.
+Ranges plot_ranges(const Plot& p) {
+  const double inf = std::numeric_limits<double>::infinity();
+  Ranges r{inf, -inf, inf, -inf};
+  for (const auto& s : p.series) {
+    for (std::size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i) {
+      if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) r.xlo = std::min(r.xlo, s.x[i]), r.xhi = std::max(r.xhi, s.x[i]);
+    }
+  }
+  if (p.x_lo < p.x_hi) r.xlo = p.x_lo, r.xhi = p.x_hi;
+  if (!(r.xhi > r.xlo)) r.xlo = (std::isfinite(r.xlo) ? r.xlo : 0.0) - 1.0, r.xhi = r.xlo + 2.0;
+  for (const auto& s : p.series) {
+    for (std::size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i) {
+      if (std::isfinite(s.y[i]) && s.x[i] >= r.xlo && s.x[i] <= r.xhi) r.ylo = std::min(r.ylo, s.y[i]), r.yhi = std::max(r.yhi, s.y[i]);
+    }
+  }
+  for (const auto& h : p.hlines) {
+    if (std::isfinite(h.y)) r.ylo = std::min(r.ylo, h.y), r.yhi = std::max(r.yhi, h.y);
+  }
+  if (p.y_lo < p.y_hi) {
+    r.ylo = p.y_lo, r.yhi = p.y_hi;
+    return r;
+  }
+  if (!(r.yhi > r.ylo)) r.ylo = (std::isfinite(r.ylo) ? r.ylo : 0.0) - 1.0, r.yhi = r.ylo + 2.0;
+  const double pad = 0.05 * (r.yhi - r.ylo);
+  r.ylo -= pad, r.yhi += pad;
+  return r;
+}
+
+/// A gnuplot single-quoted string: only a quote needs doubling; line breaks would end the command.
+std::string gp_str(const std::string& s) {
+  std::string out = "'";
+  for (const char c : s) {
+    if (c == '\'') out += "''";
+    else out += (c == '\n' || c == '\r') ? ' ' : c;
+  }
+  return out + "'";
+}
+
+std::string num(double v) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.10g", v);
+  return b;
+}
+
+/// One data file per series ("x y" rows; a blank row where a value is not finite, which
+/// gnuplot draws as a break in the line). Returns the files in series order.
+std::vector<fs::path> write_data(const fs::path& dir, const Plot& p, const Ranges& r) {
+  std::vector<fs::path> files;
+  for (std::size_t k = 0; k < p.series.size(); ++k) {
+    std::vector<double> x, y;
+    window(p.series[k], r.xlo, r.xhi, x, y);
+    files.push_back(dir / ("series" + std::to_string(k) + ".dat"));
+    std::ofstream f(files.back());
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      if (std::isfinite(x[i]) && std::isfinite(y[i])) f << num(x[i]) << ' ' << num(y[i]) << '\n';
+      else f << '\n';
+    }
+    if (x.empty()) f << "\n";  // an empty series still gets its legend entry
+  }
+  return files;
+}
+
+/// The plot clauses: series, reference lines (constant functions), then one legend entry
+/// per distinct marker (the vertical lines themselves are arrows, drawn in the script).
+std::vector<std::string> plot_clauses(const Plot& p, const std::vector<fs::path>& files) {
+  std::vector<std::string> c;
+  for (std::size_t k = 0; k < p.series.size(); ++k) {
+    const Series& s = p.series[k];
+    c.push_back(gp_str(files[k].string()) + " using 1:2 with lines lw " + num(s.width) + " lc rgb " + gp_str(s.color) +
+                (s.dashed ? " dt 2" : " dt 1") + " title " + gp_str(s.label));
+  }
+  for (const auto& h : p.hlines) {
+    if (!std::isfinite(h.y)) continue;
+    c.push_back(num(h.y) + " with lines lw 1 dt 3 lc rgb " + gp_str(h.color) + (h.label.empty() ? " notitle" : " title " + gp_str(h.label)));
+  }
+  std::set<std::pair<std::string, std::string>> shown;
+  for (const auto& m : p.markers) {
+    if (m.label.empty() || !shown.insert({m.label, m.color}).second) continue;
+    c.push_back("keyentry with lines lw 1.2 lc rgb " + gp_str(m.color) + " title " + gp_str(m.label));
+  }
+  return c;
+}
+
+/// The legend's entries, as plot_clauses makes them: a labelled series, a labelled reference
+/// line, a distinct marker.
+std::vector<std::string> legend_labels(const Plot& p) {
+  std::vector<std::string> l;
+  for (const auto& s : p.series) l.push_back(s.label);
+  for (const auto& h : p.hlines) {
+    if (std::isfinite(h.y) && !h.label.empty()) l.push_back(h.label);
+  }
+  std::set<std::pair<std::string, std::string>> shown;
+  for (const auto& m : p.markers) {
+    if (!m.label.empty() && shown.insert({m.label, m.color}).second) l.push_back(m.label);
+  }
+  return l;
+}
+
+/// Where the legend goes: below the frame, its columns as many as entries of the longest
+/// label fit across (7 px a character at 11 px sans in Chromium, plus sample and gaps),
+/// the canvas taller by its rows, so the frame keeps the height the caller asked for.
+struct LegendLayout {
+  int cols = 0, rows = 0;
+  double height_px = 0.0;
+};
+
+LegendLayout legend_layout(const Plot& p) {
+  LegendLayout k;
+  const auto labels = legend_labels(p);
+  if (labels.empty()) return k;
+  std::size_t longest = 1;
+  for (const auto& l : labels) longest = std::max(longest, l.size());
+  const double entry_px = 7.0 * static_cast<double>(longest) + 70.0;
+  const int n = static_cast<int>(labels.size());
+  k.cols = std::clamp(static_cast<int>((p.width - 40) / entry_px), 1, n);
+  k.rows = (n + k.cols - 1) / k.cols;
+  k.height_px = 16.5 * k.rows + 6.0;
+  return k;
+}
+
+/// The gnuplot script: svg terminal, labels taken literally (no enhanced-text markup: "x_1"
+/// stays "x_1"), the legend at a fixed place below the x label (gnuplot's own "key below"
+/// drew it over the x label), markers as vertical lines spanning the frame.
+std::string script(const Plot& p, const Ranges& r, const std::vector<fs::path>& files, const fs::path& out) {
+  const LegendLayout k = legend_layout(p);
+  const double h = p.height + k.height_px;
+  std::ostringstream s;
+  s << "set encoding utf8\n"
+    << "set terminal svg size " << p.width << ',' << num(std::round(h)) << " font 'sans,11' background '#ffffff'\n"
+    << "set output " << gp_str(out.string()) << "\nset termoption noenhanced\n"
+    << "set title " << gp_str(p.title) << " font 'sans,13'\nset xlabel " << gp_str(p.x_label) << "\nset ylabel " << gp_str(p.y_label) << '\n'
+    << "set xrange [" << num(r.xlo) << ':' << num(r.xhi) << "]\nset yrange [" << num(r.ylo) << ':' << num(r.yhi) << "]\n"
+    << "set grid lc rgb '#dddddd'\nset samples 2\nset border lc rgb '#444444'\n";
+  if (k.rows == 0) {
+    s << "unset key\n";
+  } else {
+    // 46 px between the frame and the legend: the tick labels and the x label.
+    s << "set bmargin at screen " << num((k.height_px + 46.0) / h) << "\nset key at screen 0.5, screen " << num((k.height_px - 2.0) / h)
+      << " center top horizontal Left reverse noautotitle maxcols " << k.cols << " maxrows " << k.rows << " width 3 samplen 3\n";
+  }
+  int arrow = 0;
+  for (const auto& m : p.markers) {
+    if (!std::isfinite(m.x) || m.x < r.xlo || m.x > r.xhi) continue;
+    s << "set arrow " << ++arrow << " from " << num(m.x) << ", graph 0 to " << num(m.x) << ", graph 1 nohead lw 1.2 lc rgb "
+      << gp_str(m.color) << '\n';
+  }
+  const auto clauses = plot_clauses(p, files);
+  s << "plot ";
+  for (std::size_t i = 0; i < clauses.size(); ++i) s << (i ? ", \\\n     " : "") << clauses[i];
+  if (clauses.empty()) s << "NaN notitle";
+  s << '\n';
+  return s.str();
+}
+
+std::string read_file(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+/// Runs gnuplot on `gp`; "" when it succeeded, else why not (its first error line).
+std::string run_gnuplot(const fs::path& gp, const fs::path& err) {
+  const char* env = std::getenv("JG_GNUPLOT");
+  const std::string exe = env && *env ? env : "gnuplot";
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&fa, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  std::string a0 = exe, a1 = gp.string();
+  char* argv[] = {a0.data(), a1.data(), nullptr};
+  pid_t pid = 0;
+  const int rc = posix_spawnp(&pid, exe.c_str(), &fa, nullptr, argv, environ);
+  posix_spawn_file_actions_destroy(&fa);
+  if (rc != 0) return "cannot run '" + exe + "' (" + std::strerror(rc) + "; install the Debian package gnuplot-nox)";
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
+  std::string msg = read_file(err);
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 127) return "'" + exe + "' not found (install the Debian package gnuplot-nox)";
+  msg.erase(std::remove(msg.begin(), msg.end(), '\r'), msg.end());
+  while (!msg.empty() && msg.front() == '\n') msg.erase(0, 1);
+  return "'" + exe + "' failed: " + msg.substr(0, msg.find('\n'));
+}
+
+/// Removes every piece of `s` from `open` up to and including the next `close`.
+void erase_all(std::string& s, const std::string& open, const std::string& close) {
+  for (std::size_t a = s.find(open); a != std::string::npos; a = s.find(open, a)) {
+    const std::size_t b = s.find(close, a + open.size());
+    if (b == std::string::npos) return;
+    s.erase(a, b + close.size() - a);
+  }
+}
+
+/// gnuplot's file as an inline element: no XML prolog, and no ids, which would repeat across
+/// the plots of one page (its <defs> hold point symbols and text boxes these plots never use).
+std::string inline_svg(std::string svg) {
+  const std::size_t start = svg.find("<svg");
+  if (start == std::string::npos) return "";
+  svg.erase(0, start);
+  svg.insert(4, " class=\"plot\"");
+  erase_all(svg, "<title>", "</title>");
+  erase_all(svg, "<desc>", "</desc>");
+  const std::size_t defs_end = svg.find("</defs>");
+  if (defs_end != std::string::npos && svg.find("url(#", defs_end) == std::string::npos &&
+      svg.find("href='#", defs_end) == std::string::npos) {
+    erase_all(svg, "<defs>", "</defs>");
+  }
+  erase_all(svg, " id=\"gnuplot_", "\"");
+  return svg;
+}
+
+/// What stands in for a plot gnuplot did not draw: the reason, where the plot would be.
+std::string placeholder(const Plot& p, const std::string& why) {
+  static std::once_flag warned;
+  std::call_once(warned, [&] { std::fprintf(stderr, "warning: report plots not drawn: %s\n", why.c_str()); });
+  std::ostringstream o;
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"plot\" width=\"" << p.width << "\" height=\"60\" font-family=\"sans-serif\" "
+    << "font-size=\"12\"><text x=\"4\" y=\"20\">plot not drawn: " << escape(p.title) << "</text><text x=\"4\" y=\"40\" fill=\"#d62728\">"
+    << escape(why) << "</text></svg>\n";
+  return o.str();
+}
+
+/// A fresh private folder for one plot's script and data (plots may be drawn in parallel).
+fs::path make_work_dir() {
+  std::string tmpl = (fs::temp_directory_path() / "jointguard-plot-XXXXXX").string();
+  if (mkdtemp(tmpl.data()) == nullptr) return {};
+  return tmpl;
 }
 }  // namespace
 
@@ -69,84 +319,19 @@ std::string escape(const std::string& s) {
 }
 
 std::string render_svg(const Plot& p) {
-  double xlo = std::numeric_limits<double>::max(), xhi = -xlo, ylo = xlo, yhi = -xlo;
-  for (const auto& s : p.series) {
-    for (std::size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i) {
-      if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) continue;
-      xlo = std::min(xlo, s.x[i]);
-      xhi = std::max(xhi, s.x[i]);
-      ylo = std::min(ylo, s.y[i]);
-      yhi = std::max(yhi, s.y[i]);
-    }
-  }
-  for (const auto& h : p.hlines) {
-    ylo = std::min(ylo, h.y);
-    yhi = std::max(yhi, h.y);
-  }
-  if (p.x_lo < p.x_hi) { xlo = p.x_lo; xhi = p.x_hi; }
-  if (p.y_lo < p.y_hi) { ylo = p.y_lo; yhi = p.y_hi; }
-  if (!(xhi > xlo)) { xlo -= 1.0; xhi += 1.0; }
-  if (!(yhi > ylo)) { ylo -= 1.0; yhi += 1.0; }
-  const double pad = 0.05 * (yhi - ylo);
-  ylo -= pad;
-  yhi += pad;
-  const double L = 64, R = 16, T = 28, B = 44;
-  const double W = p.width - L - R, H = p.height - T - B;
-  auto X = [&](double x) { return L + (x - xlo) / (xhi - xlo) * W; };
-  auto Y = [&](double y) { return T + (yhi - y) / (yhi - ylo) * H; };
-  std::ostringstream o;
-  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"plot\" width=\"" << p.width << "\" height=\"" << p.height
-    << "\" viewBox=\"0 0 " << p.width << ' ' << p.height << "\" font-family=\"sans-serif\" font-size=\"11\">\n";
-  o << "<rect x=\"0\" y=\"0\" width=\"" << p.width << "\" height=\"" << p.height << "\" fill=\"white\"/>\n";
-  o << "<text x=\"" << L << "\" y=\"16\" font-size=\"13\" font-weight=\"bold\">" << escape(p.title) << "</text>\n";
-  const double xs = nice_step(xhi - xlo, 8), ys = nice_step(yhi - ylo, 5);
-  for (double v = std::ceil(xlo / xs) * xs; v <= xhi + 1e-9 * xs; v += xs) {
-    o << "<line x1=\"" << num(X(v)) << "\" y1=\"" << num(T) << "\" x2=\"" << num(X(v)) << "\" y2=\"" << num(T + H)
-      << "\" stroke=\"#eee\"/><text x=\"" << num(X(v)) << "\" y=\"" << num(T + H + 14) << "\" text-anchor=\"middle\">"
-      << tick_label(v, xs) << "</text>\n";
-  }
-  for (double v = std::ceil(ylo / ys) * ys; v <= yhi + 1e-9 * ys; v += ys) {
-    o << "<line x1=\"" << num(L) << "\" y1=\"" << num(Y(v)) << "\" x2=\"" << num(L + W) << "\" y2=\"" << num(Y(v))
-      << "\" stroke=\"#eee\"/><text x=\"" << num(L - 4) << "\" y=\"" << num(Y(v) + 4) << "\" text-anchor=\"end\">"
-      << tick_label(v, ys) << "</text>\n";
-  }
-  o << "<rect x=\"" << L << "\" y=\"" << T << "\" width=\"" << W << "\" height=\"" << H << "\" fill=\"none\" stroke=\"#444\"/>\n";
-  o << "<text x=\"" << num(L + W / 2) << "\" y=\"" << p.height - 8 << "\" text-anchor=\"middle\">" << escape(p.x_label) << "</text>\n";
-  o << "<text transform=\"translate(14," << num(T + H / 2) << ") rotate(-90)\" text-anchor=\"middle\">" << escape(p.y_label) << "</text>\n";
-  o << "<g clip-path=\"inset(0)\">\n";
-  for (const auto& h : p.hlines) {
-    o << "<line x1=\"" << num(L) << "\" y1=\"" << num(Y(h.y)) << "\" x2=\"" << num(L + W) << "\" y2=\"" << num(Y(h.y))
-      << "\" stroke=\"" << h.color << "\" stroke-dasharray=\"6 4\"/>";
-    if (!h.label.empty()) o << "<text x=\"" << num(L + W - 4) << "\" y=\"" << num(Y(h.y) - 3) << "\" text-anchor=\"end\" fill=\"" << h.color << "\">" << escape(h.label) << "</text>";
-    o << '\n';
-  }
-  for (const auto& s : p.series) {
-    std::vector<double> x, y;
-    decimate(s, x, y);
-    if (x.empty()) continue;
-    o << "<polyline fill=\"none\" stroke=\"" << s.color << "\" stroke-width=\"" << s.width << '"'
-      << (s.dashed ? " stroke-dasharray=\"4 3\"" : "") << " points=\"";
-    for (std::size_t i = 0; i < x.size(); ++i) {
-      if (std::isfinite(x[i]) && std::isfinite(y[i])) o << num(X(x[i])) << ',' << num(Y(std::clamp(y[i], ylo, yhi))) << ' ';
-    }
-    o << "\"/>\n";
-  }
-  for (const auto& m : p.markers) {
-    if (m.x < xlo || m.x > xhi) continue;
-    o << "<line x1=\"" << num(X(m.x)) << "\" y1=\"" << num(T) << "\" x2=\"" << num(X(m.x)) << "\" y2=\"" << num(T + H)
-      << "\" stroke=\"" << m.color << "\" stroke-width=\"1.2\"/><text x=\"" << num(X(m.x) + 3) << "\" y=\"" << num(T + 12)
-      << "\" fill=\"" << m.color << "\">" << escape(m.label) << "</text>\n";
-  }
-  o << "</g>\n";
-  // Legend on the title line, after the title.
-  double lx = L + 8.0 * static_cast<double>(p.title.size()) + 24.0;
-  for (const auto& s : p.series) {
-    o << "<line x1=\"" << num(lx) << "\" y1=\"12\" x2=\"" << num(lx + 18) << "\" y2=\"12\" stroke=\"" << s.color
-      << "\" stroke-width=\"2\"/><text x=\"" << num(lx + 22) << "\" y=\"16\">" << escape(s.label) << "</text>\n";
-    lx += 30 + 6.5 * static_cast<double>(s.label.size());
-  }
-  o << "</svg>\n";
-  return o.str();
+  const fs::path dir = make_work_dir();
+  if (dir.empty()) return placeholder(p, std::string("cannot create a temporary folder: ") + std::strerror(errno));
+  const Ranges r = plot_ranges(p);
+  const auto files = write_data(dir, p, r);
+  const fs::path gp = dir / "plot.gp", out = dir / "plot.svg";
+  std::ofstream(gp) << script(p, r, files, out);
+  const std::string why = run_gnuplot(gp, dir / "gnuplot.err");
+  std::string svg = why.empty() ? inline_svg(read_file(out)) : "";
+  std::error_code ec;
+  fs::remove_all(dir, ec);
+  if (!why.empty()) return placeholder(p, why);
+  if (svg.empty()) return placeholder(p, "gnuplot wrote no SVG");
+  return svg;
 }
 
 }  // namespace jg::report

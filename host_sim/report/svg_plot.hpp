@@ -1,5 +1,10 @@
-// Small SVG line plots for reports (no external dependency): series, horizontal
-// reference lines (thresholds), vertical markers (collision, detection), axes with ticks.
+// SVG line plots for reports, drawn by gnuplot (Debian `gnuplot-nox`, its `svg` terminal):
+// series, horizontal reference lines (thresholds), vertical markers (collision, detection).
+// gnuplot lays out the axes, ticks and legend and clips every line to the plot frame; the
+// hand-written SVG it replaces let traces run outside the frame, cut legends off and drew
+// marker labels over threshold labels (issue 29). Every label is in the legend (below the
+// frame), so none is drawn over the data or over another. The SVG is returned inline, so a
+// report holding it stays one self-contained file.
 #pragma once
 
 #include <string>
@@ -38,7 +43,10 @@ struct Plot {
 };
 
 /// Renders the plot as a standalone <svg> element (long series are decimated to about
-/// 2000 points per series, keeping each bucket's extremes so spikes stay visible).
+/// 2000 points per series, keeping each bucket's extremes so spikes stay visible). Runs
+/// `gnuplot` (or $JG_GNUPLOT) on a script and data in a temporary folder. Without gnuplot
+/// the element says so in place of the plot ("plot not drawn: ...") and a warning goes to
+/// stderr: the figures in the tables stay right, only the picture is missing.
 std::string render_svg(const Plot& plot);
 
 /// Escapes text for HTML/SVG.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <utility>
 
 #include "io/yaml_fields.hpp"
 #include "robot/drive_params.hpp"
@@ -44,11 +45,28 @@ double read_rated_payload(const io::YamlFields& root) {
 }
 
 namespace {
+std::function<void(const RobotModel&)>& read_observer() {
+  static std::function<void(const RobotModel&)> observer;
+  return observer;
+}
+
+/// The `identity` robot_writer.hpp writes: a mapping with the version and command (strings);
+/// its other entries (options, input_sha256) are provenance and not checked here, so a file
+/// a later version wrote with more of them still reads.
+void read_identity(const io::YamlFields& root, RobotModel& m) {
+  if (!root.has("identity")) return;
+  const io::YamlFields id = root.child("identity");
+  m.written_by_version = id.text("version");
+  m.written_by_command = id.text("command");
+  if (m.written_by_version.empty()) id.fail("version", "empty (expected the jointguard version that wrote the file)");
+}
+
 RobotModel load_yaml(const std::string& path) {
   const io::YamlFields root = io::YamlFields::load_file(path);
-  root.allow_only({"name", "description", "gravity_m_s2", "joints", "sources", "plant_effects", "rated_payload_kg"});
+  root.allow_only({"name", "description", "gravity_m_s2", "joints", "sources", "plant_effects", "rated_payload_kg", "identity"});
   RobotModel m;
   m.source = path;
+  read_identity(root, m);
   m.name = root.text("name");
   m.rated_payload_kg = read_rated_payload(root);
   if (root.has("gravity_m_s2")) {
@@ -206,7 +224,10 @@ RobotModel load_robot(const std::string& path, const LoadOptions& options) {
     throw io::FormatError(path + ": unknown robot file type '" + ext + "' (expected .yaml, .yml or .urdf)");
   }
   if (!options.drive_file.empty()) apply_drive_file(m, options.drive_file);
+  if (read_observer()) read_observer()(m);
   return m;
 }
+
+void set_read_observer(std::function<void(const RobotModel&)> observer) { read_observer() = std::move(observer); }
 
 }  // namespace jg::robot

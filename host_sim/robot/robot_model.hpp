@@ -3,6 +3,7 @@
 // LinkConstants and into the plant's links.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,10 @@ struct RobotModel {
   /// True for a URDF without a drive file's k_i: every torque constant is the placeholder
   /// 1 N·m/A, and motor currents cannot be turned into torques (robot/torque_kind.hpp).
   bool torque_constant_assumed = false;
+  /// The top-level `identity` of a file a jointguard command wrote (`--model-out`,
+  /// robot_writer.hpp): the version and the command that made it. Both empty for a file
+  /// without one (written by hand, a URDF).
+  std::string written_by_version, written_by_command;
 
   [[nodiscard]] std::vector<sim::PlantLink> plant_links() const;
   /// The arm's rigid-body dynamics with this model's gravity (gravity_m_s2).
@@ -75,6 +80,12 @@ double read_rated_payload(const io::YamlFields& root);
 /// Reads a robot file: .yaml/.yml in the project's format or .urdf. Errors name the file,
 /// line and field (io::FormatError).
 RobotModel load_robot(const std::string& path, const LoadOptions& options = {});
+
+/// Called with every model load_robot has read, so that the CLI can report a written file's
+/// identity as it does for the JSON files it reads (cli/common.cpp). Unset: nothing is
+/// called. Not thread-safe to set: set it once at start; the observer itself may be called
+/// from several threads.
+void set_read_observer(std::function<void(const RobotModel&)> observer);
 
 /// Refuses (io::FormatError naming the file and the joint) a model whose mass matrix is
 /// singular, e.g. a last link without mass or inertia and no rotor inertia: the plant's

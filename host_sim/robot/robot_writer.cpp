@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 #include "io/atomic_write.hpp"
 #include "io/recording.hpp"
@@ -19,6 +20,11 @@ std::string num(double v) {
   std::snprintf(buf, sizeof buf, "%.15g", v);
   if (std::strtod(buf, nullptr) != v) std::snprintf(buf, sizeof buf, "%.17g", v);
   return buf;
+}
+
+std::function<nlohmann::json()>& identity_source() {
+  static std::function<nlohmann::json()> source;
+  return source;
 }
 
 std::string quoted(const std::string& s) {
@@ -68,8 +74,21 @@ std::string robot_yaml(const RobotModel& m, const std::string& header) {
   return o.str();
 }
 
+std::string identity_yaml(const nlohmann::json& identity) {
+  if (!identity.is_object() || identity.empty()) return "";
+  // JSON with its escapes (and any invalid UTF-8 in an option replaced): valid YAML flow.
+  const auto json = [](const nlohmann::json& v) { return v.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace); };
+  std::string out = "# what wrote this file (read back and reported by every command that loads it)\nidentity:\n";
+  for (const auto& [key, value] : identity.items()) out += "  " + json(key) + ": " + json(value) + "\n";
+  return out;
+}
+
+void set_identity_source(std::function<nlohmann::json()> source) { identity_source() = std::move(source); }
+
 void write_robot(const std::string& path, const RobotModel& model, const std::string& header) {
-  io::write_text_atomic(path, robot_yaml(model, header));
+  std::string text = robot_yaml(model, header);
+  if (identity_source()) text += identity_yaml(identity_source()());
+  io::write_text_atomic(path, text);
 }
 
 }  // namespace jg::robot

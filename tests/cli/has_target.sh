@@ -24,6 +24,6 @@ rc=$?
 set -e
 [ "$rc" = 2 ] || fail "an unconfigured folder gave exit $rc, expected 2"
 # demo.sh must use it, not a pipe into grep.
-grep -q 'scripts/has_target.sh build/host jg_mcu_cortex_m4' "$SRC/scripts/demo.sh" || fail "demo.sh does not use scripts/has_target.sh"
+grep -q 'scripts/has_target.sh "$BUILD" jg_mcu_cortex_m4' "$SRC/scripts/demo.sh" || fail "demo.sh does not use scripts/has_target.sh"
 if grep -Eq -- '--target help *\|' "$SRC/scripts/demo.sh"; then fail "demo.sh pipes the target list again"; fi
 echo "has_target: ok"

@@ -4,6 +4,7 @@
 # the outputs and the split of the work (--json, --out, --jobs, --shard) left out, so the same
 # command on the same files gives the same bytes; every command that reads one of these files
 # says in one line which version and command wrote it, and warns when the version is not its own.
+# Robot files written by `--model-out` carry the same identity as a top-level key `identity`.
 # Usage: identity.sh <jointguard> <source dir>
 set -euo pipefail
 J="$1"
@@ -31,7 +32,7 @@ cmp out/f.json out/f_again.json || fail "the same identify into another --json w
 "$J" replay shoulder.csv --model "$M" --friction out/f.json --threshold out/t.json --scalar q --json out/e.json > replay.txt
 "$J" identify free.csv --model "$M" --rigid-body --model-out out/m2.yaml --json out/rb.json > /dev/null
 "$J" inject free.csv --model "$M" --effects effects/ref3_payload.yaml --out inj.csv > /dev/null
-"$J" diagnose --model "$M" --real shoulder.csv --sim shoulder.csv --friction out/f.json --json out/d.json > diagnose.txt
+"$J" diagnose --model "$M" --real shoulder.csv --sim shoulder.csv --friction out/f.json --json out/d.json --model-out out/dm.yaml > diagnose.txt
 "$J" simulate scenarios/paper_collision_shoulder.yaml --out bus.csv --bus sim --friction out/f.json --threshold out/t.json \
   --json out/bus.json > bus.txt
 "$J" decode capture.log --json out/decode.json > /dev/null
@@ -121,4 +122,44 @@ grep -qF "friction: out/f_old.json (jointguard 0.0.1 identify" old.txt || fail "
 "$J" calibrate free.csv --model "$M" --friction out/f_hand.json --json out/t3.json > hand.txt 2> hand_err.txt
 grep -q "friction: out/f_hand.json (no identity" hand.txt || fail "no line for a file without identity"
 ! grep -q "warning: friction" hand_err.txt || fail "a version warning for a file without identity"
-echo "identity: every JSON written carries its identity; readers report it and warn on another version"
+
+# Robot files written by --model-out carry the same identity (a top-level key `identity`),
+# the robot reader takes it, and every command that loads one says what wrote it.
+"$PY" - "$SRC" <<'PYEOF'
+import hashlib, json, sys
+import yaml  # an independent YAML reader: the key must be plain YAML, not jointguard's dialect
+def sha(p): return hashlib.sha256(open(p, "rb").read()).hexdigest()
+M = "models/ref3.yaml"
+for path, command, files, twin in [("out/m2.yaml", "identify", ["free.csv", M], "out/rb.json"),
+                                   ("out/dm.yaml", "diagnose", ["shoulder.csv", M, "out/f.json"], "out/d.json")]:
+    i = yaml.safe_load(open(path)).get("identity")
+    assert isinstance(i, dict), f"{path}: no identity key"
+    assert i["command"] == command and i["version"], f"{path}: {i}"
+    for o in ("--json", "--model-out", "--jobs"):
+        assert o not in i["options"], f"{path}: output option {o} in the identity"
+    for f in files:
+        assert i["input_sha256"].get(f) == sha(f), f"{path}: input_sha256[{f}] is {i['input_sha256'].get(f)}, the file's is {sha(f)}"
+    assert i == json.load(open(twin))["identity"], f"{path}: identity differs from the JSON of the same run ({twin})"
+print("identity: --model-out robot files carry the identity of the run that wrote them")
+PYEOF
+m2sha=$(sha256sum out/m2.yaml | cut -c1-12)
+"$J" simulate scenarios/paper_collision_shoulder.yaml --model out/m2.yaml --out s_m2.csv > m2.txt 2> m2_err.txt
+grep -qF "robot file: out/m2.yaml (jointguard $v identify, sha256 $m2sha)" m2.txt || { cat m2.txt; fail "simulate --model did not report the robot file's identity"; }
+[ "$(grep -c 'robot file: out/m2.yaml' m2.txt)" = 1 ] || fail "the robot file's identity reported more than once"
+! grep -q "warning: robot file" m2_err.txt || fail "a version warning for a robot file of this version"
+"$J" diagnose --model out/dm.yaml --real shoulder.csv --sim shoulder.csv --json out/d2.json > dm.txt
+grep -qF "robot file: out/dm.yaml (jointguard $v diagnose" dm.txt || fail "diagnose --model did not report the robot file's identity"
+! grep -q "robot file: $M" replay.txt || fail "a hand-written robot file (no identity) reported as written by jointguard"
+# Another version: a warning naming both; no identity mapping: refused naming file, line and field.
+sed "s/^  \"version\": \"$v\"/  \"version\": \"0.0.1\"/" out/m2.yaml > out/m2_old.yaml
+grep -q '"version": "0.0.1"' out/m2_old.yaml || fail "test setup: the version line not found in out/m2.yaml"
+"$J" simulate scenarios/paper_collision_shoulder.yaml --model out/m2_old.yaml --out s_old.csv > /dev/null 2> m2_old_err.txt
+grep -q "warning: robot file out/m2_old.yaml was written by jointguard 0.0.1, this is $v" m2_old_err.txt || { cat m2_old_err.txt; fail "no version warning for an old robot file"; }
+{ cat "$M"; echo "identity: 5"; } > models/bad_identity.yaml
+set +e
+"$J" simulate scenarios/paper_collision_shoulder.yaml --model models/bad_identity.yaml --out s_bad.csv > /dev/null 2> bad_err.txt
+rc=$?
+set -e
+[ "$rc" = 1 ] || fail "a robot file whose identity is not a mapping: exit $rc, expected 1"
+grep -Eq "models/bad_identity.yaml:[0-9]+:[0-9]+: field 'identity': expected a mapping" bad_err.txt || { cat bad_err.txt; fail "the refusal does not name file, line and field"; }
+echo "identity: every JSON and robot file written carries its identity; readers report it and warn on another version"
