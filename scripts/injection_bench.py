@@ -17,7 +17,7 @@ joint, at 3x and 10x the joint's own noise level (torque RMS added, measured on 
 file against the original). Scored: named on its joint (a torque constant may be named with the
 arm's causes, against the robot file: it counts for its joint), by its vocabulary word; an effect
 the untouched recording is diagnosed with already counts only if its size moved by the injected
-one (torque constants: within 20 %), never merely for being claimed.
+one (torque constants and current offsets: within 20 %), never merely for being claimed.
 Only the Python standard library (the CI machine's /usr/bin/python3).
 """
 import json
@@ -107,7 +107,28 @@ def named_on_joint(got, base, d, base_diag, joint, effect, size):
             return False
         moved = (1.0 + k1) / (1.0 + k0) - 1.0
         return abs(moved - size) <= 0.2 * abs(size)
+    if effect == "current_offset":  # the offset [N·m] moved by the injected one
+        o0, o1 = offsets(base_diag).get(joint), offsets(d).get(joint)
+        if o0 is None or o1 is None:
+            return False
+        return abs((o1 - o0) - size) <= 0.2 * abs(size)
     return False
+
+
+def offsets(diag):
+    """current_offset's size [N·m] per joint where it was named."""
+    return {j["joint"]: f["params"]["offset_nm"] for j in diag["joints"] for f in j["findings"]
+            if f["effect"] == "current_offset" and "offset_nm" in f["params"]}
+
+
+def residual_growth(base_diag, diag, joint):
+    """The joint's held-out residual before the per-joint selection, injected over untouched:
+    about 1 when what was injected left nothing for the joint's diagnosis (the arm's refit took
+    it, or it is below the residual already there)."""
+    def before(d):
+        return next((j["heldout_rms_before"] for j in d["joints"] if j["joint"] == joint), 0.0)
+    b = before(base_diag)
+    return before(diag) / b if b > 0.0 else 0.0
 
 
 def payloads(diag):
@@ -242,6 +263,7 @@ def main():
             row = {"kind": "joint_effect", "case": name,
                    "named": named_on_joint(got, base_claims, d, base, joint, effect, size),
                    "claimed_untouched": (joint, effect) in base_claims,
+                   "residual_growth": residual_growth(base, d, joint),
                    "extra_claims": sorted(map(str, got - base_claims - {(joint, effect)}))}
             rows.append(row)
             print(json.dumps(row), flush=True)
@@ -268,6 +290,11 @@ def main():
         summary["joint_effect_cases"] = len(voc)
         summary["refused_by_inject"] = [r["case"] for r in rows if r["kind"] == "refused"]
         summary["joint_effects_named"] = sum(r["named"] for r in voc)
+        # Left nothing to the joint's diagnosis: its held-out residual grew by under 2 %.
+        summary["joint_effects_absorbed"] = sum(r["residual_growth"] < 1.02 for r in voc)
+        summary["named_of_not_absorbed"] = f'{sum(r["named"] for r in voc if r["residual_growth"] >= 1.02)}/' \
+                                           f'{sum(r["residual_growth"] >= 1.02 for r in voc)}'
+
         summary["per_effect_named"] = {k: f"{v[0]}/{v[1]}" for k, v in sorted(per_effect.items())}
     print(json.dumps(summary))
     if out_json:

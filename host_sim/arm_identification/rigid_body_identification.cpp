@@ -41,7 +41,10 @@ void friction_columns(const Layout& L, bool asym, int j, double dq, double eps, 
   auto row = A.row(j);
   const int c = L.fric0() + L.fric_per_joint * j;
   const double t = std::tanh(dq / eps);
-  if (L.fric_per_joint == 3 && asym) {
+  if (L.fric_per_joint == 2) {  // symmetric, no offset (RigidBodyIdOptions::friction_offset false)
+    row(c) = t;
+    row(c + 1) = dq;
+  } else if (L.fric_per_joint == 3 && asym) {
     // While moving, an offset and a direction-dependent Coulomb level are the same
     // column (|tanh| = 1), and slow rows are left out of the fit: so no offset here.
     row(c) = std::max(t, 0.0);
@@ -58,7 +61,10 @@ FrictionFit friction_from(const Layout& L, bool asym, const Vec& x, int j, doubl
   FrictionFit f;
   f.eps = eps;
   const int c = L.fric0() + L.fric_per_joint * j;
-  if (asym) {
+  if (L.fric_per_joint == 2) {
+    f.coulomb = f.coulomb_pos = f.coulomb_neg = x(c);
+    f.viscous = x(c + 1);
+  } else if (asym) {
     f.coulomb_pos = x(c);
     f.coulomb_neg = x(c + 1);
     f.coulomb = 0.5 * (f.coulomb_pos + f.coulomb_neg);
@@ -239,7 +245,7 @@ RigidBodyIdResult identify_rigid_body(const io::Recording& rec, const robot::Rob
   Layout L;
   L.n = static_cast<int>(n);
   L.rotor = !sensor;
-  L.fric_per_joint = 3;
+  L.fric_per_joint = opt.friction_offset || opt.asymmetric_coulomb ? 3 : 2;
   const int P = L.total();
   robot::RobotModel geometry = prior;
   const sim::ArmDynamics arm = make_arm(geometry);

@@ -51,6 +51,10 @@ struct RigidBodyIdOptions {
   bool identify_links = true;        ///< false: friction only, rigid body at the prior
   bool payload_only = false;         ///< only the last link's 10 parameters (the payload) + friction
   bool asymmetric_coulomb = false;
+  /// A constant per joint in the friction (f_o). The diagnosis fits without it: a constant
+  /// torque on a joint is a cause of its own (a current sensor's offset, `current_offset`)
+  /// that must be named and must beat its null, not vanish into the friction baseline.
+  bool friction_offset = true;
   std::vector<bool> train_mask;      ///< per sample; empty: hold out blocks 1, 4, 7 of 10
   double com_margin_m = 0.1;         ///< CoM bound = max(reach, |prior CoM|) + margin
   double sigma_s = 0.0;              ///< acceleration filter width [s]; 0: choose_sigma

@@ -77,6 +77,11 @@ void report_rigid_body(const dyn::RigidBodyIdResult& r, const robot::RobotModel&
 nlohmann::json finding_json(const diag::Finding& f) {
   nlohmann::json out{{"effect", f.effect}, {"params", f.params}, {"confidence", f.confidence}, {"delta_bic", f.delta_bic},
                      {"description", f.text}};
+  if (f.params.count("centred_on_last_axis") != 0) {
+    // A payload centred on the last joint's axis: its sideways offset was not resolved (the
+    // centred fit won), so it is unknown, not zero with zero spread.
+    for (const char* k : {"com_x_m", "com_y_m", "com_x_m_sigma", "com_y_m_sigma"}) out["params"][k] = nullptr;
+  }
   if (f.null_z > 0.0) {
     out["evidence"] = {{"null", "delete-one-block jackknife over the recording's contiguous blocks"},
                        {"z", f.null_z},
@@ -205,6 +210,7 @@ struct DiagnoseRun {
   std::vector<LoadedRecording> reals;
   std::vector<std::string> names;  ///< the --real paths
   robot::RobotModel nominal, model, used;
+  robot::RobotModel before_refit;  ///< `used` before the rigid-body refit replaced its links
   std::vector<robot::PlantEffect> folded;  ///< arm-level effects held in the links, written back as effects
   std::vector<std::string> model_effect_notes;
   diag::ArmDiagnosisOptions arm_options;
@@ -270,6 +276,7 @@ void refit_rigid_body(DiagnoseRun& run) {
   const LoadedRecording& real = primary(run.reals);
   dyn::RigidBodyIdOptions ro;
   ro.joint_torque_sensor = real.torque == io::TorqueKind::tau_j;
+  ro.friction_offset = false;  // a constant is `current_offset`'s to name, per joint, against its null
   try {
     run.rb = dyn::identify_rigid_body(real.longest(), run.used, ro);
   } catch (const std::invalid_argument& e) {
@@ -277,6 +284,7 @@ void refit_rigid_body(DiagnoseRun& run) {
     run.j["arm"]["notes"].push_back(std::string("rigid body not identified: ") + e.what());
   }
   if (run.rb) report_rigid_body(*run.rb, run.used, run.j["arm"]);
+  run.before_refit = run.used;
   if (run.rb && run.rb->accepted) run.used = run.rb->model;
 }
 
@@ -354,6 +362,15 @@ void report_arm(const diag::ArmDiagnosis& arm_diag, nlohmann::json& j) {
   if (arm_diag.findings.empty()) std::printf("arm: no payload or link mass error found\n");
 }
 
+/// What the diagnosis leaves unexplained on a joint, as a multiple of its noise: the held-out
+/// RMS after the findings over the noise estimated from the data. Above kUnexplainedOverNoise a
+/// mismatch remains that no effect of the vocabulary explains; said so, never "nothing missing".
+constexpr double kUnexplainedOverNoise = 1.5;
+double unexplained_over_noise(const diag::JointDiagnosis& d) {
+  const double after = d.findings.empty() ? d.heldout_rms_before : d.heldout_rms_after;
+  return d.noise_rms > 0.0 ? after / d.noise_rms : 0.0;
+}
+
 nlohmann::json joint_json(const diag::JointDiagnosis& d) {
   nlohmann::json jj{{"joint", d.joint}, {"rms_before", d.rms_before}, {"rms_after", d.rms_after},
                     {"heldout_rms_before", d.heldout_rms_before}, {"heldout_rms_after", d.heldout_rms_after},
@@ -365,19 +382,33 @@ nlohmann::json joint_json(const diag::JointDiagnosis& d) {
                     {"best_periods_per_rev", d.location.best_periods_per_rev}, {"lag_s", d.location.lag_s},
                     {"reversal_rms", d.location.reversal_rms}, {"elsewhere_rms", d.location.elsewhere_rms}};
   jj["notes"] = d.notes;
+  if (const double r = unexplained_over_noise(d); r > kUnexplainedOverNoise) {
+    jj["unexplained"] = {{"heldout_rms", d.findings.empty() ? d.heldout_rms_before : d.heldout_rms_after},
+                         {"over_noise", r},
+                         {"description", "a mismatch no effect of the vocabulary explains"}};
+  }
   return jj;
 }
 
 void print_joint(const diag::JointDiagnosis& d) {
   std::printf("joint %d: ", d.joint);
+  const double unexplained = unexplained_over_noise(d);
   if (d.findings.empty()) {
-    std::printf("nothing missing beyond the noise (%.3f N·m); RMS %.3f N·m\n", d.noise_rms, d.rms_before);
+    if (unexplained > kUnexplainedOverNoise) {
+      std::printf("unexplained: held-out RMS %.3f N·m, %.1fx the noise (%.3f N·m), and no effect of the vocabulary "
+                  "explains it\n",
+                  d.heldout_rms_before, unexplained, d.noise_rms);
+    } else {
+      std::printf("nothing missing beyond the noise (%.3f N·m); RMS %.3f N·m\n", d.noise_rms, d.rms_before);
+    }
     return;
   }
   for (std::size_t i = 0; i < d.findings.size(); ++i) {
     std::printf("%s%s: %s", i ? "; " : "missing ", d.findings[i].effect.c_str(), d.findings[i].text.c_str());
   }
-  std::printf("; RMS %.3f -> %.3f N·m on held-out data (noise %.3f)\n", d.heldout_rms_before, d.heldout_rms_after, d.noise_rms);
+  std::printf("; RMS %.3f -> %.3f N·m on held-out data (noise %.3f)", d.heldout_rms_before, d.heldout_rms_after, d.noise_rms);
+  if (unexplained > kUnexplainedOverNoise) std::printf("; %.1fx the noise remains unexplained", unexplained);
+  std::printf("\n");
 }
 
 void plot_joint(const std::string& out, const diag::JointSignals& s, const diag::JointDiagnosis& d) {
@@ -408,10 +439,20 @@ void plot_joint(const std::string& out, const diag::JointSignals& s, const diag:
 /// cause found again is one entry.
 void write_model_out(const DiagnoseCliOptions& o, DiagnoseRun& run, const diag::ArmDiagnosis& arm_diag,
                      const std::vector<diag::JointDiagnosis>& diagnoses) {
-  const bool identified = run.rb && run.rb->accepted;
+  bool identified = run.rb && run.rb->accepted;
   robot::RobotModel out_model = identified ? run.rb->model : run.used;
   out_model.plant_effects = run.used.plant_effects;
-  for (const auto& n : diag::unfold_arm_effects(out_model, run.folded)) run.j["arm"]["notes"].push_back(n);
+  auto notes = diag::unfold_arm_effects(out_model, run.folded);
+  if (identified && !notes.empty()) {
+    // A cause named against the file (a payload) cannot be taken back out of the identified
+    // links: written as itself on the file's rigid body, never hidden in a link.
+    out_model = run.before_refit;
+    out_model.plant_effects = run.used.plant_effects;
+    notes = diag::unfold_arm_effects(out_model, run.folded);
+    notes.push_back("the identified rigid body is not written: a named cause could not be taken back out of its links");
+    identified = false;
+  }
+  for (const auto& n : notes) run.j["arm"]["notes"].push_back(n);
   const auto effects = diag::plant_effects_of(arm_diag, diagnoses);
   out_model.plant_effects = diag::merge_plant_effects(out_model.plant_effects, effects);
   std::string how = "Written by jointguard diagnose --model " + o.model;

@@ -8,6 +8,7 @@
 #include "eval/distributed_estimator.hpp"
 #include "hil/socketcan_master.hpp"
 #include "io/atomic_write.hpp"
+#include "io/trace_csv.hpp"
 
 namespace jg::hil {
 
@@ -92,20 +93,8 @@ HilResult run_hil(const sim::Scenario& scenario, const HilConfig& c) {
 }
 
 void write_trace_csv(const std::string& path, const eval::Trace& trace) {
-  std::string text = "t";
-  for (std::size_t j = 0; j < trace.mu.size(); ++j) text += ",mu" + std::to_string(j + 1);
-  text += '\n';
-  char buf[64];
-  for (std::size_t k = 0; k < trace.t.size(); ++k) {
-    std::snprintf(buf, sizeof buf, "%.6f", trace.t[k]);
-    text += buf;
-    for (const auto& m : trace.mu) {
-      std::snprintf(buf, sizeof buf, ",%.9g", m[k]);
-      text += buf;
-    }
-    text += '\n';
-  }
-  io::write_text_atomic(path, text);  // every write checked, nothing partial left behind
+  // every write checked, nothing partial left behind
+  io::write_text_atomic(path, io::trace_csv(trace.t, trace.mu, io::joint_ids_1_to(trace.mu.size())));
 }
 
 }  // namespace jg::hil

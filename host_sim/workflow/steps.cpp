@@ -8,6 +8,7 @@
 
 #include "eval/calibration_region.hpp"
 #include "eval/firmware_estimator.hpp"
+#include "io/trace_csv.hpp"
 #include "report/contact_report.hpp"
 
 namespace jg::workflow {
@@ -243,21 +244,6 @@ ReplayOutcome replay_files(const LoadedRecording& in, const robot::RobotModel& m
   return out;
 }
 
-std::string trace_csv(const eval::ReplayResult& r, const std::vector<int>& ids) {
-  std::string text = "t";
-  for (const int id : ids) text += ",mu" + std::to_string(id);
-  text += "\n";
-  char buf[32];
-  for (std::size_t k = 0; k < r.t.size(); ++k) {
-    std::snprintf(buf, sizeof buf, "%.4f", r.t[k]);
-    text += buf;
-    for (const auto& m : r.mu) {
-      std::snprintf(buf, sizeof buf, ",%.4f", m[k]);
-      text += buf;
-    }
-    text += "\n";
-  }
-  return text;
-}
+std::string trace_csv(const eval::ReplayResult& r, const std::vector<int>& ids) { return io::trace_csv(r.t, r.mu, ids); }
 
 }  // namespace jg::workflow

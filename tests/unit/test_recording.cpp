@@ -14,6 +14,7 @@
 #include "io/atomic_write.hpp"
 #include "io/recording.hpp"
 #include "io/regularize.hpp"
+#include "io/trace_csv.hpp"
 #include "robot/torque_kind.hpp"
 
 namespace {
@@ -494,3 +495,11 @@ TEST(Regularize, TooShortIsRefusedWithAReason) {
   EXPECT_THROW((void)jg::io::regularize(ramp(jittered(0.0, 10.0, 0.001, 0.3, 1)), o), FormatError);
 }
 }  // namespace
+
+// One trace writer for replay and the host-in-the-loop runs: header from the joint ids,
+// t to 1 us, every digit of the estimate, rows to the shortest column.
+TEST(TraceCsv, HeaderDigitsAndShortestColumn) {
+  const std::string text = jg::io::trace_csv({0.0, 0.001, 0.002}, {{1.0, -0.123456789012, 2.0}, {3.5, 4.25}}, {2, 5});
+  EXPECT_EQ(text, "t,mu2,mu5\n0.000000,1,3.5\n0.001000,-0.123456789,4.25\n");
+  EXPECT_EQ(jg::io::joint_ids_1_to(3), (std::vector<int>{1, 2, 3}));
+}
