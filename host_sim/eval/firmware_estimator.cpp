@@ -21,11 +21,14 @@ class FirmwareEstimator final : public Estimator {
       params_[j] = joint_params<S>(c, j);  // detection is done by the evaluation
     }
     gravity_ = gravity_of<S>(c.model);
+    deadband_steps_ = c.holding_deadband_steps;
+    velocity_step_.assign(n_, 0.0);
   }
   void reset(const EstimatorInput&) override {
     for (auto& s : state_) s = JointEstimatorState<S>{};
   }
   void step(const EstimatorInput& in, sim::JointVector& mu) override {
+    if (deadband_steps_ > 0.0) measure_velocity_step(in.dq);
     NumericStatus st;
     OutwardMessage<S> msg = base_message(gravity_);
     for (std::size_t j = 0; j < n_; ++j) {
@@ -50,10 +53,27 @@ class FirmwareEstimator final : public Estimator {
   [[nodiscard]] std::string name() const override { return is_q_v<S> ? "firmware core (Q16.16)" : "firmware core (float)"; }
 
  private:
+  /// The velocity step per joint, the smallest non-zero |dq| given so far (kept across
+  /// resets: the encoder's), and the deadband as that many steps. The sample that first
+  /// shows a smaller step is already judged against it, so a first single-count sample is
+  /// zeroed exactly as with the step known beforehand.
+  void measure_velocity_step(const sim::JointVector& dq) {
+    for (std::size_t j = 0; j < n_; ++j) {
+      const double w = std::fabs(dq(static_cast<Eigen::Index>(j)));
+      if (!(w > 0.0) || (velocity_step_[j] > 0.0 && w >= velocity_step_[j])) continue;
+      velocity_step_[j] = w;
+      NumericStatus st;
+      params_[j].holding_velocity_deadband = convert<S>(deadband_steps_ * w, st);
+      if (!st.ok()) throw std::invalid_argument("joint " + std::to_string(j + 1) + ": holding velocity deadband does not fit the scalar");
+    }
+  }
+
   std::size_t n_;
   std::vector<JointEstimatorParams<S>> params_;
   std::vector<JointEstimatorState<S>> state_;
   Vec3<S> gravity_{};
+  double deadband_steps_ = 0.0;
+  std::vector<double> velocity_step_;  ///< [rad/s] per joint; 0 until the joint has moved
 };
 
 }  // namespace

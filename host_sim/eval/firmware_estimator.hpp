@@ -16,11 +16,23 @@ struct FirmwareEstimatorConfig {
   std::vector<LuGreParams<double>> friction;
   /// JointEstimatorParams::holding_velocity_deadband per joint [rad/s] (empty: 0).
   std::vector<double> holding_velocity_deadband;
+  /// > 0: instead, the deadband of each joint is this many of its velocity steps, the step
+  /// measured from the estimator's own input: the smallest non-zero |dq| it has been given
+  /// (one encoder count per sample, whatever the encoder; until the joint has moved a count
+  /// its dq is 0 and no deadband is needed). What replay/calibrate take from a recording
+  /// (pipeline.cpp), causal: no assumption about the encoder, nothing read from the plant.
+  double holding_deadband_steps = 0.0;
 };
 
-/// The holding velocity deadband per joint [rad/s]: 1.5 counts of the motor encoder
-/// (sim::SensorConfig: 10,000 counts per motor turn, differenced over one period) at the
-/// link side, the velocity dither of a joint at rest.
+/// The holding deadband in velocity steps: 1.5, so that a joint at rest whose encoder
+/// dithers by one count reads as still and two counts per sample read as motion.
+inline constexpr double kHoldingDeadbandSteps = 1.5;
+
+/// The holding velocity deadband per joint [rad/s] as `evaluate`, the drives on the bus and
+/// the HIL runs configure it: 1.5 counts of an assumed 10,000-count motor encoder
+/// (sim::SensorConfig's default, differenced over one period) at the link side. Wrong for
+/// another encoder (the second arm's 4,096 counts: below one count, so no deadband at
+/// all); the centralised estimator can measure the step instead (holding_deadband_steps).
 std::vector<double> holding_deadband(const robot::RobotModel& model, double rate_hz);
 
 /// scalar: "float" or "q". Throws when a parameter does not fit the scalar (range check).
