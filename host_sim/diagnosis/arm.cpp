@@ -288,6 +288,433 @@ MatrixXd hstack(const std::vector<MatrixXd>& parts) {
   }
   return X;
 }
+/// The arm-level problem: training, held-out and all samples, each joint weighted by its
+/// own error scale (residual RMS after its nuisance terms on the training blocks: a joint
+/// with a large model error does not drown the others), and the targets.
+struct ArmProblem {
+  const std::vector<JointSignals>& js;
+  std::size_t n = 0;
+  Stack train, test, all;
+  VectorXd y_train, y_test;
+
+  /// The causes' shared columns beside every joint's nuisance terms, on `st`'s samples.
+  [[nodiscard]] MatrixXd design(const std::vector<const ArmCandidate*>& cs, const Stack& st) const {
+    std::vector<MatrixXd> parts;
+    for (const auto* c : cs) parts.push_back(shared(*c, st));
+    parts.push_back(nuisance(js, st));
+    return hstack(parts);
+  }
+  /// Parameters a fit estimates: the nuisance terms, each cause's columns (not those held at
+  /// zero) and its nonlinear settings.
+  [[nodiscard]] int param_count(const std::vector<const ArmCandidate*>& cs) const {
+    int k = static_cast<int>(kNuisance * js.size());
+    for (const auto* c : cs) k += static_cast<int>(c->columns.size()) - c->zeroed_columns + c->nonlinear_params;
+    return k;
+  }
+};
+
+ArmProblem arm_problem(const std::vector<JointSignals>& js, const DiagnoseOptions& o) {
+  ArmProblem p{js, 0, {}, {}, {}, {}, {}};
+  p.n = js.front().size();
+  const auto held = heldout_mask(p.n, o);
+  for (std::size_t k = 0; k < p.n; ++k) (held[k] ? p.test : p.train).rows.push_back(k);
+  p.train.joints = p.test.joints = p.all.joints = js.size();
+  p.train.weight.assign(js.size(), 1.0);
+  const MatrixXd N = nuisance(js, p.train);
+  const VectorXd y = target(js, p.train);
+  const auto r = joint_rms(y - N * lsq(N, y), p.train);
+  for (std::size_t j = 0; j < js.size(); ++j) p.train.weight[j] = 1.0 / std::max(r[j], 1e-9);
+  p.test.weight = p.all.weight = p.train.weight;
+  p.y_train = target(js, p.train);
+  p.y_test = target(js, p.test);
+  for (std::size_t k = 0; k < p.n; ++k) p.all.rows.push_back(k);
+  return p;
+}
+
+/// Candidate groups: the payload (its pick-up time on a grid), each inner link's error, each
+/// drive's torque constant (current data against the robot file).
+std::vector<std::vector<ArmCandidate>> candidate_groups(const std::vector<JointSignals>& js, const ArmDiagnosisOptions& o,
+                                                        const sim::ArmDynamics* arm) {
+  std::vector<std::vector<ArmCandidate>> groups{payload_candidates(js, o.payload_picked_up)};
+  if (arm != nullptr && arm->joints() == static_cast<int>(js.size())) {
+    for (int l = 0; l + 1 < arm->joints(); ++l) groups.push_back({link_candidate(js, *arm, l)});
+  }
+  if (o.torque_constants) {
+    for (std::size_t j = 0; j < js.size(); ++j) groups.push_back({torque_constant_candidate(js, j)});
+  }
+  return groups;
+}
+
+/// The groups separable from what single joints add on their own (offset, friction, a rotor
+/// inertia): at least min_separable of a cause's columns' norm outside their span. On a narrow
+/// sinusoidal motion the acceleration is proportional to the displacement and a link's
+/// gravity torque change is a smooth function of it: not separable (said in `notes`).
+std::vector<std::vector<ArmCandidate>> separable_groups(std::vector<std::vector<ArmCandidate>> all_groups, const ArmProblem& p,
+                                                        const ArmDiagnosisOptions& o, std::vector<std::string>& notes) {
+  std::vector<std::vector<ArmCandidate>> groups;
+  const MatrixXd Nsep = nuisance(p.js, p.train, true);
+  Eigen::HouseholderQR<MatrixXd> qr(Nsep);
+  const MatrixXd Q = qr.householderQ() * MatrixXd::Identity(Nsep.rows(), Nsep.cols());
+  for (auto& g : all_groups) {
+    const MatrixXd Xc = shared(g.front(), p.train);
+    const double raw = Xc.norm();
+    const double outside = (Xc - Q * (Q.transpose() * Xc)).norm();
+    if (o.joint.trace) {
+      std::fprintf(stderr, "  arm %s: %.2f outside per-joint effects\n", cause_label(g.front()).c_str(), outside / std::max(raw, 1e-300));
+    }
+    if (raw > 0.0 && outside >= o.min_separable * raw) {
+      groups.push_back(std::move(g));
+    } else {
+      notes.push_back(cause_label(g.front()) + ": not separable from per-joint effects on this motion (" +
+                      std::to_string(static_cast<int>(100.0 * outside / std::max(raw, 1e-300))) + " % of it outside them)");
+    }
+  }
+  return groups;
+}
+
+/// A set of causes (one instance per group) fitted on the training blocks.
+struct Subset {
+  std::vector<const ArmCandidate*> cs;
+  std::vector<std::size_t> groups;
+  double bic = 0.0;
+  VectorXd b;
+};
+
+void fit_subset(const ArmProblem& p, Subset& sub) {
+  const MatrixXd X = p.design(sub.cs, p.train);
+  sub.b = lsq(X, p.y_train);
+  sub.bic = bic((p.y_train - X * sub.b).squaredNorm(), static_cast<std::size_t>(p.y_train.size()), p.param_count(sub.cs));
+}
+
+VectorXd heldout_error(const ArmProblem& p, const Subset& sub) { return p.y_test - p.design(sub.cs, p.test) * sub.b; }
+
+/// Every subset of at most max_causes causes, best BIC first: a greedy choice would let one
+/// cause imitating two (a payload at the next joint's axis for a link's mass) lock out the
+/// right pair. The subsets point into `groups`.
+std::vector<Subset> scored_subsets(const std::vector<std::vector<ArmCandidate>>& groups, int max_causes, const ArmProblem& p) {
+  std::vector<Subset> subsets;
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    for (const auto& c : groups[g]) {
+      Subset one{{&c}, {g}, 0.0, {}};
+      fit_subset(p, one);
+      subsets.push_back(one);
+      for (std::size_t g2 = g + 1; g2 < groups.size() && max_causes >= 2; ++g2) {
+        for (const auto& c2 : groups[g2]) {
+          Subset two{{&c, &c2}, {g, g2}, 0.0, {}};
+          fit_subset(p, two);
+          subsets.push_back(two);
+        }
+      }
+    }
+  }
+  std::sort(subsets.begin(), subsets.end(), [](const Subset& a, const Subset& b) { return a.bic < b.bic; });
+  return subsets;
+}
+
+/// The robot's own description bounds a payload: its rating, else its own mass.
+struct PayloadBound {
+  double kg = std::numeric_limits<double>::infinity();
+  std::string name = "the arm's rated payload";
+};
+
+PayloadBound payload_bound(const ArmDiagnosisOptions& o, const sim::ArmDynamics* arm) {
+  PayloadBound b;
+  if (o.max_payload_kg > 0.0) {
+    b.kg = o.max_payload_kg;
+  } else if (arm != nullptr) {
+    b.kg = 0.0;
+    for (int l = 0; l < arm->joints(); ++l) b.kg += arm->link(l).mass;
+    b.name = "the arm's own mass (no rated_payload_kg given)";
+  }
+  return b;
+}
+
+/// What the selection judges a subset against: the problem, the options, the robot's bounds,
+/// the empty fit and every subset (a pair's members alone).
+struct Judge {
+  const ArmProblem& p;
+  const ArmDiagnosisOptions& o;
+  const sim::ArmDynamics* arm;
+  PayloadBound bound;
+  const Subset& none;
+  const std::vector<Subset>& subsets;
+
+  [[nodiscard]] const Subset& best_single(const ArmCandidate* c) const {
+    for (const auto& sub : subsets) {
+      if (sub.cs.size() == 1 && sub.cs.front() == c) return sub;
+    }
+    return none;
+  }
+};
+
+/// Why one fitted cause is implausible by the robot's description (empty: plausible). A drive's
+/// constant or a payload beyond the robot's bounds is also reported in `d.unexplained`, once.
+std::string implausible_cause(const Judge& jd, const ArmCandidate& c, double mass, const Eigen::Vector3d& first, ArmDiagnosis& d) {
+  const ArmDiagnosisOptions& o = jd.o;
+  std::ostringstream why;
+  why.precision(3);
+  if (c.effect == "torque_constant") {  // `mass` holds the drive's scale error k
+    if (std::fabs(mass) <= o.max_torque_constant_error) return {};
+    why << cause_label(c) << " off by " << 100.0 * mass << " %, beyond the +/-" << 100.0 * o.max_torque_constant_error
+        << " % a drive's constant is known to: implausible, not claimed; an unexplained mismatch of that size";
+    Finding f;
+    f.effect = "torque_constant";
+    f.params["joint"] = c.joint;
+    f.params["scale_error"] = mass;
+    f.params["bound"] = o.max_torque_constant_error;
+    f.text = why.str();
+    // One drive, one report: the same joint's constant rejected again beside another cause adds nothing.
+    const bool known = std::any_of(d.unexplained.begin(), d.unexplained.end(), [&](const Finding& u) {
+      return u.effect == "torque_constant" && u.params.count("joint") != 0 && u.params.at("joint") == c.joint;
+    });
+    if (!known) d.unexplained.push_back(f);
+  } else if (c.effect == "payload" && !(mass > o.min_mass_kg)) {
+    why << "payload fit gives a mass of " << mass << " kg (must be positive): not claimed";
+  } else if (c.effect == "payload" && mass > jd.bound.kg) {
+    why << "payload fit gives " << mass << " kg, above " << jd.bound.name << " (" << jd.bound.kg
+        << " kg): implausible, not claimed; an unexplained mismatch of that size";
+    if (d.unexplained.empty()) d.unexplained.push_back(implausible_payload(mass, first, jd.bound.kg, why.str()));
+  } else if (c.effect == "payload" && first.norm() > o.com_bound_m * mass) {
+    why << "payload fit puts its centre of mass " << first.norm() / mass << " m from the last link's origin (bound "
+        << o.com_bound_m << " m): not claimed";
+  } else if (c.effect != "payload" && jd.arm != nullptr) {
+    const double m0 = jd.arm->link(c.link - 1).mass;
+    if (std::fabs(mass) > o.max_link_mass_share * m0 || first.norm() > o.max_link_mass_share * m0 * o.com_bound_m) {
+      why << cause_label(c) << " of " << mass << " kg (first moment " << first.norm() << " kg·m) beyond "
+          << 100.0 * o.max_link_mass_share << " % of the link's " << m0 << " kg: not claimed";
+    }
+  }
+  return why.str();
+}
+
+/// Each cause plausible, and each of a pair bringing its own evidence (empty: so).
+std::string causes_rejected(const Judge& jd, const Subset& sub, const VectorXd& e, ArmDiagnosis& d) {
+  const DiagnoseOptions& oj = jd.o.joint;
+  Eigen::Index at = 0;
+  for (std::size_t i = 0; i < sub.cs.size(); ++i) {
+    const ArmCandidate& c = *sub.cs[i];
+    const Eigen::Vector3d first = c.columns.size() >= 4 ? Eigen::Vector3d(sub.b(at + 1), sub.b(at + 2), sub.b(at + 3))
+                                                        : Eigen::Vector3d::Zero();
+    const std::string why = implausible_cause(jd, c, sub.b(at), first, d);
+    at += static_cast<Eigen::Index>(c.columns.size());
+    if (!why.empty()) return why;
+    if (sub.cs.size() == 2) {
+      const Subset& rest = jd.best_single(sub.cs[1 - i]);
+      if (rest.bic - sub.bic < oj.min_delta_bic || e.norm() > heldout_error(jd.p, rest).norm() * (1.0 - oj.min_heldout_gain)) {
+        return cause_label(c) + " adds no evidence beside " + cause_label(*sub.cs[1 - i]);
+      }
+    }
+  }
+  return {};
+}
+
+/// A payload loads the joints between it and the base through its weight: one that improves
+/// fewer than two of the joints it loads is a single joint's effect (a rotor inertia, an
+/// offset) in disguise (empty: it loads and improves two or more).
+std::string payload_on_one_joint(const Judge& jd, const Subset& sub, const std::vector<double>& before_joint,
+                                 const std::vector<double>& after_joint) {
+  const auto& js = jd.p.js;
+  const auto& rows = jd.p.test.rows;
+  Eigen::Index at = 0;
+  for (const auto* c : sub.cs) {
+    const auto p = static_cast<Eigen::Index>(c->columns.size());
+    if (c->effect == "payload" && js.size() >= 2) {
+      std::vector<double> load(js.size(), 0.0);
+      for (std::size_t j = 0; j < js.size(); ++j) {
+        double acc = 0.0;
+        for (const std::size_t k : rows) {
+          double v = 0.0;
+          for (Eigen::Index i = 0; i < p; ++i) v += sub.b(at + i) * c->columns[static_cast<std::size_t>(i)][j][k];
+          acc += v * v;
+        }
+        load[j] = std::sqrt(acc / static_cast<double>(std::max<std::size_t>(rows.size(), 1)));
+      }
+      const double peak = *std::max_element(load.begin(), load.end());
+      int improved = 0;
+      for (std::size_t j = 0; j < js.size(); ++j) {
+        if (load[j] >= 0.25 * peak && after_joint[j] < before_joint[j] * (1.0 - jd.o.joint.min_heldout_gain)) ++improved;
+      }
+      if (improved < 2) return "payload fit improves fewer than two of the joints it loads: a single joint's effect, not claimed";
+    }
+    at += p;
+  }
+  return {};
+}
+
+/// Why a subset cannot be claimed (empty: it can; then `jack` holds its causes' evidence
+/// against the null every cause must beat: the recording's own block-to-block variation,
+/// a delete-one-block jackknife, judged last for the subset being judged, so that a pair
+/// whose causes share the load fails it and the next subset, either cause alone, is judged).
+std::string reject(const Judge& jd, const Subset& sub, ArmDiagnosis& d, std::vector<JackknifedCause>& jack) {
+  const DiagnoseOptions& oj = jd.o.joint;
+  const VectorXd e = heldout_error(jd.p, sub), e0 = heldout_error(jd.p, jd.none);
+  if (jd.none.bic - sub.bic < oj.min_delta_bic) return "no arm-level cause (payload, link mass) with evidence on the training blocks";
+  if (e.norm() > e0.norm() * (1.0 - oj.min_heldout_gain)) {
+    return "the arm-level causes improved the training fit but not the held-out blocks: not claimed";
+  }
+  if (std::string why = causes_rejected(jd, sub, e, d); !why.empty()) return why;
+  const auto before_joint = joint_rms(e0, jd.p.test), after_joint = joint_rms(e, jd.p.test);
+  for (std::size_t j = 0; j < jd.p.js.size(); ++j) {
+    // One cause explains every joint it loads: it must not make any joint worse.
+    if (after_joint[j] > before_joint[j] * (1.0 + oj.min_heldout_gain)) {
+      std::ostringstream why;
+      why.precision(3);
+      why << "the arm-level fit would worsen joint " << jd.p.js[j].joint << "'s held-out fit (" << before_joint[j] << " -> "
+          << after_joint[j] << " N·m): not one cause, not claimed";
+      return why.str();
+    }
+  }
+  if (std::string why = payload_on_one_joint(jd, sub, before_joint, after_joint); !why.empty()) return why;
+  const auto fit_shared = [&](const std::vector<const ArmCandidate*>& cs, const Stack& st) {
+    return VectorXd(lsq(jd.p.design(cs, st), target(jd.p.js, st)));
+  };
+  jack = jackknife_causes(sub.cs, jd.p.n, oj.blocks, fit_shared, jd.p.all, jd.p.train.weight);
+  for (std::size_t i = 0; i < sub.cs.size(); ++i) {
+    if (jack[i].z >= oj.min_null_z) continue;
+    std::ostringstream why;
+    why.precision(3);
+    why << cause_label(*sub.cs[i]) << " does not beat the recording's own block-to-block variation (jackknife z = " << jack[i].z
+        << ", needs " << oj.min_null_z << "): not claimed";
+    return why.str();
+  }
+  return {};
+}
+
+/// The first subset, best BIC first, that nothing rejects (empty: none); each reason a
+/// subset was rejected kept in `d.notes` (up to 5, once each).
+std::vector<const ArmCandidate*> select_causes(const Judge& jd, ArmDiagnosis& d, std::vector<JackknifedCause>& jack) {
+  for (const auto& sub : jd.subsets) {
+    if (jd.none.bic - sub.bic < jd.o.joint.min_delta_bic) break;
+    const std::string why = reject(jd, sub, d, jack);
+    if (jd.o.joint.trace) {
+      std::fprintf(stderr, "  arm subset:");
+      for (const auto* c : sub.cs) std::fprintf(stderr, " %s(pickup %.2f)", cause_label(*c).c_str(), c->pickup_s);
+      std::fprintf(stderr, " dBIC %.1f %s\n", sub.bic - jd.none.bic, why.c_str());
+    }
+    if (why.empty()) return sub.cs;
+    if (std::find(d.notes.begin(), d.notes.end(), why) == d.notes.end() && d.notes.size() < 5) d.notes.push_back(why);
+  }
+  if (d.notes.empty()) d.notes.push_back("no arm-level cause (payload, link mass) with evidence on the training blocks");
+  return {};
+}
+
+/// One chosen cause's parameters and sentence, from its coefficients on all samples: a
+/// drive's scale error, or a mass `m` and first moment `h` (payload, a link's error).
+Finding cause_finding(const ArmCandidate& c, double m, const Eigen::Vector3d& h, const JackknifedCause& jack, int last_joint) {
+  Finding f;
+  f.effect = c.effect;
+  f.null_z = jack.z;
+  std::ostringstream text;
+  text.precision(3);
+  if (c.effect == "torque_constant") {
+    // tau_measured = (1 + k) tau_true (as the per-joint effect): true K_I = file's / (1 + k).
+    f.params["joint"] = c.joint;
+    f.params["scale_error"] = m;
+    f.params["scale_error_sigma"] = jack.mass_sigma;
+    f.params["torque_constant_ratio"] = 1.0 / (1.0 + m);
+    text << "joint " << c.joint << "'s torque constant: the measured torque is " << 100.0 * m << " +/- " << 100.0 * jack.mass_sigma
+         << " % off the robot file's (true K_I = file's x " << 1.0 / (1.0 + m) << ")";
+  } else if (c.effect == "payload") {
+    const Eigen::Vector3d com = h / m;
+    f.params["link"] = c.link;
+    f.params["mass_kg_sigma"] = jack.mass_sigma;
+    f.params["mass_kg"] = m;
+    f.params["com_x_m"] = com.x();
+    f.params["com_y_m"] = com.y();
+    f.params["com_z_m"] = com.z();
+    f.params["com_x_m_sigma"] = jack.com_sigma.x();
+    f.params["com_y_m_sigma"] = jack.com_sigma.y();
+    f.params["com_z_m_sigma"] = jack.com_sigma.z();
+    if (c.pickup_s >= 0.0) f.params["picked_up_at_s"] = c.pickup_s;
+    text << "payload on the last link: " << m << " +/- " << jack.mass_sigma << " kg, centre of mass (" << com.x() << ", " << com.y()
+         << ", " << com.z() << ") m in its frame";
+    if (c.zeroed_columns > 0) {
+      // The centred fit won the selection: its sideways offset is not resolved, not zero.
+      f.params["centred_on_last_axis"] = 1.0;
+      text << " (centred on joint " << last_joint << "'s axis: an offset across it does not beat the centred fit)";
+    }
+    if (c.pickup_s >= 0.0) text << ", picked up at t = " << c.pickup_s << " s";
+  } else {
+    f.params["link"] = c.link;
+    f.params["mass_kg_sigma"] = jack.mass_sigma;
+    f.params["delta_mass_kg"] = m;
+    f.params["delta_first_moment_x_kg_m"] = h.x();
+    f.params["delta_first_moment_y_kg_m"] = h.y();
+    f.params["delta_first_moment_z_kg_m"] = h.z();
+    text << "link " << c.link << "'s mass off by " << m << " kg, its first moment by (" << h.x() << ", " << h.y() << ", " << h.z()
+         << ") kg·m";
+  }
+  f.text = text.str();
+  return f;
+}
+
+/// The chosen causes fitted on all samples (nuisance alongside, not kept): their findings,
+/// evidence (BIC increase when each is left out), the model for prediction and the torque
+/// each explains per joint, strongest first.
+void report_causes(const ArmProblem& p, const std::vector<const ArmCandidate*>& chosen, const std::vector<JackknifedCause>& jack,
+                   const ArmDiagnosisOptions& o, ArmDiagnosis& d) {
+  const auto& js = p.js;
+  const VectorXd ya = target(js, p.all);
+  const MatrixXd Xa = p.design(chosen, p.all);
+  const VectorXd ba = lsq(Xa, ya);
+  Eigen::Index at = 0;
+  for (std::size_t ci = 0; ci < chosen.size(); ++ci) {
+    const ArmCandidate& c = *chosen[ci];
+    const auto np = static_cast<Eigen::Index>(c.columns.size());
+    const Eigen::Vector3d h = np >= 4 ? Eigen::Vector3d(ba(at + 1), ba(at + 2), ba(at + 3)) : Eigen::Vector3d::Zero();
+    Finding f = cause_finding(c, ba(at), h, jack[ci], js.back().joint);
+    auto without = chosen;
+    without.erase(without.begin() + static_cast<std::ptrdiff_t>(ci));
+    const MatrixXd Xw = p.design(without, p.all);
+    f.delta_bic = bic((ya - Xw * lsq(Xw, ya)).squaredNorm(), static_cast<std::size_t>(ya.size()), p.param_count(without)) -
+                  bic((ya - Xa * ba).squaredNorm(), static_cast<std::size_t>(ya.size()), p.param_count(chosen));
+    f.confidence = 1.0 / (1.0 + std::exp(-(f.delta_bic - o.joint.min_delta_bic) / 10.0));
+    FittedEffect fe;
+    fe.effect = c.effect;
+    fe.setting[c.effect == "torque_constant" ? "joint" : "link"] = c.effect == "torque_constant" ? c.joint : c.link;
+    if (c.pickup_s >= 0.0) fe.setting["picked_up_at_s"] = c.pickup_s;
+    for (Eigen::Index i = 0; i < np; ++i) fe.coefficients.push_back(ba(at + i));
+    std::ostringstream text;
+    text.precision(3);
+    text << "; torque it explains per joint (RMS):";
+    for (std::size_t j = 0; j < js.size(); ++j) {
+      double acc = 0.0;
+      for (std::size_t k = 0; k < p.n; ++k) {
+        double v = 0.0;
+        for (Eigen::Index i = 0; i < np; ++i) v += ba(at + i) * c.columns[static_cast<std::size_t>(i)][j][k];
+        d.explained[j][k] += v;
+        acc += v * v;
+      }
+      const double r = std::sqrt(acc / static_cast<double>(p.n));
+      f.params["torque_rms_joint" + std::to_string(js[j].joint)] = r;
+      text << ' ' << r;
+    }
+    f.text += text.str() + " N·m";
+    d.findings.push_back(f);
+    d.model.push_back(fe);
+    at += np;
+  }
+  for (std::size_t j = 0; j < js.size(); ++j) {
+    double acc = 0.0;
+    for (const double v : d.explained[j]) acc += v * v;
+    d.explained_rms[j] = std::sqrt(acc / static_cast<double>(p.n));
+  }
+  std::sort(d.findings.begin(), d.findings.end(), [](const Finding& a, const Finding& b) { return a.delta_bic > b.delta_bic; });
+}
+
+/// Why the arm level is not fitted at all (empty: it is).
+std::string arm_level_not_fitted(const std::vector<JointSignals>& js, const ArmDiagnosisOptions& o) {
+  if (js.empty() || std::any_of(js.begin(), js.end(), [](const JointSignals& s) { return s.payload_columns.size() < 4; })) {
+    return "no rigid-body model: arm-level causes (payload) not fitted";
+  }
+  const std::size_t n = js.front().size();
+  if (n < 200 || std::any_of(js.begin(), js.end(), [n](const JointSignals& s) { return s.size() != n; })) {
+    return "too few samples for the arm-level fit";
+  }
+  if (const std::string why = too_short_to_judge(js.front().t, o.joint); !why.empty()) return "arm: " + why;
+  return {};
+}
+
 }  // namespace
 
 ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosisOptions& o, const sim::ArmDynamics* arm) {
@@ -295,362 +722,19 @@ ArmDiagnosis diagnose_arm(const std::vector<JointSignals>& js, const ArmDiagnosi
   d.explained.assign(js.size(), {});
   d.explained_rms.assign(js.size(), 0.0);
   for (std::size_t j = 0; j < js.size(); ++j) d.explained[j].assign(js[j].size(), 0.0);
-  if (js.empty() || std::any_of(js.begin(), js.end(), [](const JointSignals& s) { return s.payload_columns.size() < 4; })) {
-    d.notes.push_back("no rigid-body model: arm-level causes (payload) not fitted");
+  if (const std::string why = arm_level_not_fitted(js, o); !why.empty()) {
+    d.notes.push_back(why);
     return d;
   }
-  const std::size_t n = js.front().size();
-  if (n < 200 || std::any_of(js.begin(), js.end(), [n](const JointSignals& s) { return s.size() != n; })) {
-    d.notes.push_back("too few samples for the arm-level fit");
-    return d;
-  }
-  if (const std::string why = too_short_to_judge(js.front().t, o.joint); !why.empty()) {
-    d.notes.push_back("arm: " + why);
-    return d;
-  }
-  const auto held = heldout_mask(n, o.joint);
-  Stack train, test;
-  for (std::size_t k = 0; k < n; ++k) (held[k] ? test : train).rows.push_back(k);
-  train.joints = test.joints = js.size();
-  // Each joint weighted by its own error scale (residual RMS after its nuisance terms on
-  // the training blocks): a joint with a large model error does not drown the others.
-  train.weight.assign(js.size(), 1.0);
-  {
-    const MatrixXd N = nuisance(js, train);
-    const VectorXd y = target(js, train);
-    const VectorXd e = y - N * lsq(N, y);
-    const auto r = joint_rms(e, train);
-    for (std::size_t j = 0; j < js.size(); ++j) train.weight[j] = 1.0 / std::max(r[j], 1e-9);
-  }
-  test.weight = train.weight;
-  const VectorXd y_train = target(js, train), y_test = target(js, test);
-  const std::size_t n_train = static_cast<std::size_t>(y_train.size());
-
-  // Candidate groups: the payload (its pick-up time on a grid), each inner link's error.
-  std::vector<std::vector<ArmCandidate>> all_groups{payload_candidates(js, o.payload_picked_up)};
-  if (arm != nullptr && arm->joints() == static_cast<int>(js.size())) {
-    for (int l = 0; l + 1 < arm->joints(); ++l) all_groups.push_back({link_candidate(js, *arm, l)});
-  }
-  if (o.torque_constants) {
-    for (std::size_t j = 0; j < js.size(); ++j) all_groups.push_back({torque_constant_candidate(js, j)});
-  }
-  // A cause must be separable from what single joints add on their own (offset, friction,
-  // a rotor inertia): at least min_separable of its columns' norm outside their span. On a
-  // narrow sinusoidal motion the acceleration is proportional to the displacement and a
-  // link's gravity torque change is a smooth function of it: not separable.
-  std::vector<std::vector<ArmCandidate>> groups;
-  {
-    const MatrixXd Nsep = nuisance(js, train, true);
-    Eigen::HouseholderQR<MatrixXd> qr(Nsep);
-    const MatrixXd Q = qr.householderQ() * MatrixXd::Identity(Nsep.rows(), Nsep.cols());
-    for (auto& g : all_groups) {
-      const MatrixXd Xc = shared(g.front(), train);
-      const double raw = Xc.norm();
-      const double outside = (Xc - Q * (Q.transpose() * Xc)).norm();
-      if (o.joint.trace) {
-        std::fprintf(stderr, "  arm %s: %.2f outside per-joint effects\n", cause_label(g.front()).c_str(), outside / std::max(raw, 1e-300));
-      }
-      if (raw > 0.0 && outside >= o.min_separable * raw) {
-        groups.push_back(std::move(g));
-      } else {
-        const auto& c = g.front();
-        d.notes.push_back(cause_label(c) +
-                          ": not separable from per-joint effects on this motion (" +
-                          std::to_string(static_cast<int>(100.0 * outside / std::max(raw, 1e-300))) + " % of it outside them)");
-      }
-    }
-  }
-  auto design = [&](const std::vector<const ArmCandidate*>& cs, const Stack& st) {
-    std::vector<MatrixXd> parts;
-    for (const auto* c : cs) parts.push_back(shared(*c, st));
-    parts.push_back(nuisance(js, st));
-    return hstack(parts);
-  };
-  auto param_count = [&](const std::vector<const ArmCandidate*>& cs) {
-    int k = static_cast<int>(kNuisance * js.size());
-    for (const auto* c : cs) k += static_cast<int>(c->columns.size()) - c->zeroed_columns + c->nonlinear_params;
-    return k;
-  };
-  // Every subset of at most max_causes causes (one instance per group), scored by BIC on
-  // the training blocks: a greedy choice would let one cause imitating two (a payload at
-  // the next joint's axis for a link's mass) lock out the right pair.
-  struct Subset {
-    std::vector<const ArmCandidate*> cs;
-    std::vector<std::size_t> groups;
-    double bic = 0.0;
-    VectorXd b;
-  };
-  auto fit = [&](Subset& sub) {
-    const MatrixXd X = design(sub.cs, train);
-    sub.b = lsq(X, y_train);
-    sub.bic = bic((y_train - X * sub.b).squaredNorm(), n_train, param_count(sub.cs));
-  };
+  const ArmProblem p = arm_problem(js, o.joint);
+  const auto groups = separable_groups(candidate_groups(js, o, arm), p, o, d.notes);
   Subset none;
-  fit(none);
-  std::vector<Subset> subsets;
-  for (std::size_t g = 0; g < groups.size(); ++g) {
-    for (const auto& c : groups[g]) {
-      Subset one{{&c}, {g}, 0.0, {}};
-      fit(one);
-      subsets.push_back(one);
-      for (std::size_t g2 = g + 1; g2 < groups.size() && o.max_causes >= 2; ++g2) {
-        for (const auto& c2 : groups[g2]) {
-          Subset two{{&c, &c2}, {g, g2}, 0.0, {}};
-          fit(two);
-          subsets.push_back(two);
-        }
-      }
-    }
-  }
-  std::sort(subsets.begin(), subsets.end(), [](const Subset& a, const Subset& b) { return a.bic < b.bic; });
-  auto heldout = [&](const Subset& sub) { return VectorXd(y_test - design(sub.cs, test) * sub.b); };
-  auto best_single = [&](const ArmCandidate* c) -> const Subset* {
-    for (const auto& sub : subsets) {
-      if (sub.cs.size() == 1 && sub.cs.front() == c) return &sub;
-    }
-    return &none;
-  };
-  const auto name_of = cause_label;
-  // The robot's own description bounds a payload: its rating, else its own mass.
-  double payload_bound_kg = o.max_payload_kg;
-  std::string payload_bound_name = "the arm's rated payload";
-  if (!(payload_bound_kg > 0.0)) {
-    payload_bound_kg = std::numeric_limits<double>::infinity();
-    if (arm != nullptr) {
-      payload_bound_kg = 0.0;
-      for (int l = 0; l < arm->joints(); ++l) payload_bound_kg += arm->link(l).mass;
-      payload_bound_name = "the arm's own mass (no rated_payload_kg given)";
-    }
-  }
-  Stack all;
-  all.joints = js.size();
-  all.weight = train.weight;
-  for (std::size_t k = 0; k < n; ++k) all.rows.push_back(k);
-  // The null every cause must beat: the recording's own block-to-block variation
-  // (delete-one-block jackknife), judged last, for the subset being judged: a pair whose
-  // causes share the load (a payload and the wrist link it sits beside) fails it, and the
-  // next subset (either cause alone) is judged instead.
+  fit_subset(p, none);
+  const std::vector<Subset> subsets = scored_subsets(groups, o.max_causes, p);
+  const Judge jd{p, o, arm, payload_bound(o, arm), none, subsets};
   std::vector<JackknifedCause> jack;
-  const auto fit_shared = [&](const std::vector<const ArmCandidate*>& cs, const Stack& st) {
-    return VectorXd(lsq(design(cs, st), target(js, st)));
-  };
-  // Why a subset cannot be claimed (empty: it can).
-  auto reject = [&](const Subset& sub) -> std::string {
-    std::ostringstream why;
-    why.precision(3);
-    const VectorXd e = heldout(sub), e0 = heldout(none);
-    if (none.bic - sub.bic < o.joint.min_delta_bic) return "no arm-level cause (payload, link mass) with evidence on the training blocks";
-    if (e.norm() > e0.norm() * (1.0 - o.joint.min_heldout_gain)) {
-      why << "the arm-level causes improved the training fit but not the held-out blocks: not claimed";
-      return why.str();
-    }
-    Eigen::Index at = 0;
-    for (std::size_t i = 0; i < sub.cs.size(); ++i) {
-      const ArmCandidate& c = *sub.cs[i];
-      const double mass = sub.b(at);  // a torque constant's scale error k for a drive's cause
-      const Eigen::Vector3d first = c.columns.size() >= 4 ? Eigen::Vector3d(sub.b(at + 1), sub.b(at + 2), sub.b(at + 3))
-                                                          : Eigen::Vector3d::Zero();
-      at += static_cast<Eigen::Index>(c.columns.size());
-      if (c.effect == "torque_constant") {
-        if (std::fabs(mass) > o.max_torque_constant_error) {
-          why << name_of(c) << " off by " << 100.0 * mass << " %, beyond the +/-" << 100.0 * o.max_torque_constant_error
-              << " % a drive's constant is known to: implausible, not claimed; an unexplained mismatch of that size";
-          Finding f;
-          f.effect = "torque_constant";
-          f.params["joint"] = c.joint;
-          f.params["scale_error"] = mass;
-          f.params["bound"] = o.max_torque_constant_error;
-          f.text = why.str();
-          // One drive, one report: the same joint's constant rejected again beside another cause adds nothing.
-          const bool known = std::any_of(d.unexplained.begin(), d.unexplained.end(), [&](const Finding& u) {
-            return u.effect == "torque_constant" && u.params.count("joint") != 0 && u.params.at("joint") == c.joint;
-          });
-          if (!known) d.unexplained.push_back(f);
-        }
-      } else if (c.effect == "payload" && !(mass > o.min_mass_kg)) {
-        why << "payload fit gives a mass of " << mass << " kg (must be positive): not claimed";
-      } else if (c.effect == "payload" && mass > payload_bound_kg) {
-        why << "payload fit gives " << mass << " kg, above " << payload_bound_name << " (" << payload_bound_kg
-            << " kg): implausible, not claimed; an unexplained mismatch of that size";
-        if (d.unexplained.empty()) d.unexplained.push_back(implausible_payload(mass, first, payload_bound_kg, why.str()));
-      } else if (c.effect == "payload" && first.norm() > o.com_bound_m * mass) {
-        why << "payload fit puts its centre of mass " << first.norm() / mass << " m from the last link's origin (bound "
-            << o.com_bound_m << " m): not claimed";
-      } else if (c.effect != "payload" && arm != nullptr) {
-        const double m0 = arm->link(c.link - 1).mass;
-        if (std::fabs(mass) > o.max_link_mass_share * m0 || first.norm() > o.max_link_mass_share * m0 * o.com_bound_m) {
-          why << name_of(c) << " of " << mass << " kg (first moment " << first.norm() << " kg·m) beyond "
-              << 100.0 * o.max_link_mass_share << " % of the link's " << m0 << " kg: not claimed";
-        }
-      }
-      if (!why.str().empty()) return why.str();
-      if (sub.cs.size() == 2) {  // each of a pair must bring its own evidence
-        const Subset* rest = best_single(sub.cs[1 - i]);
-        if (rest->bic - sub.bic < o.joint.min_delta_bic ||
-            e.norm() > heldout(*rest).norm() * (1.0 - o.joint.min_heldout_gain)) {
-          return name_of(c) + " adds no evidence beside " + name_of(*sub.cs[1 - i]);
-        }
-      }
-    }
-    const auto before_joint = joint_rms(e0, test), after_joint = joint_rms(e, test);
-    for (std::size_t j = 0; j < js.size(); ++j) {
-      // One cause explains every joint it loads: it must not make any joint worse.
-      if (after_joint[j] > before_joint[j] * (1.0 + o.joint.min_heldout_gain)) {
-        why << "the arm-level fit would worsen joint " << js[j].joint << "'s held-out fit (" << before_joint[j] << " -> "
-            << after_joint[j] << " N·m): not one cause, not claimed";
-        return why.str();
-      }
-    }
-    // A payload loads the joints between it and the base through its weight: one that shows
-    // on a single joint is that joint's own effect (a rotor inertia, an offset) in disguise.
-    Eigen::Index at2 = 0;
-    for (const auto* c : sub.cs) {
-      const auto p = static_cast<Eigen::Index>(c->columns.size());
-      if (c->effect == "payload" && js.size() >= 2) {
-        std::vector<double> load(js.size(), 0.0);
-        for (std::size_t j = 0; j < js.size(); ++j) {
-          double acc = 0.0;
-          for (const std::size_t k : test.rows) {
-            double v = 0.0;
-            for (Eigen::Index i = 0; i < p; ++i) v += sub.b(at2 + i) * c->columns[static_cast<std::size_t>(i)][j][k];
-            acc += v * v;
-          }
-          load[j] = std::sqrt(acc / static_cast<double>(std::max<std::size_t>(test.rows.size(), 1)));
-        }
-        const double peak = *std::max_element(load.begin(), load.end());
-        int improved = 0;
-        for (std::size_t j = 0; j < js.size(); ++j) {
-          if (load[j] >= 0.25 * peak && after_joint[j] < before_joint[j] * (1.0 - o.joint.min_heldout_gain)) ++improved;
-        }
-        if (improved < 2) {
-          why << "payload fit improves fewer than two of the joints it loads: a single joint's effect, not claimed";
-          return why.str();
-        }
-      }
-      at2 += p;
-    }
-    jack = jackknife_causes(sub.cs, n, o.joint.blocks, fit_shared, all, train.weight);
-    for (std::size_t i = 0; i < sub.cs.size(); ++i) {
-      if (jack[i].z >= o.joint.min_null_z) continue;
-      why << name_of(*sub.cs[i]) << " does not beat the recording's own block-to-block variation (jackknife z = " << jack[i].z
-          << ", needs " << o.joint.min_null_z << "): not claimed";
-      return why.str();
-    }
-    return {};
-  };
-  const bool trace = o.joint.trace;
-  std::vector<const ArmCandidate*> chosen;
-  for (const auto& sub : subsets) {
-    if (none.bic - sub.bic < o.joint.min_delta_bic) break;
-    const std::string why = reject(sub);
-    if (trace) {
-      std::fprintf(stderr, "  arm subset:");
-      for (const auto* c : sub.cs) std::fprintf(stderr, " %s(pickup %.2f)", cause_label(*c).c_str(), c->pickup_s);
-      std::fprintf(stderr, " dBIC %.1f %s\n", sub.bic - none.bic, why.c_str());
-    }
-    if (why.empty()) {
-      chosen = sub.cs;
-      break;
-    }
-    if (std::find(d.notes.begin(), d.notes.end(), why) == d.notes.end() && d.notes.size() < 5) d.notes.push_back(why);
-  }
-  if (chosen.empty() && d.notes.empty()) d.notes.push_back("no arm-level cause (payload, link mass) with evidence on the training blocks");
-  if (chosen.empty()) return d;
-  // Final shared coefficients on all samples (nuisance alongside, not kept).
-  // The null every cause must beat: the recording's own block-to-block variation
-  // (delete-one-block jackknife); a cause below it is dropped, the rest refitted.
-  const VectorXd ba = lsq(design(chosen, all), target(js, all));
-  Eigen::Index at = 0;
-  for (std::size_t ci = 0; ci < chosen.size(); ++ci) {
-    const ArmCandidate& c = *chosen[ci];
-    const auto p = static_cast<Eigen::Index>(c.columns.size());
-    Finding f;
-    f.effect = c.effect;
-    // Evidence: BIC increase on all samples when this cause is left out.
-    auto without = chosen;
-    without.erase(without.begin() + static_cast<std::ptrdiff_t>(ci));
-    const VectorXd ya = target(js, all);
-    const MatrixXd Xa = design(chosen, all), Xw = design(without, all);
-    f.delta_bic = bic((ya - Xw * lsq(Xw, ya)).squaredNorm(), ya.size(), param_count(without)) -
-                  bic((ya - Xa * ba).squaredNorm(), ya.size(), param_count(chosen));
-    f.confidence = 1.0 / (1.0 + std::exp(-(f.delta_bic - o.joint.min_delta_bic) / 10.0));
-    const double m = ba(at);
-    const Eigen::Vector3d h = p >= 4 ? Eigen::Vector3d(ba(at + 1), ba(at + 2), ba(at + 3)) : Eigen::Vector3d::Zero();
-    f.null_z = jack[ci].z;
-    FittedEffect fe;
-    fe.effect = c.effect;
-    if (c.effect == "torque_constant") {
-      fe.setting["joint"] = c.joint;
-    } else {
-      fe.setting["link"] = c.link;
-    }
-    if (c.pickup_s >= 0.0) fe.setting["picked_up_at_s"] = c.pickup_s;
-    for (Eigen::Index i = 0; i < p; ++i) fe.coefficients.push_back(ba(at + i));
-    std::ostringstream text;
-    text.precision(3);
-    if (c.effect != "torque_constant") {
-      f.params["link"] = c.link;
-      f.params["mass_kg_sigma"] = jack[ci].mass_sigma;
-    }
-    if (c.effect == "torque_constant") {
-      // tau_measured = (1 + k) tau_true (as the per-joint effect): true K_I = file's / (1 + k).
-      f.params["joint"] = c.joint;
-      f.params["scale_error"] = m;
-      f.params["scale_error_sigma"] = jack[ci].mass_sigma;
-      f.params["torque_constant_ratio"] = 1.0 / (1.0 + m);
-      text << "joint " << c.joint << "'s torque constant: the measured torque is " << 100.0 * m << " +/- "
-           << 100.0 * jack[ci].mass_sigma << " % off the robot file's (true K_I = file's x " << 1.0 / (1.0 + m) << ")";
-    } else if (c.effect == "payload") {
-      const Eigen::Vector3d com = h / m;
-      f.params["mass_kg"] = m;
-      f.params["com_x_m"] = com.x();
-      f.params["com_y_m"] = com.y();
-      f.params["com_z_m"] = com.z();
-      f.params["com_x_m_sigma"] = jack[ci].com_sigma.x();
-      f.params["com_y_m_sigma"] = jack[ci].com_sigma.y();
-      f.params["com_z_m_sigma"] = jack[ci].com_sigma.z();
-      if (c.pickup_s >= 0.0) f.params["picked_up_at_s"] = c.pickup_s;
-      text << "payload on the last link: " << m << " +/- " << jack[ci].mass_sigma << " kg, centre of mass (" << com.x() << ", " << com.y() << ", " << com.z()
-           << ") m in its frame";
-      if (c.zeroed_columns > 0) {
-        // The centred fit won the selection: its sideways offset is not resolved, not zero.
-        f.params["centred_on_last_axis"] = 1.0;
-        text << " (centred on joint " << js.back().joint << "'s axis: an offset across it does not beat the centred fit)";
-      }
-      if (c.pickup_s >= 0.0) text << ", picked up at t = " << c.pickup_s << " s";
-    } else {
-      f.params["delta_mass_kg"] = m;
-      f.params["delta_first_moment_x_kg_m"] = h.x();
-      f.params["delta_first_moment_y_kg_m"] = h.y();
-      f.params["delta_first_moment_z_kg_m"] = h.z();
-      text << "link " << c.link << "'s mass off by " << m << " kg, its first moment by (" << h.x() << ", " << h.y() << ", "
-           << h.z() << ") kg·m";
-    }
-    text << "; torque it explains per joint (RMS):";
-    for (std::size_t j = 0; j < js.size(); ++j) {
-      double acc = 0.0;
-      for (std::size_t k = 0; k < n; ++k) {
-        double v = 0.0;
-        for (Eigen::Index i = 0; i < p; ++i) v += ba(at + i) * c.columns[static_cast<std::size_t>(i)][j][k];
-        d.explained[j][k] += v;
-        acc += v * v;
-      }
-      const double r = std::sqrt(acc / static_cast<double>(n));
-      f.params["torque_rms_joint" + std::to_string(js[j].joint)] = r;
-      text << ' ' << r;
-    }
-    text << " N·m";
-    f.text = text.str();
-    d.findings.push_back(f);
-    d.model.push_back(fe);
-    at += p;
-  }
-  for (std::size_t j = 0; j < js.size(); ++j) {
-    double acc = 0.0;
-    for (const double v : d.explained[j]) acc += v * v;
-    d.explained_rms[j] = std::sqrt(acc / static_cast<double>(n));
-  }
-  std::sort(d.findings.begin(), d.findings.end(), [](const Finding& a, const Finding& b) { return a.delta_bic > b.delta_bic; });
+  const auto chosen = select_causes(jd, d, jack);
+  if (!chosen.empty()) report_causes(p, chosen, jack, o, d);
   return d;
 }
 
