@@ -6,7 +6,7 @@
 #    is below what the full run names), no payload claim off by more than 20 %,
 #    no claim on a zero-size case beyond the untouched recording's;
 #  - UR10e motion_free (16 payloads, 0.5-12 kg, + 2 zero-size): the figures of the last
-#    measured run as a floor (named >= 5, payload claims off by more than 20 % <= 2), no
+#    measured run as a floor (named >= 10, payload claims off by more than 20 % <= 2), no
 #    claim on a zero-size case beyond the untouched recording's.
 # Usage: injection_bench.sh <jointguard> <source dir>
 set -euo pipefail
@@ -29,7 +29,7 @@ p, u = (json.load(open(f))["summary"] for f in sys.argv[1:3])
 print("panda:", p)
 print("ur10e:", u)
 assert p["named_within_20pct"] >= 1 and p["wrong_claims"] == 0, p  # 0.3 kg (below the floor) and 1.5 kg
-assert u["named_within_20pct"] >= 5 and u["wrong_claims"] <= 2, u
+assert u["named_within_20pct"] >= 10 and u["wrong_claims"] <= 2, u  # measured 10/16 (docs/results.md)
 for s in (p, u):
     assert s["zero_size_cases"] == 2 and s["zero_size_with_extra_claims"] == 0, s
 PYEOF
