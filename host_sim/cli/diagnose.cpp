@@ -366,9 +366,9 @@ void report_arm(const diag::ArmDiagnosis& arm_diag, nlohmann::json& j) {
 /// RMS after the findings over the noise estimated from the data. Above kUnexplainedOverNoise a
 /// mismatch remains that no effect of the vocabulary explains; said so, never "nothing missing".
 constexpr double kUnexplainedOverNoise = 1.5;
+double heldout_rms_left(const diag::JointDiagnosis& d) { return d.findings.empty() ? d.heldout_rms_before : d.heldout_rms_after; }
 double unexplained_over_noise(const diag::JointDiagnosis& d) {
-  const double after = d.findings.empty() ? d.heldout_rms_before : d.heldout_rms_after;
-  return d.noise_rms > 0.0 ? after / d.noise_rms : 0.0;
+  return d.noise_rms > 0.0 ? heldout_rms_left(d) / d.noise_rms : 0.0;
 }
 
 nlohmann::json joint_json(const diag::JointDiagnosis& d) {
@@ -383,7 +383,7 @@ nlohmann::json joint_json(const diag::JointDiagnosis& d) {
                     {"reversal_rms", d.location.reversal_rms}, {"elsewhere_rms", d.location.elsewhere_rms}};
   jj["notes"] = d.notes;
   if (const double r = unexplained_over_noise(d); r > kUnexplainedOverNoise) {
-    jj["unexplained"] = {{"heldout_rms", d.findings.empty() ? d.heldout_rms_before : d.heldout_rms_after},
+    jj["unexplained"] = {{"heldout_rms", heldout_rms_left(d)},
                          {"over_noise", r},
                          {"description", "a mismatch no effect of the vocabulary explains"}};
   }

@@ -598,6 +598,13 @@ std::vector<const ArmCandidate*> select_causes(const Judge& jd, ArmDiagnosis& d,
   return {};
 }
 
+/// A vector's three components as params `<before>x<after>`, `<before>y<after>`, `<before>z<after>`.
+void put_xyz(Finding& f, const std::string& before, const std::string& after, const Eigen::Vector3d& v) {
+  f.params[before + "x" + after] = v.x();
+  f.params[before + "y" + after] = v.y();
+  f.params[before + "z" + after] = v.z();
+}
+
 /// One chosen cause's parameters and sentence, from its coefficients on all samples: a
 /// drive's scale error, or a mass `m` and first moment `h` (payload, a link's error).
 Finding cause_finding(const ArmCandidate& c, double m, const Eigen::Vector3d& h, const JackknifedCause& jack, int last_joint) {
@@ -619,12 +626,8 @@ Finding cause_finding(const ArmCandidate& c, double m, const Eigen::Vector3d& h,
     f.params["link"] = c.link;
     f.params["mass_kg_sigma"] = jack.mass_sigma;
     f.params["mass_kg"] = m;
-    f.params["com_x_m"] = com.x();
-    f.params["com_y_m"] = com.y();
-    f.params["com_z_m"] = com.z();
-    f.params["com_x_m_sigma"] = jack.com_sigma.x();
-    f.params["com_y_m_sigma"] = jack.com_sigma.y();
-    f.params["com_z_m_sigma"] = jack.com_sigma.z();
+    put_xyz(f, "com_", "_m", com);
+    put_xyz(f, "com_", "_m_sigma", jack.com_sigma);
     if (c.pickup_s >= 0.0) f.params["picked_up_at_s"] = c.pickup_s;
     text << "payload on the last link: " << m << " +/- " << jack.mass_sigma << " kg, centre of mass (" << com.x() << ", " << com.y()
          << ", " << com.z() << ") m in its frame";
@@ -638,9 +641,7 @@ Finding cause_finding(const ArmCandidate& c, double m, const Eigen::Vector3d& h,
     f.params["link"] = c.link;
     f.params["mass_kg_sigma"] = jack.mass_sigma;
     f.params["delta_mass_kg"] = m;
-    f.params["delta_first_moment_x_kg_m"] = h.x();
-    f.params["delta_first_moment_y_kg_m"] = h.y();
-    f.params["delta_first_moment_z_kg_m"] = h.z();
+    put_xyz(f, "delta_first_moment_", "_kg_m", h);
     text << "link " << c.link << "'s mass off by " << m << " kg, its first moment by (" << h.x() << ", " << h.y() << ", " << h.z()
          << ") kg·m";
   }
