@@ -28,6 +28,8 @@ Command add_bench(CLI::App& app);
 Command add_node(CLI::App& app);
 Command add_plant(CLI::App& app);
 Command add_decode(CLI::App& app);
+/// The effect catalogue (cli/effects.cpp).
+Command add_effects(CLI::App& app);
 /// identify, calibrate, replay and report in one command (cli/pipeline.cpp).
 Command add_pipeline(CLI::App& app);
 

@@ -243,10 +243,10 @@ int run_demo(const DemoOptions& options) {
   {
     const auto arm = diag::default_test_arm();
     const std::vector<diag::ConcealedCase> cases = {
-        {"payload", 3, 0.45, "partial", 910001ULL},
-        {"link_inertial_error", 2, 0.40, "low_amplitude", 910002ULL},
-        {"position_ripple", 2, 0.35, "mixed", 910003ULL},
-        {"none", 1, 0.0, "matched", 910004ULL}};
+        {robot::Effect::payload, 3, 0.45, "partial", 910001ULL},
+        {robot::Effect::link_inertial_error, 2, 0.40, "low_amplitude", 910002ULL},
+        {robot::Effect::position_ripple, 2, 0.35, "mixed", 910003ULL},
+        {robot::Effect::none, 1, 0.0, "matched", 910004ULL}};
     for (const auto& cc : cases) {
       const diag::CaseOutcome out = diag::run_case(cc, arm);
       std::string named;
@@ -254,7 +254,7 @@ int run_demo(const DemoOptions& options) {
       for (const auto& jd : out.joints) {
         for (const auto& f : jd.findings) named += (named.empty() ? "" : ", ") + ("joint " + std::to_string(jd.joint) + ": " + f.effect);
       }
-      const std::string what = cc.effect == "none" ? std::string("nothing (two runs of the same arm)")
+      const std::string what = cc.effect == robot::Effect::none ? std::string("nothing (two runs of the same arm)")
                                                     : cc.effect + " on joint " + std::to_string(cc.joint) + " (" + cc.concealment + ", " +
                                                           fmt("%.2f", cc.amplitude_nm) + " N·m)";
       html << "<tr><td>" << report::escape(what) << "</td><td>" << report::escape(named.empty() ? "nothing" : named) << "</td><td>"

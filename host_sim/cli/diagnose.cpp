@@ -357,7 +357,7 @@ void report_arm(const diag::ArmDiagnosis& arm_diag, nlohmann::json& j) {
   }
   for (const auto& f : arm_diag.findings) {
     j["arm"]["findings"].push_back(finding_json(f));
-    std::printf("arm: %s: %s\n", f.effect.c_str(), f.text.c_str());
+    std::printf("arm: %s: %s\n", robot::effect_cstr(f.effect), f.text.c_str());
   }
   if (arm_diag.findings.empty()) std::printf("arm: no payload or link mass error found\n");
 }
@@ -377,7 +377,7 @@ nlohmann::json joint_json(const diag::JointDiagnosis& d) {
                     {"noise_rms", d.noise_rms}, {"whiteness_ljung_box", d.whiteness_q}, {"whiteness_p", d.whiteness_p}};
   jj["findings"] = nlohmann::json::array();
   for (const auto& f : d.findings) jj["findings"].push_back(finding_json(f));
-  if (d.findings.empty()) jj["findings"].push_back({{"effect", "none"}, {"params", nlohmann::json::object()}, {"confidence", 1.0}});
+  if (d.findings.empty()) jj["findings"].push_back({{"effect", robot::Effect::none}, {"params", nlohmann::json::object()}, {"confidence", 1.0}});
   jj["location"] = {{"segments", d.location.segments.size()}, {"dependence", d.location.dependence},
                     {"best_periods_per_rev", d.location.best_periods_per_rev}, {"lag_s", d.location.lag_s},
                     {"reversal_rms", d.location.reversal_rms}, {"elsewhere_rms", d.location.elsewhere_rms}};
@@ -404,7 +404,7 @@ void print_joint(const diag::JointDiagnosis& d) {
     return;
   }
   for (std::size_t i = 0; i < d.findings.size(); ++i) {
-    std::printf("%s%s: %s", i ? "; " : "missing ", d.findings[i].effect.c_str(), d.findings[i].text.c_str());
+    std::printf("%s%s: %s", i ? "; " : "missing ", robot::effect_cstr(d.findings[i].effect), d.findings[i].text.c_str());
   }
   std::printf("; RMS %.3f -> %.3f N·m on held-out data (noise %.3f)", d.heldout_rms_before, d.heldout_rms_after, d.noise_rms);
   if (unexplained > kUnexplainedOverNoise) std::printf("; %.1fx the noise remains unexplained", unexplained);

@@ -59,7 +59,7 @@ bool torque_constant_known(const InjectCliOptions& o) {
 
 void print_result(const inject::InjectRequest& r, const inject::InjectResult& res) {
   for (const auto& e : r.effects) {
-    std::printf("effect: %s on %s, coefficients", e.effect.c_str(), e.joint == 0 ? "the arm" : ("joint " + std::to_string(e.joint)).c_str());
+    std::printf("effect: %s on %s, coefficients", robot::effect_cstr(e.effect), e.joint == 0 ? "the arm" : ("joint " + std::to_string(e.joint)).c_str());
     for (const double b : e.coefficients) std::printf(" %.6g", b);
     std::printf("\n");
   }

@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
       jg::cli::add_evaluate(app),  jg::cli::add_replay(app),   jg::cli::add_diagnose(app),
       jg::cli::add_bench(app),     jg::cli::add_demo(app),     jg::cli::add_node(app),
       jg::cli::add_plant(app),    jg::cli::add_decode(app),   jg::cli::add_merge(app),
-      jg::cli::add_inject(app),   jg::cli::add_pipeline(app),
+      jg::cli::add_inject(app),   jg::cli::add_pipeline(app), jg::cli::add_effects(app),
   };
   try {
     app.parse(argc, argv);

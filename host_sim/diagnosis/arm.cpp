@@ -18,7 +18,7 @@ using Eigen::VectorXd;
 /// One arm-level candidate: shared columns per joint ([column][joint][sample]) and the
 /// nonlinear setting it was built for.
 struct ArmCandidate {
-  std::string effect;
+  robot::Effect effect = robot::Effect::none;
   std::vector<std::vector<std::vector<double>>> columns;
   int link = 0;            ///< 1-based link the cause belongs to
   int joint = 0;           ///< 1-based joint of a drive's cause (torque constant), 0: none
@@ -183,7 +183,7 @@ std::vector<JackknifedCause> jackknife_causes(const std::vector<const ArmCandida
 /// A payload the fit asks for but the robot's description rules out, as a report.
 Finding implausible_payload(double mass_kg, const Eigen::Vector3d& first_moment, double bound_kg, const std::string& why) {
   Finding f;
-  f.effect = "payload";
+  f.effect = robot::Effect::payload;
   f.params["mass_kg"] = mass_kg;
   f.params["bound_kg"] = bound_kg;
   const Eigen::Vector3d com = first_moment / mass_kg;
@@ -208,7 +208,7 @@ std::vector<ArmCandidate> payload_candidates(const std::vector<JointSignals>& js
   for (const bool on_axis : {false, true}) {
     for (int i = 0; i <= (picked_up ? 17 : 0); ++i) {
       ArmCandidate c;
-      c.effect = "payload";
+      c.effect = robot::Effect::payload;
       c.link = static_cast<int>(js.size());
       if (i > 0) {
         c.pickup_s = t0 + span * (0.05 + 0.05 * i);
@@ -237,7 +237,7 @@ std::vector<ArmCandidate> payload_candidates(const std::vector<JointSignals>& js
 /// payload), from the nominal model's sensitivities over the recorded motion.
 ArmCandidate link_candidate(const std::vector<JointSignals>& js, const sim::ArmDynamics& arm, int link) {
   ArmCandidate c;
-  c.effect = "link_inertial_error";
+  c.effect = robot::Effect::link_inertial_error;
   c.link = link + 1;
   const std::size_t n = js.front().size(), nj = js.size();
   c.columns.assign(4, std::vector<std::vector<double>>(nj, std::vector<double>(n, 0.0)));
@@ -263,7 +263,7 @@ ArmCandidate link_candidate(const std::vector<JointSignals>& js, const sim::ArmD
 /// the rigid-body refit: afterwards the refit's base parameters have taken most of it.
 ArmCandidate torque_constant_candidate(const std::vector<JointSignals>& js, std::size_t j) {
   ArmCandidate c;
-  c.effect = "torque_constant";
+  c.effect = robot::Effect::torque_constant;
   c.joint = js[j].joint;
   c.columns.assign(1, std::vector<std::vector<double>>(js.size(), std::vector<double>(js[j].size(), 0.0)));
   c.columns[0][j] = js[j].tau_model;
@@ -272,8 +272,8 @@ ArmCandidate torque_constant_candidate(const std::vector<JointSignals>& js, std:
 
 /// What a cause is called in notes: "payload", "link 3 mass error", "joint 2 torque constant".
 std::string cause_label(const ArmCandidate& c) {
-  if (c.effect == "payload") return c.zeroed_columns > 0 ? "payload (centred)" : "payload";
-  if (c.effect == "torque_constant") return "joint " + std::to_string(c.joint) + " torque constant";
+  if (c.effect == robot::Effect::payload) return c.zeroed_columns > 0 ? "payload (centred)" : "payload";
+  if (c.effect == robot::Effect::torque_constant) return "joint " + std::to_string(c.joint) + " torque constant";
   return "link " + std::to_string(c.link) + " mass error";
 }
 
@@ -453,31 +453,31 @@ std::string implausible_cause(const Judge& jd, const ArmCandidate& c, double mas
   const ArmDiagnosisOptions& o = jd.o;
   std::ostringstream why;
   why.precision(3);
-  if (c.effect == "torque_constant") {  // `mass` holds the drive's scale error k
+  if (c.effect == robot::Effect::torque_constant) {  // `mass` holds the drive's scale error k
     if (std::fabs(mass) <= o.max_torque_constant_error) return {};
     why << cause_label(c) << " off by " << 100.0 * mass << " %, beyond the +/-" << 100.0 * o.max_torque_constant_error
         << " % a drive's constant is known to: implausible, not claimed; an unexplained mismatch of that size";
     Finding f;
-    f.effect = "torque_constant";
+    f.effect = robot::Effect::torque_constant;
     f.params["joint"] = c.joint;
     f.params["scale_error"] = mass;
     f.params["bound"] = o.max_torque_constant_error;
     f.text = why.str();
     // One drive, one report: the same joint's constant rejected again beside another cause adds nothing.
     const bool known = std::any_of(d.unexplained.begin(), d.unexplained.end(), [&](const Finding& u) {
-      return u.effect == "torque_constant" && u.params.count("joint") != 0 && u.params.at("joint") == c.joint;
+      return u.effect == robot::Effect::torque_constant && u.params.count("joint") != 0 && u.params.at("joint") == c.joint;
     });
     if (!known) d.unexplained.push_back(f);
-  } else if (c.effect == "payload" && !(mass > o.min_mass_kg)) {
+  } else if (c.effect == robot::Effect::payload && !(mass > o.min_mass_kg)) {
     why << "payload fit gives a mass of " << mass << " kg (must be positive): not claimed";
-  } else if (c.effect == "payload" && mass > jd.bound.kg) {
+  } else if (c.effect == robot::Effect::payload && mass > jd.bound.kg) {
     why << "payload fit gives " << mass << " kg, above " << jd.bound.name << " (" << jd.bound.kg
         << " kg): implausible, not claimed; an unexplained mismatch of that size";
     if (d.unexplained.empty()) d.unexplained.push_back(implausible_payload(mass, first, jd.bound.kg, why.str()));
-  } else if (c.effect == "payload" && first.norm() > o.com_bound_m * mass) {
+  } else if (c.effect == robot::Effect::payload && first.norm() > o.com_bound_m * mass) {
     why << "payload fit puts its centre of mass " << first.norm() / mass << " m from the last link's origin (bound "
         << o.com_bound_m << " m): not claimed";
-  } else if (c.effect != "payload" && jd.arm != nullptr) {
+  } else if (c.effect != robot::Effect::payload && jd.arm != nullptr) {
     const double m0 = jd.arm->link(c.link - 1).mass;
     if (std::fabs(mass) > o.max_link_mass_share * m0 || first.norm() > o.max_link_mass_share * m0 * o.com_bound_m) {
       why << cause_label(c) << " of " << mass << " kg (first moment " << first.norm() << " kg·m) beyond "
@@ -518,7 +518,7 @@ std::string payload_on_one_joint(const Judge& jd, const Subset& sub, const std::
   Eigen::Index at = 0;
   for (const auto* c : sub.cs) {
     const auto p = static_cast<Eigen::Index>(c->columns.size());
-    if (c->effect == "payload" && js.size() >= 2) {
+    if (c->effect == robot::Effect::payload && js.size() >= 2) {
       std::vector<double> load(js.size(), 0.0);
       for (std::size_t j = 0; j < js.size(); ++j) {
         double acc = 0.0;
@@ -613,7 +613,7 @@ Finding cause_finding(const ArmCandidate& c, double m, const Eigen::Vector3d& h,
   f.null_z = jack.z;
   std::ostringstream text;
   text.precision(3);
-  if (c.effect == "torque_constant") {
+  if (c.effect == robot::Effect::torque_constant) {
     // tau_measured = (1 + k) tau_true (as the per-joint effect): true K_I = file's / (1 + k).
     f.params["joint"] = c.joint;
     f.params["scale_error"] = m;
@@ -621,7 +621,7 @@ Finding cause_finding(const ArmCandidate& c, double m, const Eigen::Vector3d& h,
     f.params["torque_constant_ratio"] = 1.0 / (1.0 + m);
     text << "joint " << c.joint << "'s torque constant: the measured torque is " << 100.0 * m << " +/- " << 100.0 * jack.mass_sigma
          << " % off the robot file's (true K_I = file's x " << 1.0 / (1.0 + m) << ")";
-  } else if (c.effect == "payload") {
+  } else if (c.effect == robot::Effect::payload) {
     const Eigen::Vector3d com = h / m;
     f.params["link"] = c.link;
     f.params["mass_kg_sigma"] = jack.mass_sigma;
@@ -672,7 +672,7 @@ void report_causes(const ArmProblem& p, const std::vector<const ArmCandidate*>& 
     f.confidence = 1.0 / (1.0 + std::exp(-(f.delta_bic - o.joint.min_delta_bic) / 10.0));
     FittedEffect fe;
     fe.effect = c.effect;
-    fe.setting[c.effect == "torque_constant" ? "joint" : "link"] = c.effect == "torque_constant" ? c.joint : c.link;
+    fe.setting[c.effect == robot::Effect::torque_constant ? "joint" : "link"] = c.effect == robot::Effect::torque_constant ? c.joint : c.link;
     if (c.pickup_s >= 0.0) fe.setting["picked_up_at_s"] = c.pickup_s;
     for (Eigen::Index i = 0; i < np; ++i) fe.coefficients.push_back(ba(at + i));
     std::ostringstream text;
@@ -749,7 +749,7 @@ std::vector<std::vector<double>> predict_arm_causes(const std::vector<FittedEffe
       return it == m.setting.end() ? fallback : it->second;
     };
     ArmCandidate c;
-    if (m.effect == "payload") {
+    if (m.effect == robot::Effect::payload) {
       for (const auto& s : js) {
         if (s.payload_columns.size() < 4) throw std::invalid_argument("a payload cannot be predicted without the model's payload columns");
       }
@@ -763,12 +763,12 @@ std::vector<std::vector<double>> predict_arm_causes(const std::vector<FittedEffe
           for (std::size_t k = 0; k < per_joint[j].size(); ++k) per_joint[j][k] = js[j].t[k] >= pickup_s ? per_joint[j][k] : 0.0;
         }
       }
-    } else if (m.effect == "torque_constant") {
+    } else if (m.effect == robot::Effect::torque_constant) {
       const auto joint = static_cast<int>(at("joint", 0.0));
       const auto it = std::find_if(js.begin(), js.end(), [&](const JointSignals& s) { return s.joint == joint; });
       if (it == js.end()) throw std::invalid_argument("torque_constant: no joint " + std::to_string(joint) + " in the signals");
       c = torque_constant_candidate(js, static_cast<std::size_t>(it - js.begin()));
-    } else if (m.effect == "link_inertial_error") {
+    } else if (m.effect == robot::Effect::link_inertial_error) {
       if (arm == nullptr) throw std::invalid_argument("a link's mass error cannot be predicted without the arm's model");
       c = link_candidate(js, *arm, static_cast<int>(at("link", 1.0)) - 1);
     } else {

@@ -29,10 +29,10 @@ std::vector<JointSignals> slice_signals(const std::vector<JointSignals>& joints,
 struct CrossMotionJoint {
   int joint = 1;
   double rms_before = 0.0, rms_after_arm = 0.0, rms_after = 0.0;
-  std::vector<std::string> effects;  ///< the joint's effects selected on the other recordings
+  std::vector<robot::Effect> effects;  ///< the joint's effects selected on the other recordings
   /// Those of `effects` without which the left-out recording's RMS is lower by more than
   /// kCrossMotionWorseShare: fitted on the others, they make this one worse.
-  std::vector<std::string> worse_effects;
+  std::vector<robot::Effect> worse_effects;
 };
 
 struct CrossMotionFold {
@@ -60,7 +60,7 @@ inline constexpr double kCrossMotionWorseShare = 0.01;
 /// A joint's effect that, fitted on the other recordings, made some left-out recording worse.
 struct NotTransferring {
   int joint = 1;
-  std::string effect;
+  robot::Effect effect = robot::Effect::none;
   std::string why;
 };
 

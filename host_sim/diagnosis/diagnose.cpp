@@ -48,7 +48,7 @@ VectorXd solve(const MatrixXd& X, const VectorXd& y) {
 /// Prior cost (BIC units) of explaining a residual by an effect. A scale error of the
 /// current-to-torque conversion reproduces a friction-level error wherever the modelled
 /// torque is mostly friction; it is the rarer cause, so it must fit clearly better.
-double prior_cost(const std::string& effect) { return effect == "torque_constant" ? 15.0 : 0.0; }
+double prior_cost(robot::Effect effect) { return effect == robot::Effect::torque_constant ? 15.0 : 0.0; }
 
 double rms(const VectorXd& e) { return e.size() ? std::sqrt(e.squaredNorm() / static_cast<double>(e.size())) : 0.0; }
 
@@ -199,13 +199,13 @@ void deflection_channel(const JointSignals& s, const Split& split, const Diagnos
   const double tau_rms = std::sqrt(tau_ms / static_cast<double>(n));
   if (!(tau_rms > 0.0)) return;
   struct Group {
-    std::string effect;
+    robot::Effect effect = robot::Effect::none;
     std::vector<std::pair<double, std::vector<double>>> instances;  // (setting, column)
   };
   std::vector<Group> groups(2);
-  groups[0].effect = "joint_elasticity";
+  groups[0].effect = robot::Effect::joint_elasticity;
   groups[0].instances.push_back({0.0, torque});
-  groups[1].effect = "backlash";
+  groups[1].effect = robot::Effect::backlash;
   // Backlash is only observable where the gear torque changes sign: both signs must be
   // held for a fair share of the recording.
   std::size_t positive = 0;
@@ -284,8 +284,8 @@ void deflection_channel(const JointSignals& s, const Split& split, const Diagnos
       d.notes.push_back(g.effect + " fits the deflection but moves it by less than its noise: not claimed");
       continue;
     }
-    if (g.effect == "joint_elasticity" && coef <= 0.0) continue;  // a spring deflects with the load
-    if (g.effect == "backlash" && coef <= 0.0) continue;
+    if (g.effect == robot::Effect::joint_elasticity && coef <= 0.0) continue;  // a spring deflects with the load
+    if (g.effect == robot::Effect::backlash && coef <= 0.0) continue;
     auto without = cols;
     without.erase(without.begin() + static_cast<std::ptrdiff_t>(2 + c));
     const MatrixXd Xw = rows_of(without, all_rows);
@@ -295,7 +295,7 @@ void deflection_channel(const JointSignals& s, const Split& split, const Diagnos
     f.confidence = 1.0 / (1.0 + std::exp(-(f.delta_bic - o.min_delta_bic) / 10.0));
     std::ostringstream os;
     os.precision(3);
-    if (g.effect == "joint_elasticity") {
+    if (g.effect == robot::Effect::joint_elasticity) {
       f.params["stiffness_nm_per_rad"] = 1.0 / coef;
       os << "joint elasticity: the gear deflects with the load, stiffness ~" << 1.0 / coef << " N·m/rad";
     } else {
@@ -376,159 +376,198 @@ std::vector<bool> heldout_mask(std::size_t n, const DiagnoseOptions& o) {
   return held;
 }
 
-JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
+namespace {
+// diagnose_joint's stages: the problem (signals, split, candidate groups), a forward
+// selection, replacement steps, the plausibility and null checks of what was chosen, the
+// final fit on all samples and the findings merged per effect.
+
+void check_signals(const JointSignals& s) {
   const std::size_t n = s.size();
   if (n < 200) throw std::invalid_argument("joint " + std::to_string(s.joint) + ": too few samples to diagnose (" + std::to_string(n) + ", need 200)");
   for (const auto* v : {&s.q, &s.dq, &s.ddq, &s.tau_real, &s.tau_model, &s.residual}) {
     if (v->size() != n) throw std::invalid_argument("diagnose: signals of different lengths");
     for (const double x : *v) if (!std::isfinite(x)) throw std::invalid_argument("joint " + std::to_string(s.joint) + ": non-finite value in the signals");
   }
-  JointDiagnosis d;
-  d.joint = s.joint;
-  d.noise_rms = noise_level(s.residual);
-  d.location = locate(s, d.noise_rms);
-  const Split split = make_split(n, o);
-  const VectorXd y_train = vec_of(s.residual, split.train), y_test = vec_of(s.residual, split.test);
-  auto all_candidates = build_candidates(s);
-  // Effects ruled out beforehand (they did not transfer between recordings: cross_motion.hpp).
-  all_candidates.erase(std::remove_if(all_candidates.begin(), all_candidates.end(),
-                                      [&](const std::vector<Candidate>& g) {
-                                        return !g.empty() && std::find(o.excluded_effects.begin(), o.excluded_effects.end(),
-                                                                       g.front().effect) != o.excluded_effects.end();
-                                      }),
-                       all_candidates.end());
-  // The gear-deflection channel first: what it finds also shows in the torque as the
-  // rotor's acceleration relative to the link (J_rotor d²(deflection)/dt²), a candidate
-  // under the same name.
+}
+
+/// One joint's selection problem: its signals, the train/held-out split and the candidate
+/// groups (one group per effect, its instances the settings of its nonlinear parameter).
+struct JointProblem {
+  const JointSignals& s;
+  const DiagnoseOptions& o;
+  Split split;
+  VectorXd y_train, y_test;
+  std::vector<std::vector<Candidate>> groups;
+};
+
+using Chosen = std::vector<const Candidate*>;
+
+std::vector<const std::vector<double>*> columns_of(const Chosen& cs) {
+  std::vector<const std::vector<double>*> cols;
+  for (const auto* c : cs) for (const auto& col : c->columns) cols.push_back(&col);
+  return cols;
+}
+
+int param_count(const Chosen& cs) {
+  int k = 0;
+  for (const auto* c : cs) k += static_cast<int>(c->columns.size()) + c->nonlinear_params;
+  return k;
+}
+
+double heldout_rms(const JointProblem& p, const Chosen& cs) {
+  const auto cols = columns_of(cs);
+  if (cols.empty()) return rms(p.y_test);
+  const VectorXd b = solve(rows_of(cols, p.split.train), p.y_train);
+  return rms(p.y_test - rows_of(cols, p.split.test) * b);
+}
+
+/// The candidate groups the joint is offered: the library's, without those ruled out
+/// beforehand (they did not transfer between recordings: cross_motion.hpp), and, when the
+/// gear-deflection channel found something, its torque side (the rotor's acceleration
+/// relative to the link, J_rotor d²(deflection)/dt²) under the same name. The deflection
+/// channel's findings go into `d` first.
+std::vector<std::vector<Candidate>> joint_candidates(const JointSignals& s, const Split& split, const DiagnoseOptions& o,
+                                                     JointDiagnosis& d) {
+  auto groups = build_candidates(s);
+  groups.erase(std::remove_if(groups.begin(), groups.end(),
+                              [&](const std::vector<Candidate>& g) {
+                                return !g.empty() && std::find(o.excluded_effects.begin(), o.excluded_effects.end(),
+                                                               g.front().effect) != o.excluded_effects.end();
+                              }),
+               groups.end());
   deflection_channel(s, split, o, d);
   if (!d.findings.empty()) {
     const auto strongest = std::max_element(d.findings.begin(), d.findings.end(),
                                             [](const Finding& a, const Finding& b) { return a.delta_bic < b.delta_bic; });
-    all_candidates.push_back({make_candidate(strongest->effect, {{"rotor_acceleration", 1.0}}, s)});
+    groups.push_back({make_candidate(strongest->effect, {{"rotor_acceleration", 1.0}}, s)});
   }
+  return groups;
+}
 
-  auto columns_of = [](const std::vector<const Candidate*>& cs) {
-    std::vector<const std::vector<double>*> cols;
-    for (const auto* c : cs) for (const auto& col : c->columns) cols.push_back(&col);
-    return cols;
-  };
-  auto param_count = [](const std::vector<const Candidate*>& cs) {
-    int k = 0;
-    for (const auto* c : cs) k += static_cast<int>(c->columns.size()) + c->nonlinear_params;
-    return k;
-  };
-  auto heldout_rms = [&](const std::vector<const Candidate*>& cs) {
-    const auto cols = columns_of(cs);
-    if (cols.empty()) return rms(y_test);
-    const VectorXd b = solve(rows_of(cols, split.train), y_train);
-    return rms(y_test - rows_of(cols, split.test) * b);
-  };
-  const bool trace = o.trace;
-  // One forward selection (groups in `excluded` not offered): effects added one at a time
-  // by the information criterion, each confirmed on the held-out blocks.
-  struct Selection {
-    std::vector<const Candidate*> chosen;
-    std::vector<std::size_t> groups;  ///< group of each chosen candidate
-    double heldout = 0.0;
-    double score = 0.0;  ///< BIC on the training blocks plus the chosen effects' prior costs
-    std::vector<std::string> notes;
-  };
-  auto forward = [&](const std::vector<bool>& excluded) {
-    Selection sel;
-    std::vector<bool> used(all_candidates.size(), false), rejected(excluded);
-    double current_bic = bic(y_train.squaredNorm(), split.train.size(), 0);
-    double prior = 0.0;
-    sel.heldout = rms(y_test);
-    auto& chosen = sel.chosen;
-    while (static_cast<int>(chosen.size()) < o.max_effects) {
-      // Orthonormal basis of the chosen columns (train rows): candidates are judged on
-      // what they add beyond them (Frisch-Waugh).
-      const MatrixXd Xs = rows_of(columns_of(chosen), split.train);
-      MatrixXd Q;
-      if (Xs.cols() > 0) {
-        Eigen::HouseholderQR<MatrixXd> qr(Xs);
-        Q = qr.householderQ() * MatrixXd::Identity(Xs.rows(), Xs.cols());
-      }
-      const VectorXd r_s = Xs.cols() > 0 ? VectorXd(y_train - Q * (Q.transpose() * y_train)) : y_train;
-      double best_delta = 0.0, implausible_delta = 0.0;
-      std::string implausible_note;
-      std::size_t best_group = all_candidates.size();
-      const Candidate* best_cand = nullptr;
-      for (std::size_t g = 0; g < all_candidates.size(); ++g) {
-        if (used[g] || rejected[g]) continue;
-        for (const auto& cand : all_candidates[g]) {
-          std::vector<const std::vector<double>*> cols;
-          for (const auto& col : cand.columns) cols.push_back(&col);
-          MatrixXd Xc = rows_of(cols, split.train);
-          const double raw_norm = Xc.norm();
-          if (Q.cols() > 0) Xc -= Q * (Q.transpose() * Xc);
-          // An effect mostly explained by those already chosen (variance inflation > 50)
-          // cannot be told apart from them on these data: it is not a candidate.
-          if (Xc.norm() < 1e-9 || Xc.norm() < o.min_independence * raw_norm) continue;
-          const VectorXd b = Xc.colPivHouseholderQr().solve(r_s);
-          // These are the candidate's coefficients in the joint fit (Frisch-Waugh):
-          // physically implausible values are not a candidate.
-          const std::string why = implausible(cand, std::vector<double>(b.data(), b.data() + b.size()), s);
-          const double rss = (r_s - Xc * b).squaredNorm();
-          const int k = param_count(chosen) + static_cast<int>(cand.columns.size()) + cand.nonlinear_params;
-          const double delta = bic(rss, split.train.size(), k) + prior_cost(cand.effect) - current_bic;
-          if (!why.empty()) {
-            if (trace) std::fprintf(stderr, "  j%d %s implausible: %s\n", s.joint, cand.effect.c_str(), why.c_str());
-            if (delta < implausible_delta) {
-              implausible_delta = delta;
-              implausible_note = cand.effect + " would fit (BIC " + std::to_string(static_cast<int>(delta)) +
-                                 ") but is not physically plausible: " + why + "; not claimed";
-            }
-            continue;
-          }
-          if (delta < best_delta) {
-            best_delta = delta;
-            best_group = g;
-            best_cand = &cand;
-          }
+/// One forward selection's state and result.
+struct Selection {
+  Chosen chosen;
+  std::vector<std::size_t> groups;  ///< group of each chosen candidate
+  double heldout = 0.0;
+  double score = 0.0;  ///< BIC on the training blocks plus the chosen effects' prior costs
+  std::vector<std::string> notes;
+};
+
+/// The best candidate to add to `chosen` by the information criterion, judged on what it
+/// adds beyond the chosen columns (Frisch-Waugh), and the best implausible one (for a note).
+struct Addition {
+  double delta = 0.0, implausible_delta = 0.0;
+  std::string implausible_note;
+  std::size_t group = 0;
+  const Candidate* candidate = nullptr;
+};
+
+Addition best_addition(const JointProblem& p, const Chosen& chosen, const std::vector<bool>& skip, double current_bic) {
+  const JointSignals& s = p.s;
+  const DiagnoseOptions& o = p.o;
+  // Orthonormal basis of the chosen columns (train rows).
+  const MatrixXd Xs = rows_of(columns_of(chosen), p.split.train);
+  MatrixXd Q;
+  if (Xs.cols() > 0) {
+    Eigen::HouseholderQR<MatrixXd> qr(Xs);
+    Q = qr.householderQ() * MatrixXd::Identity(Xs.rows(), Xs.cols());
+  }
+  const VectorXd r_s = Xs.cols() > 0 ? VectorXd(p.y_train - Q * (Q.transpose() * p.y_train)) : p.y_train;
+  Addition best;
+  best.group = p.groups.size();
+  for (std::size_t g = 0; g < p.groups.size(); ++g) {
+    if (skip[g]) continue;
+    for (const auto& cand : p.groups[g]) {
+      std::vector<const std::vector<double>*> cols;
+      for (const auto& col : cand.columns) cols.push_back(&col);
+      MatrixXd Xc = rows_of(cols, p.split.train);
+      const double raw_norm = Xc.norm();
+      if (Q.cols() > 0) Xc -= Q * (Q.transpose() * Xc);
+      // An effect mostly explained by those already chosen (variance inflation > 50)
+      // cannot be told apart from them on these data: it is not a candidate.
+      if (Xc.norm() < 1e-9 || Xc.norm() < o.min_independence * raw_norm) continue;
+      const VectorXd b = Xc.colPivHouseholderQr().solve(r_s);
+      // These are the candidate's coefficients in the joint fit (Frisch-Waugh):
+      // physically implausible values are not a candidate.
+      const std::string why = implausible(cand, std::vector<double>(b.data(), b.data() + b.size()), s);
+      const double rss = (r_s - Xc * b).squaredNorm();
+      const int k = param_count(chosen) + static_cast<int>(cand.columns.size()) + cand.nonlinear_params;
+      const double delta = bic(rss, p.split.train.size(), k) + prior_cost(cand.effect) - current_bic;
+      if (!why.empty()) {
+        if (o.trace) std::fprintf(stderr, "  j%d %s implausible: %s\n", s.joint, robot::effect_cstr(cand.effect), why.c_str());
+        if (delta < best.implausible_delta) {
+          best.implausible_delta = delta;
+          best.implausible_note = cand.effect + " would fit (BIC " + std::to_string(static_cast<int>(delta)) +
+                                  ") but is not physically plausible: " + why + "; not claimed";
         }
-      }
-      if (implausible_delta < std::min(best_delta, -o.min_delta_bic) &&
-          std::find(sel.notes.begin(), sel.notes.end(), implausible_note) == sel.notes.end()) {
-        sel.notes.push_back(implausible_note);
-      }
-      if (best_cand == nullptr || best_delta > -o.min_delta_bic) break;
-      std::vector<const Candidate*> trial = chosen;
-      trial.push_back(best_cand);
-      const double h = heldout_rms(trial);
-      if (trace) std::fprintf(stderr, "  j%d -> %s dBIC %.1f held-out %.4f -> %.4f\n", s.joint, best_cand->effect.c_str(), best_delta, sel.heldout, h);
-      if (h > sel.heldout * (1.0 - o.min_heldout_gain)) {
-        rejected[best_group] = true;  // fits the training blocks only: not claimed
-        sel.notes.push_back(best_cand->effect + " improved the training fit but not the held-out blocks: not claimed");
         continue;
       }
-      chosen = trial;
-      sel.groups.push_back(best_group);
-      used[best_group] = true;
-      sel.heldout = h;
-      prior += prior_cost(best_cand->effect);
-      const VectorXd b = solve(rows_of(columns_of(chosen), split.train), y_train);
-      current_bic = bic((y_train - rows_of(columns_of(chosen), split.train) * b).squaredNorm(), split.train.size(), param_count(chosen));
+      if (delta < best.delta) {
+        best.delta = delta;
+        best.group = g;
+        best.candidate = &cand;
+      }
     }
-    sel.score = current_bic + prior;
-    return sel;
-  };
-  d.heldout_rms_before = rms(y_test);
-  // Greedy forward selection can lock in a single effect that imitates two (a torque-
-  // constant error imitating a payload plus a friction-level change): replacement steps
-  // rerun the selection without each chosen effect in turn and keep the alternative when
-  // it scores better by the same criterion (BIC plus prior costs), is no worse on the
-  // held-out blocks and has at most one effect more.
-  Selection sel = forward(std::vector<bool>(all_candidates.size(), false));
-  std::vector<bool> excluded(all_candidates.size(), false);
+  }
+  return best;
+}
+
+/// One forward selection (groups in `excluded` not offered): effects added one at a time
+/// by the information criterion, each confirmed on the held-out blocks.
+Selection forward_selection(const JointProblem& p, const std::vector<bool>& excluded) {
+  const DiagnoseOptions& o = p.o;
+  Selection sel;
+  std::vector<bool> used(p.groups.size(), false), rejected(excluded);
+  double current_bic = bic(p.y_train.squaredNorm(), p.split.train.size(), 0);
+  double prior = 0.0;
+  sel.heldout = rms(p.y_test);
+  auto& chosen = sel.chosen;
+  while (static_cast<int>(chosen.size()) < o.max_effects) {
+    std::vector<bool> skip(p.groups.size());
+    for (std::size_t g = 0; g < skip.size(); ++g) skip[g] = used[g] || rejected[g];
+    const Addition best = best_addition(p, chosen, skip, current_bic);
+    if (best.implausible_delta < std::min(best.delta, -o.min_delta_bic) &&
+        std::find(sel.notes.begin(), sel.notes.end(), best.implausible_note) == sel.notes.end()) {
+      sel.notes.push_back(best.implausible_note);
+    }
+    if (best.candidate == nullptr || best.delta > -o.min_delta_bic) break;
+    Chosen trial = chosen;
+    trial.push_back(best.candidate);
+    const double h = heldout_rms(p, trial);
+    if (o.trace) std::fprintf(stderr, "  j%d -> %s dBIC %.1f held-out %.4f -> %.4f\n", p.s.joint, robot::effect_cstr(best.candidate->effect), best.delta, sel.heldout, h);
+    if (h > sel.heldout * (1.0 - o.min_heldout_gain)) {
+      rejected[best.group] = true;  // fits the training blocks only: not claimed
+      sel.notes.push_back(best.candidate->effect + " improved the training fit but not the held-out blocks: not claimed");
+      continue;
+    }
+    chosen = trial;
+    sel.groups.push_back(best.group);
+    used[best.group] = true;
+    sel.heldout = h;
+    prior += prior_cost(best.candidate->effect);
+    const VectorXd b = solve(rows_of(columns_of(chosen), p.split.train), p.y_train);
+    current_bic = bic((p.y_train - rows_of(columns_of(chosen), p.split.train) * b).squaredNorm(), p.split.train.size(), param_count(chosen));
+  }
+  sel.score = current_bic + prior;
+  return sel;
+}
+
+/// Greedy forward selection can lock in a single effect that imitates two (a torque-
+/// constant error imitating a payload plus a friction-level change): replacement steps
+/// rerun the selection without each chosen effect in turn and keep the alternative when it
+/// scores better by the same criterion (BIC plus prior costs), is no worse on the held-out
+/// blocks and has at most one effect more.
+Selection with_replacements(const JointProblem& p, Selection sel) {
+  const DiagnoseOptions& o = p.o;
+  std::vector<bool> excluded(p.groups.size(), false);
   for (int pass = 0; pass < o.replacement_passes; ++pass) {
     bool improved = false;
     for (const std::size_t g : sel.groups) {
       auto ex = excluded;
       ex[g] = true;
-      if (trace) std::fprintf(stderr, "  j%d replacement: without %s\n", s.joint, all_candidates[g].front().effect.c_str());
-      Selection alt = forward(ex);
-      if (trace) std::fprintf(stderr, "  j%d   score %.1f vs %.1f, held-out %.4f vs %.4f\n", s.joint, alt.score, sel.score, alt.heldout, sel.heldout);
+      if (o.trace) std::fprintf(stderr, "  j%d replacement: without %s\n", p.s.joint, robot::effect_cstr(p.groups[g].front().effect));
+      Selection alt = forward_selection(p, ex);
+      if (o.trace) std::fprintf(stderr, "  j%d   score %.1f vs %.1f, held-out %.4f vs %.4f\n", p.s.joint, alt.score, sel.score, alt.heldout, sel.heldout);
       // A replacement exchanges one effect for at most two (what one effect imitating two
       // needs); a wholesale rearrangement into many small effects is not a replacement.
       if (alt.score < sel.score && alt.heldout <= sel.heldout * (1.0 + o.min_heldout_gain) &&
@@ -541,43 +580,47 @@ JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
     }
     if (!improved) break;
   }
-  std::vector<const Candidate*> chosen = sel.chosen;
-  for (auto& note : sel.notes) d.notes.push_back(std::move(note));
-  d.heldout_rms_after = sel.heldout;
-  // Final fit on all samples, ranking by the evidence each effect carries.
-  std::vector<std::size_t> all_rows(n);
-  std::iota(all_rows.begin(), all_rows.end(), 0U);
-  const VectorXd y = vec_of(s.residual, all_rows);
-  // Jointly fitted, an effect's coefficients move from those it was chosen with: one that
-  // ends up implausible there is not claimed either (dropped, the rest refitted).
+  return sel;
+}
+
+std::vector<std::size_t> all_rows_of(std::size_t n) {
+  std::vector<std::size_t> rows(n);
+  std::iota(rows.begin(), rows.end(), 0U);
+  return rows;
+}
+
+/// Jointly fitted, an effect's coefficients move from those it was chosen with: one that
+/// ends up implausible there is not claimed either (dropped, the rest refitted).
+void drop_implausible_jointly(const JointProblem& p, const VectorXd& y, Chosen& chosen, JointDiagnosis& d) {
+  const auto all_rows = all_rows_of(p.s.size());
   for (bool dropped = true; dropped && !chosen.empty();) {
     dropped = false;
     const VectorXd b = solve(rows_of(columns_of(chosen), all_rows), y);
     Eigen::Index at = 0;
     for (std::size_t i = 0; i < chosen.size() && !dropped; ++i) {
       const auto m = static_cast<Eigen::Index>(chosen[i]->columns.size());
-      const std::string why = implausible(*chosen[i], std::vector<double>(b.data() + at, b.data() + at + m), s);
+      const std::string why = implausible(*chosen[i], std::vector<double>(b.data() + at, b.data() + at + m), p.s);
       at += m;
       if (why.empty()) continue;
       d.notes.push_back(chosen[i]->effect + " fitted jointly with the others is not physically plausible: " + why + "; not claimed");
       chosen.erase(chosen.begin() + static_cast<std::ptrdiff_t>(i));
-      d.heldout_rms_after = heldout_rms(chosen);
+      d.heldout_rms_after = heldout_rms(p, chosen);
       dropped = true;
     }
   }
-  if (const std::string why = too_short_to_judge(s.t, o); !why.empty() && !chosen.empty()) {
-    d.notes.push_back(why);
-    chosen.clear();
-    d.heldout_rms_after = d.heldout_rms_before;
-  }
-  // Every claim must beat the recording's own block-to-block variation (the null): the
-  // weakest effect below it is dropped and the rest refitted, until all beat it.
+}
+
+/// Every claim must beat the recording's own block-to-block variation (the null): the
+/// weakest effect below it is dropped and the rest refitted, until all beat it. Returns
+/// each remaining effect's jackknife z.
+std::vector<double> drop_below_null(const JointProblem& p, Chosen& chosen, JointDiagnosis& d) {
+  const DiagnoseOptions& o = p.o;
   std::vector<double> null_z;
   for (bool dropped = true; dropped && !chosen.empty();) {
     dropped = false;
     std::vector<std::vector<const std::vector<double>*>> per_effect;
     for (const auto* c : chosen) per_effect.push_back(columns_of({c}));
-    null_z = block_jackknife_z(per_effect, s.residual, o.blocks);
+    null_z = block_jackknife_z(per_effect, p.s.residual, o.blocks);
     const auto weakest = static_cast<std::size_t>(std::min_element(null_z.begin(), null_z.end()) - null_z.begin());
     if (null_z[weakest] >= o.min_null_z) break;
     std::ostringstream why;
@@ -586,45 +629,57 @@ JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
         << null_z[weakest] << ", needs " << o.min_null_z << "): not claimed";
     d.notes.push_back(why.str());
     chosen.erase(chosen.begin() + static_cast<std::ptrdiff_t>(weakest));
-    d.heldout_rms_after = chosen.empty() ? d.heldout_rms_before : heldout_rms(chosen);
+    d.heldout_rms_after = chosen.empty() ? d.heldout_rms_before : heldout_rms(p, chosen);
     dropped = true;
   }
+  return null_z;
+}
+
+/// The final fit on all samples: the model, the fitted torque, and a finding per chosen
+/// effect ranked by the evidence it carries (the BIC lost without it).
+void final_fit(const JointProblem& p, const VectorXd& y, const Chosen& chosen, const std::vector<double>& null_z,
+               JointDiagnosis& d) {
+  const std::size_t n = p.s.size();
   d.rms_before = rms(y);
   d.fitted.assign(n, 0.0);
   if (chosen.empty()) {
     d.rms_after = d.rms_before;
-  } else {
-    const auto cols = columns_of(chosen);
-    const MatrixXd X = rows_of(cols, all_rows);
-    const VectorXd b = solve(X, y);
-    const VectorXd fit = X * b;
-    for (std::size_t k = 0; k < n; ++k) d.fitted[k] = fit(static_cast<Eigen::Index>(k));
-    d.rms_after = rms(y - fit);
-    const double full_bic = bic((y - fit).squaredNorm(), n, param_count(chosen));
-    Eigen::Index offset = 0;
-    for (std::size_t i = 0; i < chosen.size(); ++i) {
-      const Candidate& c = *chosen[i];
-      std::vector<double> coef;
-      for (std::size_t j = 0; j < c.columns.size(); ++j) coef.push_back(b(offset + static_cast<Eigen::Index>(j)));
-      offset += static_cast<Eigen::Index>(c.columns.size());
-      d.model.push_back({c.effect, c.setting, coef});
-      std::vector<const Candidate*> without = chosen;
-      without.erase(without.begin() + static_cast<std::ptrdiff_t>(i));
-      double rss_without = y.squaredNorm();
-      if (!without.empty()) {
-        const MatrixXd Xw = rows_of(columns_of(without), all_rows);
-        rss_without = (y - Xw * solve(Xw, y)).squaredNorm();
-      }
-      Finding f;
-      f.effect = c.effect;
-      f.delta_bic = bic(rss_without, n, param_count(without)) - full_bic;
-      f.confidence = 1.0 / (1.0 + std::exp(-(f.delta_bic - o.min_delta_bic) / 10.0));
-      f.params = describe(c, coef, s, f.text);
-      f.null_z = i < null_z.size() ? null_z[i] : 0.0;
-      d.findings.push_back(f);
-    }
+    return;
   }
-  // One finding per effect: the deflection and torque evidence of the same effect merged.
+  const auto all_rows = all_rows_of(n);
+  const MatrixXd X = rows_of(columns_of(chosen), all_rows);
+  const VectorXd b = solve(X, y);
+  const VectorXd fit = X * b;
+  for (std::size_t k = 0; k < n; ++k) d.fitted[k] = fit(static_cast<Eigen::Index>(k));
+  d.rms_after = rms(y - fit);
+  const double full_bic = bic((y - fit).squaredNorm(), n, param_count(chosen));
+  Eigen::Index offset = 0;
+  for (std::size_t i = 0; i < chosen.size(); ++i) {
+    const Candidate& c = *chosen[i];
+    std::vector<double> coef;
+    for (std::size_t j = 0; j < c.columns.size(); ++j) coef.push_back(b(offset + static_cast<Eigen::Index>(j)));
+    offset += static_cast<Eigen::Index>(c.columns.size());
+    d.model.push_back({c.effect, c.setting, coef});
+    Chosen without = chosen;
+    without.erase(without.begin() + static_cast<std::ptrdiff_t>(i));
+    double rss_without = y.squaredNorm();
+    if (!without.empty()) {
+      const MatrixXd Xw = rows_of(columns_of(without), all_rows);
+      rss_without = (y - Xw * solve(Xw, y)).squaredNorm();
+    }
+    Finding f;
+    f.effect = c.effect;
+    f.delta_bic = bic(rss_without, n, param_count(without)) - full_bic;
+    f.confidence = 1.0 / (1.0 + std::exp(-(f.delta_bic - p.o.min_delta_bic) / 10.0));
+    f.params = describe(c, coef, p.s, f.text);
+    f.null_z = i < null_z.size() ? null_z[i] : 0.0;
+    d.findings.push_back(f);
+  }
+}
+
+/// One finding per effect: the deflection and torque evidence of the same effect merged,
+/// strongest first.
+void merge_findings(const DiagnoseOptions& o, JointDiagnosis& d) {
   std::vector<Finding> merged;
   for (auto& f : d.findings) {
     auto it = std::find_if(merged.begin(), merged.end(), [&](const Finding& m) { return m.effect == f.effect; });
@@ -640,6 +695,35 @@ JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
   }
   d.findings = std::move(merged);
   std::sort(d.findings.begin(), d.findings.end(), [](const Finding& a, const Finding& b2) { return a.delta_bic > b2.delta_bic; });
+}
+}  // namespace
+
+JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
+  check_signals(s);
+  const std::size_t n = s.size();
+  JointDiagnosis d;
+  d.joint = s.joint;
+  d.noise_rms = noise_level(s.residual);
+  d.location = locate(s, d.noise_rms);
+  JointProblem p{s, o, make_split(n, o), {}, {}, {}};
+  p.y_train = vec_of(s.residual, p.split.train);
+  p.y_test = vec_of(s.residual, p.split.test);
+  p.groups = joint_candidates(s, p.split, o, d);
+  d.heldout_rms_before = rms(p.y_test);
+  Selection sel = with_replacements(p, forward_selection(p, std::vector<bool>(p.groups.size(), false)));
+  Chosen chosen = sel.chosen;
+  for (auto& note : sel.notes) d.notes.push_back(std::move(note));
+  d.heldout_rms_after = sel.heldout;
+  const VectorXd y = vec_of(s.residual, all_rows_of(n));
+  drop_implausible_jointly(p, y, chosen, d);
+  if (const std::string why = too_short_to_judge(s.t, o); !why.empty() && !chosen.empty()) {
+    d.notes.push_back(why);
+    chosen.clear();
+    d.heldout_rms_after = d.heldout_rms_before;
+  }
+  const std::vector<double> null_z = drop_below_null(p, chosen, d);
+  final_fit(p, y, chosen, null_z, d);
+  merge_findings(o, d);
   std::vector<double> final_residual(n);
   for (std::size_t k = 0; k < n; ++k) final_residual[k] = s.residual[k] - d.fitted[k];
   d.whiteness_q = ljung_box(final_residual, 20);

@@ -14,7 +14,7 @@
 namespace jg::diag {
 
 struct Finding {
-  std::string effect;
+  robot::Effect effect = robot::Effect::none;
   std::map<std::string, double> params;
   double confidence = 0.0;   ///< 0..1, from the evidence for keeping it (information criterion)
   double delta_bic = 0.0;    ///< BIC increase when it is removed from the final model
@@ -28,7 +28,7 @@ struct Finding {
 /// A selected effect with its setting and fitted coefficients: enough to predict it on
 /// other data of the same joint (predict_effects).
 struct FittedEffect {
-  std::string effect;
+  robot::Effect effect = robot::Effect::none;
   std::map<std::string, double> setting;
   std::vector<double> coefficients;
 };
@@ -81,7 +81,7 @@ struct DiagnoseOptions {
   /// variation (each of the blocks a fraction of a second): nothing is claimed, and it says so.
   double min_duration_s = 2.0;
   /// Effects not offered (e.g. they did not transfer between recordings of the same arm).
-  std::vector<std::string> excluded_effects;
+  std::vector<robot::Effect> excluded_effects;
   /// Each selection step to stderr (the caller decides: `diagnose --trace`); the algorithms
   /// read no environment. (The test-set bench's JG_DIAG_TRACE prints only its own lines.)
   bool trace = false;

@@ -75,7 +75,7 @@ double hyperbolic_dahl_step(double zeta, double dir, double dx_abs, double delta
 /// LuGre curve's Coulomb level and its static level, each raised on that side only (per N·m).
 Candidate one_sided_levels(const JointSignals& s, double side) {
   Candidate c;
-  c.effect = "asymmetric_friction";
+  c.effect = robot::Effect::asymmetric_friction;
   c.setting = {{"side", side}};
   c.nonlinear_params = 0;  // two instances (one per side), like the model-curve instances
   if (!s.friction) return c;
@@ -90,7 +90,7 @@ Candidate one_sided_levels(const JointSignals& s, double side) {
 }
 
 // The effect's columns as computed from the signals, without the start offset.
-Candidate raw_candidate(const std::string& effect, const std::map<std::string, double>& setting,
+Candidate raw_candidate(robot::Effect effect, const std::map<std::string, double>& setting,
                         const JointSignals& s) {
   const std::size_t n = s.size();
   const double band = velocity_band(s);
@@ -113,32 +113,32 @@ Candidate raw_candidate(const std::string& effect, const std::map<std::string, d
     c.columns.push_back(derivative(derivative(s.deflection, s.dt), s.dt));
     return c;
   }
-  if (effect == "coulomb" && setting.count("model_curve") != 0U) {
+  if (effect == robot::Effect::coulomb && setting.count("model_curve") != 0U) {
     // The model's Coulomb level raised alone: its static level and Stribeck curve kept.
     if (!s.friction) return c;
     c.nonlinear_params = 0;
     const double eps = 0.01 * std::max(s.friction->tau_c, 1e-3);
     col = lugre_change(s, [eps](LuGreParams<double>& p) { p.tau_c += eps; }, eps);
-  } else if (effect == "stribeck" && setting.count("model_curve") != 0U) {
+  } else if (effect == robot::Effect::stribeck && setting.count("model_curve") != 0U) {
     // The model's static (breakaway) level raised alone: its Coulomb level, Stribeck
     // velocity and bristles kept.
     if (!s.friction) return c;
     c.nonlinear_params = 0;
     const double eps = 0.01 * std::max(std::fabs(s.friction->tau_s), 1e-3);
     col = lugre_change(s, [eps](LuGreParams<double>& p) { p.tau_s += eps; }, eps);
-  } else if (effect == "presliding" && setting.count("sigma0_ratio") != 0U) {
+  } else if (effect == robot::Effect::presliding && setting.count("sigma0_ratio") != 0U) {
     // The model's bristles softer by this ratio: a longer presliding regime after reversals.
     if (!s.friction) return c;
     const double ratio = get("sigma0_ratio");
     col = lugre_change(s, [ratio](LuGreParams<double>& p) { p.sigma0 *= ratio; }, 1.0);
-  } else if (effect == "coulomb") {
+  } else if (effect == robot::Effect::coulomb) {
     for (std::size_t k = 0; k < n; ++k) col[k] = sgn(k);
-  } else if (effect == "viscous") {
+  } else if (effect == robot::Effect::viscous) {
     col = s.dq;
-  } else if (effect == "stribeck") {
+  } else if (effect == robot::Effect::stribeck) {
     const double ws = get("w_s");
     for (std::size_t k = 0; k < n; ++k) col[k] = sgn(k) * std::exp(-(s.dq[k] / ws) * (s.dq[k] / ws));
-  } else if (effect == "presliding") {
+  } else if (effect == robot::Effect::presliding) {
     // The bristles' smooth transition after a reversal: a Dahl state with characteristic
     // displacement delta, minus the sign it tends to. Its law: exponential (Dahl's
     // exponent 1, the default) or hyperbolic (`law` 2: a sharper onset, a longer tail).
@@ -155,9 +155,9 @@ Candidate raw_candidate(const std::string& effect, const std::map<std::string, d
       }
       col[k] = zeta - sgn(k);
     }
-  } else if (effect == "asymmetric_friction" && setting.count("side") != 0U) {
+  } else if (effect == robot::Effect::asymmetric_friction && setting.count("side") != 0U) {
     return one_sided_levels(s, get("side"));
-  } else if (effect == "asymmetric_friction") {
+  } else if (effect == robot::Effect::asymmetric_friction) {
     // Friction levels that differ by direction: a Coulomb level (|sgn w|, constant while
     // moving, zero at rest: that tells it from an offset) and a viscous slope (|w|: the
     // difference grows with speed) of their own in each direction.
@@ -168,7 +168,7 @@ Candidate raw_candidate(const std::string& effect, const std::map<std::string, d
     }
     c.columns = {std::move(col), std::move(slope)};
     return c;
-  } else if (effect == "position_ripple") {
+  } else if (effect == robot::Effect::position_ripple) {
     const double per_rev = get("periods_per_rev");
     auto cs = column(n);
     for (std::size_t k = 0; k < n; ++k) {
@@ -177,10 +177,10 @@ Candidate raw_candidate(const std::string& effect, const std::map<std::string, d
     }
     c.columns = {std::move(col), std::move(cs)};
     return c;
-  } else if (effect == "temperature_drift") {
+  } else if (effect == robot::Effect::temperature_drift) {
     const double tc = get("time_constant_s");
     for (std::size_t k = 0; k < n; ++k) col[k] = sgn(k) * (1.0 - std::exp(-(s.t[k] - s.t.front()) / tc));
-  } else if (effect == "load_dependent_friction") {
+  } else if (effect == robot::Effect::load_dependent_friction) {
     // Gear-tooth friction grows with the torque the gear transmits: the rigid-body torque.
     // With `power_flow`, one coefficient where the motor drives the load (power from the
     // motor to the link, w load > 0) and one where the load back-drives the gear: a
@@ -196,19 +196,19 @@ Candidate raw_candidate(const std::string& effect, const std::map<std::string, d
       c.columns = {std::move(col), std::move(back)};
       return c;
     }
-  } else if (effect == "payload") {
+  } else if (effect == robot::Effect::payload) {
     // Mass and first moment along the link: what a payload at the tool changes most.
     // (The other first moments are rarely excited enough to be told apart.)
     if (s.payload_columns.size() < 2) return c;
     c.columns = {s.payload_columns[0], s.payload_columns[1]};
     return c;
-  } else if (effect == "inertia_error") {
+  } else if (effect == robot::Effect::inertia_error) {
     // The acceleration from the motor-encoder velocity over +/-30 ms: an inertia error
     // acts on the motion's acceleration, and a regressor carrying the differentiation
     // noise would fit it with a bias and a worse likelihood than shapes of the (nearly
     // noise-free) position.
     col = slow_derivative(s.dq, s.dt, 0.03);
-  } else if (effect == "torque_constant") {
+  } else if (effect == robot::Effect::torque_constant) {
     // A scale error of current to torque scales the whole modelled torque. The model's
     // torque, not the measured one, is the regressor: the prediction must never use the
     // signal it predicts.
@@ -222,11 +222,11 @@ Candidate raw_candidate(const std::string& effect, const std::map<std::string, d
       c.columns = {std::move(col), std::move(sat)};
       return c;
     }
-  } else if (effect == "current_offset") {
+  } else if (effect == robot::Effect::current_offset) {
     col.assign(n, 1.0);
-  } else if (effect == "time_delay") {
+  } else if (effect == robot::Effect::time_delay) {
     col = derivative(s.tau_model, s.dt);
-  } else if (effect == "backlash") {
+  } else if (effect == robot::Effect::backlash) {
     // After a reversal the link is not driven until the motor has crossed the gap.
     if (s.load.empty()) return c;
     const double gap = get("gap_rad");
@@ -247,7 +247,7 @@ Candidate raw_candidate(const std::string& effect, const std::map<std::string, d
 
 }  // namespace
 
-Candidate make_candidate(const std::string& effect, const std::map<std::string, double>& setting,
+Candidate make_candidate(robot::Effect effect, const std::map<std::string, double>& setting,
                          const JointSignals& s) {
   if (s.offset_at_start) {
     // The data are f(t) - f(t0): so is every column, f(t0) taken with the arm at rest at
@@ -255,7 +255,7 @@ Candidate make_candidate(const std::string& effect, const std::map<std::string, 
     // held at t0 is unknown and differs from one recording to the next: a constant
     // (current_offset, kept as it is) stands for it, a property of the recording only.
     Candidate c = raw_candidate(effect, setting, s);
-    if (effect == "current_offset" || c.columns.empty()) return c;
+    if (effect == robot::Effect::current_offset || c.columns.empty()) return c;
     const Candidate rest = raw_candidate(effect, setting, at_rest_at_start(s));
     if (rest.columns.size() != c.columns.size()) return c;
     for (std::size_t j = 0; j < c.columns.size(); ++j) {
@@ -269,7 +269,7 @@ Candidate make_candidate(const std::string& effect, const std::map<std::string, 
 
 std::vector<std::vector<Candidate>> build_candidates(const JointSignals& s) {
   std::vector<std::vector<Candidate>> all;
-  auto group = [&](const std::string& effect, const char* key, const std::vector<double>& grid) {
+  auto group = [&](robot::Effect effect, const char* key, const std::vector<double>& grid) {
     std::vector<Candidate> g;
     if (key == nullptr) {
       g.push_back(make_candidate(effect, {}, s));
@@ -281,7 +281,7 @@ std::vector<std::vector<Candidate>> build_candidates(const JointSignals& s) {
   };
   // With the nominal friction model, friction effects are also its parameters' changes:
   // further instances of the same group (they compete with the generic shapes by BIC).
-  auto model_instances = [&](const std::string& effect, const char* key, const std::vector<double>& grid) {
+  auto model_instances = [&](robot::Effect effect, const char* key, const std::vector<double>& grid) {
     if (!s.friction) return;
     auto it = std::find_if(all.begin(), all.end(), [&](const std::vector<Candidate>& g) { return g.front().effect == effect; });
     if (it == all.end()) return;
@@ -292,23 +292,23 @@ std::vector<std::vector<Candidate>> build_candidates(const JointSignals& s) {
   };
   // Richer shapes of the same cause: further instances of its group (same name, chosen
   // over the plain shape by the same criterion).
-  auto richer = [&](const std::string& effect, const std::map<std::string, double>& setting) {
+  auto richer = [&](robot::Effect effect, const std::map<std::string, double>& setting) {
     auto it = std::find_if(all.begin(), all.end(), [&](const std::vector<Candidate>& g) { return g.front().effect == effect; });
     if (it == all.end()) return;
     Candidate c = make_candidate(effect, setting, s);
     if (!c.columns.empty()) it->push_back(std::move(c));
   };
-  group("coulomb", nullptr, {});
-  group("viscous", nullptr, {});
-  group("stribeck", "w_s", {0.003, 0.006, 0.01, 0.02, 0.04, 0.07, 0.1, 0.15, 0.25, 0.4});
-  group("presliding", "displacement_rad", {2e-5, 5e-5, 1e-4, 2e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2});
-  model_instances("coulomb", "model_curve", {1.0});
-  model_instances("stribeck", "model_curve", {1.0});
-  model_instances("presliding", "sigma0_ratio", {0.5, 0.3, 0.2, 0.1, 0.05, 0.02});
-  for (const double d : {2e-5, 5e-5, 1e-4, 2e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2}) richer("presliding", {{"displacement_rad", d}, {"law", 2.0}});
-  group("asymmetric_friction", nullptr, {});
-  richer("asymmetric_friction", {{"side", 1.0}});
-  richer("asymmetric_friction", {{"side", -1.0}});
+  group(robot::Effect::coulomb, nullptr, {});
+  group(robot::Effect::viscous, nullptr, {});
+  group(robot::Effect::stribeck, "w_s", {0.003, 0.006, 0.01, 0.02, 0.04, 0.07, 0.1, 0.15, 0.25, 0.4});
+  group(robot::Effect::presliding, "displacement_rad", {2e-5, 5e-5, 1e-4, 2e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2});
+  model_instances(robot::Effect::coulomb, "model_curve", {1.0});
+  model_instances(robot::Effect::stribeck, "model_curve", {1.0});
+  model_instances(robot::Effect::presliding, "sigma0_ratio", {0.5, 0.3, 0.2, 0.1, 0.05, 0.02});
+  for (const double d : {2e-5, 5e-5, 1e-4, 2e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2}) richer(robot::Effect::presliding, {{"displacement_rad", d}, {"law", 2.0}});
+  group(robot::Effect::asymmetric_friction, nullptr, {});
+  richer(robot::Effect::asymmetric_friction, {{"side", 1.0}});
+  richer(robot::Effect::asymmetric_friction, {{"side", -1.0}});
   // Once per turn, a ripple cannot be told from a gravity-model error on one joint; with
   // a rigid-body model at hand that is the payload effect's job, so ripple starts at 2.
   // Nor can a ripple of which the motion covers less than 1.5 periods: over that range a
@@ -322,23 +322,23 @@ std::vector<std::vector<Candidate>> build_candidates(const JointSignals& s) {
                         ? 1
                         : std::max(2, static_cast<int>(std::ceil(1.5 * 2.0 * M_PI / std::max(q_range, 1e-6))));
   for (int k = k_min; k <= 200; ++k) per_rev.push_back(k);
-  group("position_ripple", "periods_per_rev", per_rev);
+  group(robot::Effect::position_ripple, "periods_per_rev", per_rev);
   const double span = s.t.back() - s.t.front();
-  group("temperature_drift", "time_constant_s", {0.1 * span, 0.25 * span, 0.5 * span, span, 3.0 * span});
-  group("load_dependent_friction", nullptr, {});
-  richer("load_dependent_friction", {{"power_flow", 1.0}});
-  if (!s.arm_level_fitted) group("payload", nullptr, {});  // else fitted once for the arm (arm.hpp)
-  group("inertia_error", nullptr, {});
+  group(robot::Effect::temperature_drift, "time_constant_s", {0.1 * span, 0.25 * span, 0.5 * span, span, 3.0 * span});
+  group(robot::Effect::load_dependent_friction, nullptr, {});
+  richer(robot::Effect::load_dependent_friction, {{"power_flow", 1.0}});
+  if (!s.arm_level_fitted) group(robot::Effect::payload, nullptr, {});  // else fitted once for the arm (arm.hpp)
+  group(robot::Effect::inertia_error, nullptr, {});
   if (!s.joint_torque_sensor) {
-    group("torque_constant", nullptr, {});
-    richer("torque_constant", {{"saturation", 1.0}});
+    group(robot::Effect::torque_constant, nullptr, {});
+    richer(robot::Effect::torque_constant, {{"saturation", 1.0}});
   }
-  group("current_offset", nullptr, {});
-  group("time_delay", nullptr, {});
+  group(robot::Effect::current_offset, nullptr, {});
+  group(robot::Effect::time_delay, nullptr, {});
   // Backlash from the torque alone (the load not driven after velocity reversals) only when
   // there is no gear-deflection channel: with motor and link encoders, backlash is judged
   // on the deflection itself (diagnose.cpp), far more directly.
-  if (s.deflection.size() != s.size()) group("backlash", "gap_rad", {0.0005, 0.001, 0.002, 0.004, 0.008, 0.016});
+  if (s.deflection.size() != s.size()) group(robot::Effect::backlash, "gap_rad", {0.0005, 0.001, 0.002, 0.004, 0.008, 0.016});
   return all;
 }
 
@@ -346,22 +346,22 @@ std::string implausible(const Candidate& c, const std::vector<double>& b, const 
   if (b.empty()) return {};
   std::ostringstream os;
   os.precision(3);
-  const std::string& e = c.effect;
+  const robot::Effect e = c.effect;
   const bool model_curve = c.setting.count("model_curve") != 0U;
-  const bool one_sided = e == "asymmetric_friction" && c.setting.count("side") != 0U;
+  const bool one_sided = e == robot::Effect::asymmetric_friction && c.setting.count("side") != 0U;
   const double span = s.t.empty() ? 0.0 : s.t.back() - s.t.front();
   // No effect's torque can exceed everything the joint measured: the drive saw it.
   double tau_max = 0.0;
   for (const double v : s.tau_real) tau_max = std::max(tau_max, std::fabs(v));
   double w_max = 0.0;
   for (const double w : s.dq) w_max = std::max(w_max, std::fabs(w));
-  const double level_of = e == "position_ripple" && b.size() > 1 ? std::hypot(b[0], b[1])
+  const double level_of = e == robot::Effect::position_ripple && b.size() > 1 ? std::hypot(b[0], b[1])
                           : one_sided && b.size() > 1 ? std::max(std::fabs(b[0]), std::fabs(b[1]))
-                          : e == "asymmetric_friction"
+                          : e == robot::Effect::asymmetric_friction
                               ? std::max(std::fabs(2.0 * b[0]), b.size() > 1 ? std::fabs(2.0 * b[1]) * w_max : 0.0)
-                          : e == "viscous" ? std::fabs(b[0]) * w_max
-                          : e == "coulomb" || e == "current_offset" || e == "temperature_drift" ||
-                                    (e == "stribeck" && !model_curve)
+                          : e == robot::Effect::viscous ? std::fabs(b[0]) * w_max
+                          : e == robot::Effect::coulomb || e == robot::Effect::current_offset || e == robot::Effect::temperature_drift ||
+                                    (e == robot::Effect::stribeck && !model_curve)
                               ? std::fabs(b[0])
                               : 0.0;
   if (tau_max > 0.0 && level_of > tau_max) {
@@ -370,16 +370,16 @@ std::string implausible(const Candidate& c, const std::vector<double>& b, const 
   }
   // Friction levels stay non-negative: the model's level (0 without a friction model) plus
   // the change.
-  if (e == "coulomb") {
+  if (e == robot::Effect::coulomb) {
     const double level = (s.friction ? s.friction->tau_c : 0.0) + b[0];
     if (level < 0.0) os << "Coulomb level would be negative (" << level << " N·m)";
-  } else if (e == "viscous") {
+  } else if (e == robot::Effect::viscous) {
     const double level = (s.friction ? s.friction->sigma2 : 0.0) + b[0];
     if (level < 0.0) os << "viscous coefficient would be negative (" << level << " N·m·s/rad)";
-  } else if (e == "stribeck") {
+  } else if (e == robot::Effect::stribeck) {
     const double level = model_curve ? (s.friction ? s.friction->tau_s : 0.0) + b[0] : b[0];
     if (level < 0.0) os << "static friction excess would be negative (" << level << " N·m)";
-  } else if (e == "temperature_drift") {
+  } else if (e == robot::Effect::temperature_drift) {
     // A thermal time constant between the sample time (x50) and three times the recording.
     const double tc = c.setting.at("time_constant_s");
     if (tc < std::max(50.0 * s.dt, 1.0) || tc > 3.0 * span) os << "drift time constant " << tc << " s outside [max(50 dt, 1 s), 3 x recording]";
@@ -387,14 +387,14 @@ std::string implausible(const Candidate& c, const std::vector<double>& b, const 
     const double side = c.setting.at("side");
     const double tc = (s.friction ? s.friction->tau_c : 0.0) + b[0], ts = (s.friction ? s.friction->tau_s : 0.0) + b[1];
     if (tc < 0.0 || ts < 0.0) os << (side > 0.0 ? "positive" : "negative") << "-direction friction level would be negative (Coulomb " << tc << ", static " << ts << " N·m)";
-  } else if (e == "load_dependent_friction") {
+  } else if (e == robot::Effect::load_dependent_friction) {
     for (const double mu : b) {
       if (mu < 0.0 || mu > 0.5) {
         os << "load coefficient " << mu << " outside [0, 0.5] N·m per N·m";
         break;
       }
     }
-  } else if (e == "torque_constant") {
+  } else if (e == robot::Effect::torque_constant) {
     // A drive's current-to-torque constant is known to +/-30 % (datasheet tolerance plus
     // magnet temperature); beyond that the drive or the model is wrong, not the constant.
     // Saturation only lowers it as the current grows, to at most 30 % off at the largest
@@ -402,16 +402,16 @@ std::string implausible(const Candidate& c, const std::vector<double>& b, const 
     if (std::fabs(b[0]) > 0.3) os << "torque constant error " << 100.0 * b[0] << " % beyond +/-30 %";
     else if (b.size() > 1 && b[1] < 0.0) os << "torque constant rising with the current (saturation " << b[1] << " per N·m < 0)";
     else if (b.size() > 1 && std::fabs(b[0]) + b[1] * tau_max > 0.3) os << "torque constant " << 100.0 * (std::fabs(b[0]) + b[1] * tau_max) << " % off at the largest torque, beyond 30 %";
-  } else if (e == "time_delay") {
+  } else if (e == robot::Effect::time_delay) {
     // Causal and short: the torque lags the motion by half a sample to 50 ms.
     const double delay = -b[0];
     if (delay < 0.5 * s.dt || delay > 0.05) os << "delay " << 1000.0 * delay << " ms outside [dt/2, 50 ms]";
-  } else if (e == "backlash") {
+  } else if (e == robot::Effect::backlash) {
     if (b[0] < 0.0 || b[0] > 1.5) os << "backlash fraction " << b[0] << " outside [0, 1.5]";
-  } else if (e == "presliding" && c.setting.count("sigma0_ratio") != 0U) {
+  } else if (e == robot::Effect::presliding && c.setting.count("sigma0_ratio") != 0U) {
     const double ratio = c.setting.at("sigma0_ratio") * b[0] + (1.0 - b[0]);
     if (!(ratio > 0.0)) os << "bristle stiffness ratio " << ratio << " not positive";
-  } else if (e == "payload" && b.size() >= 2) {
+  } else if (e == robot::Effect::payload && b.size() >= 2) {
     if (!(b[0] > 0.0)) os << "payload mass " << b[0] << " kg not positive";
     else if (std::fabs(b[1] / b[0]) > 0.5) os << "payload centre of mass " << b[1] / b[0] << " m from the last link's origin";
   }
@@ -423,27 +423,27 @@ std::map<std::string, double> describe(const Candidate& c, const std::vector<dou
   std::ostringstream os;
   os.precision(3);
   std::map<std::string, double> p;
-  const std::string& e = c.effect;
-  if (e == "coulomb") {
+  const robot::Effect e = c.effect;
+  if (e == robot::Effect::coulomb) {
     p["delta_tau_c"] = b[0];
     os << "Coulomb friction level off by " << b[0] << " N·m";
-  } else if (e == "viscous") {
+  } else if (e == robot::Effect::viscous) {
     p["delta_sigma2"] = b[0];
     os << "viscous friction off by " << b[0] << " N·m·s/rad";
-  } else if (e == "stribeck" && c.setting.count("model_curve") != 0U) {
+  } else if (e == robot::Effect::stribeck && c.setting.count("model_curve") != 0U) {
     p["delta_tau_s"] = b[0];
     if (s.friction) p["w_s"] = s.friction->w_s;
     os << "Stribeck effect off: static (breakaway) friction level " << b[0] << " N·m above the model's";
-  } else if (e == "stribeck") {
+  } else if (e == robot::Effect::stribeck) {
     p["amplitude"] = b[0];
     p["w_s"] = c.setting.at("w_s");
     os << "Stribeck effect missing: " << b[0] << " N·m extra friction at low speed, w_s " << p["w_s"] << " rad/s";
-  } else if (e == "presliding" && c.setting.count("sigma0_ratio") != 0U) {
+  } else if (e == robot::Effect::presliding && c.setting.count("sigma0_ratio") != 0U) {
     p["sigma0_ratio"] = c.setting.at("sigma0_ratio") * b[0] + (1.0 - b[0]);
     p["level"] = b[0];
     os << "presliding (bristle) dynamics off: the bristles are softer than modelled, stiffness x"
        << c.setting.at("sigma0_ratio") << " (fit " << b[0] << " of that change)";
-  } else if (e == "presliding") {
+  } else if (e == robot::Effect::presliding) {
     if (c.setting.count("law") != 0U) p["law"] = c.setting.at("law");
     p["level"] = -b[0];
     p["displacement_rad"] = c.setting.at("displacement_rad");
@@ -451,19 +451,19 @@ std::map<std::string, double> describe(const Candidate& c, const std::vector<dou
     os << "presliding (bristle) dynamics missing: friction builds up over " << p["displacement_rad"]
        << " rad after each reversal (stiffness ~" << p["sigma0"] << " N·m/rad"
        << (c.setting.count("law") != 0U ? ", Dahl's hyperbolic law)" : ")");
-  } else if (e == "asymmetric_friction" && c.setting.count("side") != 0U && b.size() > 1) {
+  } else if (e == robot::Effect::asymmetric_friction && c.setting.count("side") != 0U && b.size() > 1) {
     const bool positive = c.setting.at("side") > 0.0;
     p["side"] = c.setting.at("side");
     p["delta_tau_c_one_side"] = b[0];
     p["delta_tau_s_one_side"] = b[1];
     os << "friction differs with direction: the " << (positive ? "positive" : "negative")
        << " direction's Coulomb level off by " << b[0] << " N·m and its static level by " << b[1] << " N·m (the other direction as modelled)";
-  } else if (e == "asymmetric_friction") {
+  } else if (e == robot::Effect::asymmetric_friction) {
     p["tau_c_positive_minus_negative"] = 2.0 * b[0];
     if (b.size() > 1) p["viscous_positive_minus_negative"] = 2.0 * b[1];
     os << "friction differs with direction: positive minus negative Coulomb level " << 2.0 * b[0] << " N·m";
     if (b.size() > 1) os << ", viscous " << 2.0 * b[1] << " N·m·s/rad";
-  } else if (e == "position_ripple") {
+  } else if (e == robot::Effect::position_ripple) {
     const double k = c.setting.at("periods_per_rev");
     p["periods_per_rev"] = k;
     p["period_rad"] = 2.0 * M_PI / k;
@@ -471,28 +471,28 @@ std::map<std::string, double> describe(const Candidate& c, const std::vector<dou
     p["phase_rad"] = std::atan2(b[1], b[0]);
     os << "position ripple (cogging or gear meshing): period " << p["period_rad"] << " rad (" << k
        << " per turn), amplitude " << p["amplitude"] << " N·m";
-  } else if (e == "temperature_drift") {
+  } else if (e == robot::Effect::temperature_drift) {
     p["level_change"] = b[0];
     p["time_constant_s"] = c.setting.at("time_constant_s");
     os << "friction drifts with time (temperature): level changes by " << b[0] << " N·m with time constant "
        << p["time_constant_s"] << " s";
-  } else if (e == "load_dependent_friction" && b.size() > 1) {
+  } else if (e == robot::Effect::load_dependent_friction && b.size() > 1) {
     p["coefficient"] = b[0];
     p["coefficient_backdriven"] = b[1];
     os << "friction grows with the joint load, by the power flow: " << b[0] << " N·m per N·m where the motor drives, "
        << b[1] << " where the load back-drives the gear";
-  } else if (e == "load_dependent_friction") {
+  } else if (e == robot::Effect::load_dependent_friction) {
     p["coefficient"] = b[0];
     os << "friction grows with the joint load: " << b[0] << " N·m per N·m of load";
-  } else if (e == "payload") {
+  } else if (e == robot::Effect::payload) {
     const double m = b[0];
     p["mass_kg"] = m;
     if (std::fabs(m) > 1e-6) p["com_x_m"] = b[1] / m;
     os << "payload / last-link mass error: " << m << " kg";
-  } else if (e == "inertia_error") {
+  } else if (e == robot::Effect::inertia_error) {
     p["delta_inertia"] = b[0];
     os << "inertia (reflected rotor or link) off by " << b[0] << " kg·m²";
-  } else if (e == "torque_constant") {
+  } else if (e == robot::Effect::torque_constant) {
     // tau_real = (1 + b) tau_model: the measured torque per unit of true torque.
     p["scale_error"] = b[0];
     p["torque_constant_ratio"] = 1.0 / (1.0 + b[0]);
@@ -502,20 +502,20 @@ std::map<std::string, double> describe(const Candidate& c, const std::vector<dou
       p["saturation_per_nm"] = b[1];
       os << ", and it saturates: " << 100.0 * b[1] << " % more per N·m of torque";
     }
-  } else if (e == "current_offset") {
+  } else if (e == robot::Effect::current_offset) {
     p["offset_nm"] = b[0];
     os << "current sensor offset worth " << b[0] << " N·m";
-  } else if (e == "time_delay") {
+  } else if (e == robot::Effect::time_delay) {
     p["delay_s"] = -b[0];
     os << "measurement delay of " << -b[0] * 1000.0 << " ms between motion and torque";
   } else if (c.setting.count("rotor_acceleration") != 0U) {
     p["deflection_acceleration_gain"] = b[0];
     os << "torque transients where the gear deflection accelerates (" << e << "): " << b[0] << " N·m per rad/s²";
-  } else if (e == "backlash") {
+  } else if (e == robot::Effect::backlash) {
     p["gap_rad"] = c.setting.at("gap_rad");
     p["fraction"] = b[0];
     os << "backlash: the load is not driven for " << p["gap_rad"] << " rad after reversals";
-  } else if (e == "joint_elasticity") {
+  } else if (e == robot::Effect::joint_elasticity) {
     p["stiffness_nm_per_rad"] = b.empty() || b[0] == 0.0 ? 0.0 : 1.0 / b[0];
     os << "joint elasticity: stiffness ~" << p["stiffness_nm_per_rad"] << " N·m/rad";
   }

@@ -1,7 +1,7 @@
 // The library of candidate physical effects. Each effect is a small parametric model of
 // the torque it adds to the residual, written as regressor columns (linear in its
 // amplitude parameters) for each value of its nonlinear parameter (scanned on a grid).
-// Names are the vocabulary of ../shared/CONTRACT.md.
+// The effects are the catalogue's (robot/effect_catalogue.hpp).
 #pragma once
 
 #include <map>
@@ -9,22 +9,14 @@
 #include <vector>
 
 #include "diagnosis/signals.hpp"
+#include "robot/effect_catalogue.hpp"
 
 namespace jg::diag {
-
-inline const std::vector<std::string>& effect_vocabulary() {
-  static const std::vector<std::string> v = {
-      "coulomb",      "viscous",         "stribeck",       "presliding", "asymmetric_friction",
-      "position_ripple", "temperature_drift", "load_dependent_friction", "payload", "inertia_error",
-      "torque_constant", "current_offset", "time_delay",     "backlash",   "joint_elasticity", "link_inertial_error",
-      "none"};
-  return v;
-}
 
 /// One instance of an effect: its columns over the samples, for one setting of its
 /// nonlinear parameter (if any).
 struct Candidate {
-  std::string effect;
+  robot::Effect effect = robot::Effect::none;
   std::vector<std::vector<double>> columns;
   std::map<std::string, double> setting;  ///< nonlinear parameter(s) of this instance
   int nonlinear_params = 0;               ///< counted in the information criterion
@@ -32,7 +24,7 @@ struct Candidate {
 
 /// One instance of `effect` at the given nonlinear setting over the signals (empty
 /// columns when the signals cannot support it, e.g. payload without a model).
-Candidate make_candidate(const std::string& effect, const std::map<std::string, double>& setting,
+Candidate make_candidate(robot::Effect effect, const std::map<std::string, double>& setting,
                          const JointSignals& s);
 
 /// All instances of all effects that the signals can support (an effect that needs a

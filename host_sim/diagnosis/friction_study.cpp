@@ -73,7 +73,7 @@ StudyResult friction_study(const std::vector<StudyFile>& files, std::size_t trai
     // not carried to the other files, whose state at t0 is unknown (relaxed assumed).
     std::vector<FittedEffect> model;
     for (const auto& m : out.diagnosis.model) {
-      if (!(s.offset_at_start && i != train_index && m.effect == "current_offset")) model.push_back(m);
+      if (!(s.offset_at_start && i != train_index && m.effect == robot::Effect::current_offset)) model.push_back(m);
     }
     const auto extra = predict_effects(model, s);
     std::vector<double> extended(s.size());

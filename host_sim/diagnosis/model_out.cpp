@@ -12,7 +12,7 @@ std::vector<robot::PlantEffect> plant_effects_of(const ArmDiagnosis& arm, const 
   std::vector<robot::PlantEffect> out;
   for (std::size_t i = 0; i < arm.model.size(); ++i) {
     const auto& m = arm.model[i];
-    if (m.effect == "torque_constant") {  // named for the arm, but a drive's own: its joint's entry
+    if (m.effect == robot::Effect::torque_constant) {  // named for the arm, but a drive's own: its joint's entry
       robot::PlantEffect p{m.effect, static_cast<int>(m.setting.at("joint")), {}, m.coefficients, {}};
       for (const auto& f : arm.findings) {
         const auto j = f.params.find("joint");
@@ -37,7 +37,7 @@ std::vector<robot::PlantEffect> plant_effects_of(const ArmDiagnosis& arm, const 
       for (const auto& f : d.findings) {
         if (f.effect == m.effect) p.params = f.params;
       }
-      if (m.effect == "backlash" && m.setting.count("gap_rad") != 0U) p.params["gap_rad"] = m.setting.at("gap_rad");
+      if (m.effect == robot::Effect::backlash && m.setting.count("gap_rad") != 0U) p.params["gap_rad"] = m.setting.at("gap_rad");
       out.push_back(std::move(p));
     }
     for (const auto& f : d.findings) {
@@ -68,8 +68,8 @@ void set_link(robot::JointDescription& j, const sim::PlantLink& changed) {
 /// An arm-level effect a link's parameters can hold: a payload carried throughout, a link's
 /// mass error. Its link (0-based), or -1.
 int foldable_link(const robot::PlantEffect& e, std::size_t links) {
-  const bool payload = e.effect == "payload" && e.setting.count("picked_up_at_s") == 0U;
-  const bool link = e.effect == "link_inertial_error" && e.setting.count("link") != 0U;
+  const bool payload = e.effect == robot::Effect::payload && e.setting.count("picked_up_at_s") == 0U;
+  const bool link = e.effect == robot::Effect::link_inertial_error && e.setting.count("link") != 0U;
   if (e.joint != 0 || !(payload || link) || e.coefficients.size() < 4 || links == 0) return -1;
   if (payload) return !(e.coefficients[0] > 0.0) ? -1 : static_cast<int>(links) - 1;
   const double at = e.setting.at("link");
@@ -81,7 +81,7 @@ int foldable_link(const robot::PlantEffect& e, std::size_t links) {
 /// the diagnosis fits it).
 sim::PlantLink changed_link(const sim::PlantLink& link, const robot::PlantEffect& e, double sign) {
   const Eigen::Vector3d h(e.coefficients[1], e.coefficients[2], e.coefficients[3]);
-  if (e.effect == "payload") return sim::with_point_mass(link, sign * e.coefficients[0], h / e.coefficients[0]);
+  if (e.effect == robot::Effect::payload) return sim::with_point_mass(link, sign * e.coefficients[0], h / e.coefficients[0]);
   return sim::with_mass_first_moment_change(link, sign * e.coefficients[0], sign * h);
 }
 
@@ -110,7 +110,7 @@ std::vector<std::string> fold_arm_effects(robot::RobotModel& m, std::vector<robo
 void fold_drive_effects(robot::RobotModel& m, std::vector<robot::PlantEffect>* folded) {
   std::vector<robot::PlantEffect> kept;
   for (const auto& e : m.plant_effects) {
-    const bool drive = e.effect == "torque_constant" && e.joint >= 1 && e.joint <= static_cast<int>(m.joints.size()) &&
+    const bool drive = e.effect == robot::Effect::torque_constant && e.joint >= 1 && e.joint <= static_cast<int>(m.joints.size()) &&
                        e.coefficients.size() == 1 && 1.0 + e.coefficients[0] > 0.0;
     if (!drive) {
       kept.push_back(e);
@@ -125,7 +125,7 @@ void fold_drive_effects(robot::RobotModel& m, std::vector<robot::PlantEffect>* f
 std::vector<std::string> unfold_arm_effects(robot::RobotModel& m, const std::vector<robot::PlantEffect>& folded) {
   std::vector<std::string> notes;
   for (auto it = folded.rbegin(); it != folded.rend(); ++it) {
-    if (it->effect == "torque_constant") {  // back into the file as an effect: K_I as the file had it
+    if (it->effect == robot::Effect::torque_constant) {  // back into the file as an effect: K_I as the file had it
       m.joints[static_cast<std::size_t>(it->joint - 1)].link.torque_constant *= 1.0 + it->coefficients[0];
       m.plant_effects = merge_plant_effects(m.plant_effects, {*it});
       continue;
@@ -153,13 +153,13 @@ std::vector<robot::PlantEffect> merge_plant_effects(std::vector<robot::PlantEffe
     }
     // The same cause found again on top of itself: one entry, coefficients added (exact for
     // a payload's mass and first moment; a scale such as K_I compounds).
-    if (it->effect == "torque_constant" && f.coefficients.size() == 1) {
+    if (it->effect == robot::Effect::torque_constant && f.coefficients.size() == 1) {
       it->coefficients[0] = (1.0 + it->coefficients[0]) * (1.0 + f.coefficients[0]) - 1.0;  // scales compound
     } else {
       for (std::size_t k = 0; k < f.coefficients.size(); ++k) it->coefficients[k] += f.coefficients[k];
     }
     it->params = f.params;
-    if (it->effect == "payload" && it->coefficients.size() >= 4 && it->coefficients[0] != 0.0) {
+    if (it->effect == robot::Effect::payload && it->coefficients.size() >= 4 && it->coefficients[0] != 0.0) {
       it->params["mass_kg"] = it->coefficients[0];
       it->params["com_x_m"] = it->coefficients[1] / it->coefficients[0];
       it->params["com_y_m"] = it->coefficients[2] / it->coefficients[0];
@@ -175,7 +175,7 @@ std::vector<std::string> add_joint_effects(const std::vector<robot::PlantEffect>
     std::vector<FittedEffect> model;
     for (const auto& e : effects) {
       // Gear effects live in the deflection channel, with no torque coefficients.
-      if (e.joint != s.joint || e.effect == "joint_elasticity" || (e.effect == "backlash" && e.coefficients.empty())) continue;
+      if (e.joint != s.joint || e.effect == robot::Effect::joint_elasticity || (e.effect == robot::Effect::backlash && e.coefficients.empty())) continue;
       model.push_back({e.effect, e.setting, e.coefficients});
     }
     if (model.empty()) continue;

@@ -83,26 +83,26 @@ void make_elastic(sim::SimulationSetup& s, std::size_t j, double stiffness, doub
 
 namespace {
 
-void apply(const std::string& effect, int joint, double a, double partial_time, sim::SimulationSetup& s,
+void apply(robot::Effect effect, int joint, double a, double partial_time, sim::SimulationSetup& s,
            std::mt19937_64& rng) {
   const auto j = static_cast<std::size_t>(joint - 1);
   auto& f = s.plant.friction[j];
   auto& d = s.sensors.drives[j];
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  if (effect == "position_ripple") {
+  if (effect == robot::Effect::position_ripple) {
     f.effects.ripple_amplitude = a;
     f.effects.ripple_periods_per_rev = std::floor(10.0 + 110.0 * unit(rng));
     f.effects.ripple_phase = 6.283 * unit(rng);
-  } else if (effect == "asymmetric_friction") {
+  } else if (effect == robot::Effect::asymmetric_friction) {
     f.effects.asymmetry = a / f.lugre.tau_c;
-  } else if (effect == "temperature_drift") {
+  } else if (effect == robot::Effect::temperature_drift) {
     f.effects.drift = a / f.lugre.tau_c;
     f.effects.drift_time_constant_s = 5.0 + 15.0 * unit(rng);
-  } else if (effect == "load_dependent_friction") {
+  } else if (effect == robot::Effect::load_dependent_friction) {
     f.effects.load_coefficient = a / 15.0;
-  } else if (effect == "payload") {
+  } else if (effect == robot::Effect::payload) {
     s.plant.payload = sim::PayloadChange{partial_time, a / 3.0, Eigen::Vector3d(0.25, 0.0, 0.0)};
-  } else if (effect == "link_inertial_error") {
+  } else if (effect == robot::Effect::link_inertial_error) {
     // The link heavier than modelled and its centre of mass off sideways (link y), each
     // about half the amplitude in gravity torque on its own joint. A pure mass change with
     // the centre kept would be a mass at the next joint's axis, the same torques as a
@@ -113,42 +113,44 @@ void apply(const std::string& effect, int joint, double a, double partial_time, 
     link.inertia_com *= (link.mass + dm) / link.mass;  // the same body, denser: its inertia scales too
     link.mass += dm;
     link.com.y() += 0.5 * a / (9.81 * link.mass);
-  } else if (effect == "torque_constant") {
+  } else if (effect == robot::Effect::torque_constant) {
     d.torque_constant_error = a / 15.0;
-  } else if (effect == "current_offset") {
+  } else if (effect == robot::Effect::current_offset) {
     d.current_offset_a = a / d.torque_constant_nominal;
-  } else if (effect == "time_delay") {
+  } else if (effect == robot::Effect::time_delay) {
     s.sensors.current_delay_samples = 1 + static_cast<int>(3.0 * unit(rng));
-  } else if (effect == "coulomb") {
+  } else if (effect == robot::Effect::coulomb) {
     f.lugre.tau_c += a;
-  } else if (effect == "viscous") {
+  } else if (effect == robot::Effect::viscous) {
     f.lugre.sigma2 += a / 0.75;
-  } else if (effect == "stribeck") {
+  } else if (effect == robot::Effect::stribeck) {
     f.lugre.tau_s += 2.0 * a;
-  } else if (effect == "inertia_error") {
+  } else if (effect == robot::Effect::inertia_error) {
     s.plant.links[j].rotor_inertia += a / 2.0;  // ~2 rad/s^2 peak acceleration
-  } else if (effect == "presliding") {
+  } else if (effect == robot::Effect::presliding) {
     // Softer bristles: friction builds up over a longer displacement after each reversal.
     f.lugre.sigma0 *= presliding_ratio(s, j, a);
-  } else if (effect == "joint_elasticity") {
+  } else if (effect == robot::Effect::joint_elasticity) {
     // Gear compliance: 3e4 N·m/rad at an amplitude equal to the noise (0.17 N·m), stiffer
     // (harder to see) below it, softer above it; 1e4 N·m/rad at 3x the noise.
     make_elastic(s, j, 5100.0 / a, 0.0);
-  } else if (effect == "backlash") {
+  } else if (effect == robot::Effect::backlash) {
     // Dead zone in an elastic gear (the nominal model knows the stiffness, see run_case):
     // 1 arcmin (2.9e-4 rad) at an amplitude equal to the noise.
     make_elastic(s, j, kBacklashStiffness, 2.9e-4 * a / 0.17);
-  } else if (effect != "none") {
+  } else if (effect != robot::Effect::none) {
     throw std::invalid_argument("the test plant cannot produce effect '" + effect + "'");
   }
 }
 }  // namespace
 
-const std::vector<std::string>& producible_effects() {
-  static const std::vector<std::string> v = {"position_ripple", "asymmetric_friction", "temperature_drift",
-                                             "load_dependent_friction", "payload", "torque_constant", "current_offset",
-                                             "time_delay", "coulomb", "viscous", "stribeck", "inertia_error",
-                                             "presliding", "backlash", "joint_elasticity", "link_inertial_error"};
+const std::vector<robot::Effect>& producible_effects() {
+  // The draw's order (cases are drawn by index into it: reordering changes every set).
+  using E = robot::Effect;
+  static const std::vector<E> v = {E::position_ripple, E::asymmetric_friction, E::temperature_drift, E::load_dependent_friction,
+                                   E::payload,         E::torque_constant,     E::current_offset,    E::time_delay,
+                                   E::coulomb,         E::viscous,             E::stribeck,          E::inertia_error,
+                                   E::presliding,      E::backlash,            E::joint_elasticity,  E::link_inertial_error};
   return v;
 }
 
@@ -162,17 +164,17 @@ std::vector<ConcealedCase> draw_cases(int count, unsigned long long seed, double
     ConcealedCase c;
     c.seed = seed * 1000003ULL + static_cast<unsigned long long>(i);
     if (i % 6 == 5) {  // one case in six is a matched pair
-      c.effect = "none";
+      c.effect = robot::Effect::none;
       c.concealment = "matched";
       out.push_back(c);
       continue;
     }
     c.effect = effects[static_cast<std::size_t>(unit(rng) * static_cast<double>(effects.size())) % effects.size()];
     c.joint = 1 + static_cast<int>(unit(rng) * joints) % joints;
-    if (c.effect == "payload") c.joint = joints;  // carried by the last link
+    if (c.effect == robot::Effect::payload) c.joint = joints;  // carried by the last link
     // A link's mass error on an inner link that carries gravity (not the first, whose
     // axis is vertical in the test arm, nor the last, whose error is a payload).
-    if (c.effect == "link_inertial_error") c.joint = joints > 2 ? 2 + static_cast<int>(unit(rng) * (joints - 2)) % (joints - 2) : joints;
+    if (c.effect == robot::Effect::link_inertial_error) c.joint = joints > 2 ? 2 + static_cast<int>(unit(rng) * (joints - 2)) % (joints - 2) : joints;
     c.concealment = concealments[static_cast<std::size_t>(unit(rng) * 4.0) % 4];
     // At or below the noise for low_amplitude; otherwise up to three times the noise.
     c.amplitude_nm = noise_rms_nm * (c.concealment == std::string("low_amplitude") ? 0.5 + 0.5 * unit(rng) : 1.0 + 2.0 * unit(rng));
@@ -230,25 +232,25 @@ double heldout_rms_of(const std::vector<double>& residual) {
 
 CaseOutcome run_case(const ConcealedCase& c, const TestArm& arm_in) {
   std::mt19937_64 rng(c.seed);
-  TestArm arm = c.effect == "backlash" ? backlash_arm(arm_in, c.joint) : arm_in;
+  TestArm arm = c.effect == robot::Effect::backlash ? backlash_arm(arm_in, c.joint) : arm_in;
   // A link's mass error shows as a gravity torque a cos(q + phi) on the joints it loads;
   // over the default +/-0.6 rad that is a payload at the next joint's axis plus a constant.
   // A user identifying link masses records a wide motion: +/-1.5 rad.
-  if (c.effect == "link_inertial_error") arm.excitation_amplitude_rad = 1.5;
+  if (c.effect == robot::Effect::link_inertial_error) arm.excitation_amplitude_rad = 1.5;
   sim::SimulationSetup real = nominal_setup(arm, c.seed * 2 + 1);
   sim::SimulationSetup nominal = nominal_setup(arm, c.seed * 2 + 2);
-  if (c.effect == "backlash") make_elastic(nominal, static_cast<std::size_t>(c.joint - 1), kBacklashStiffness, 0.0);
+  if (c.effect == robot::Effect::backlash) make_elastic(nominal, static_cast<std::size_t>(c.joint - 1), kBacklashStiffness, 0.0);
   const double span = real.trajectory->duration();
   const double partial_time = c.concealment == "partial" ? 0.5 * span : 0.0;
   apply(c.effect, c.joint, c.amplitude_nm, partial_time, real, rng);
-  if (c.concealment == "partial" && c.effect == "temperature_drift") {
+  if (c.concealment == "partial" && c.effect == robot::Effect::temperature_drift) {
     real.plant.friction[static_cast<std::size_t>(c.joint - 1)].effects.drift_time_constant_s = span;  // slow: half hidden
   }
   if (c.concealment == "mixed") {  // a second, known effect in both: it must not be claimed
     const int other = c.joint % static_cast<int>(arm.links.size()) + 1;
     std::mt19937_64 r1(c.seed + 7), r2(c.seed + 7);
-    apply("asymmetric_friction", other, 0.5, 0.0, real, r1);
-    apply("asymmetric_friction", other, 0.5, 0.0, nominal, r2);
+    apply(robot::Effect::asymmetric_friction, other, 0.5, 0.0, real, r1);
+    apply(robot::Effect::asymmetric_friction, other, 0.5, 0.0, nominal, r2);
   }
   if (c.concealment == "masked") {  // a benign model error: the real last link is 3 % heavier
     real.plant.links.back().mass *= 1.03;
@@ -284,16 +286,16 @@ CaseOutcome diagnose_pair(const ConcealedCase& c, const TestArm& arm, const sim:
   DiagnoseOptions joint_options;
   joint_options.trace = std::getenv("JG_DIAG_TRACE_SELECTION") != nullptr;  // each selection step to stderr
   for (const auto& sig : without_arm_causes(signals, out.arm)) out.joints.push_back(diagnose_joint(sig, joint_options));
-  if (c.effect == "none" && !out.arm.findings.empty()) out.false_claim = true;
+  if (c.effect == robot::Effect::none && !out.arm.findings.empty()) out.false_claim = true;
   // A payload belongs to the last link but shows on every joint it loads: it is named
   // once, at the arm level. Every other effect must be named on its joint.
   for (const auto& f : out.arm.findings) {
     const auto link = f.params.find("link");
-    const bool on_link = c.effect != "link_inertial_error" || (link != f.params.end() && link->second == c.joint);
+    const bool on_link = c.effect != robot::Effect::link_inertial_error || (link != f.params.end() && link->second == c.joint);
     out.named = out.named || (f.effect == c.effect && on_link);
   }
   for (const auto& j : out.joints) {
-    if (c.effect == "none" && !j.findings.empty()) out.false_claim = true;
+    if (c.effect == robot::Effect::none && !j.findings.empty()) out.false_claim = true;
     if (j.joint == c.joint) {
       for (const auto& f : j.findings) out.named = out.named || f.effect == c.effect;
       out.heldout_before = j.heldout_rms_before;

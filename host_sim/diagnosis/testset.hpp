@@ -25,7 +25,7 @@ struct TestArm {
 };
 
 struct ConcealedCase {
-  std::string effect;       ///< vocabulary word; "none" for a matched pair
+  robot::Effect effect = robot::Effect::none;  ///< the hidden cause; none for a matched pair
   int joint = 1;            ///< 1-based joint carrying the effect
   double amplitude_nm = 0;  ///< the effect's torque amplitude [N·m] (ignored for time_delay, elasticity)
   std::string concealment;  ///< low_amplitude, partial, mixed, masked or matched
@@ -33,7 +33,7 @@ struct ConcealedCase {
 };
 
 /// The effects the plant can hide (all of the vocabulary but "none").
-const std::vector<std::string>& producible_effects();
+const std::vector<robot::Effect>& producible_effects();
 
 std::vector<ConcealedCase> draw_cases(int count, unsigned long long seed, double noise_rms_nm, int joints);
 

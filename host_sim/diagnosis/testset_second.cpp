@@ -90,30 +90,30 @@ void hyperbolic_presliding(sim::JointFrictionTruth& truth, const ReferenceMotion
 }
 
 /// Friction shapes: the amplitude is the RMS of the friction change over the reference motion.
-bool apply_friction_shape(const std::string& effect, sim::JointFrictionTruth& f, const ReferenceMotion& m, double a,
+bool apply_friction_shape(robot::Effect effect, sim::JointFrictionTruth& f, const ReferenceMotion& m, double a,
                           std::mt19937_64& rng) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   auto& e = f.effects;
-  if (effect == "coulomb") {  // the whole curve scaled (Coulomb and static level together)
+  if (effect == robot::Effect::coulomb) {  // the whole curve scaled (Coulomb and static level together)
     const double c0 = f.lugre.tau_c, s0 = f.lugre.tau_s;
     calibrate(f, m, a, 0.05, [&](sim::JointFrictionTruth& t, double r) { t.lugre.tau_c = c0 * (1.0 + r); t.lugre.tau_s = s0 * (1.0 + r); });
-  } else if (effect == "viscous") {  // shear-thinning grease: c sgn(w) |w|^p, p in [0.5, 0.8]
+  } else if (effect == robot::Effect::viscous) {  // shear-thinning grease: c sgn(w) |w|^p, p in [0.5, 0.8]
     e.viscous_power_exponent = 0.5 + 0.3 * unit(rng);
     calibrate(f, m, a, 1.0, [](sim::JointFrictionTruth& t, double c) { t.effects.viscous_power_nm = c; });
-  } else if (effect == "stribeck") {  // exponential law, 1.5-3x wider than the nominal curve
+  } else if (effect == robot::Effect::stribeck) {  // exponential law, 1.5-3x wider than the nominal curve
     e.stribeck_extra_exponent = 1.0;
     e.stribeck_extra_w_s = f.lugre.w_s * (1.5 + 1.5 * unit(rng));
     calibrate(f, m, a, 1.0, [](sim::JointFrictionTruth& t, double s) { t.effects.stribeck_extra_nm = s; });
-  } else if (effect == "presliding") {
+  } else if (effect == robot::Effect::presliding) {
     hyperbolic_presliding(f, m, a);
-  } else if (effect == "asymmetric_friction") {  // the negative direction's whole Stribeck curve
+  } else if (effect == robot::Effect::asymmetric_friction) {  // the negative direction's whole Stribeck curve
     const double s_share = 0.3 + 1.2 * unit(rng), w_scale = 0.6 + 1.0 * unit(rng);
     calibrate(f, m, a, 0.05, [&](sim::JointFrictionTruth& t, double r) {
       t.effects.negative_tau_c_scale = 1.0 + r;
       t.effects.negative_tau_s_scale = 1.0 + s_share * r;
       t.effects.negative_w_s_scale = w_scale;
     });
-  } else if (effect == "position_ripple") {  // gear meshing: fundamental and second harmonic
+  } else if (effect == robot::Effect::position_ripple) {  // gear meshing: fundamental and second harmonic
     e.ripple_periods_per_rev = std::floor(10.0 + 60.0 * unit(rng));
     e.ripple2_periods_per_rev = 2.0 * e.ripple_periods_per_rev;
     e.ripple_phase = 6.283 * unit(rng);
@@ -123,7 +123,7 @@ bool apply_friction_shape(const std::string& effect, sim::JointFrictionTruth& f,
       t.effects.ripple_amplitude = x;
       t.effects.ripple2_amplitude = share * x;
     });
-  } else if (effect == "temperature_drift") {  // a linear ramp, or a two-stage warm-up
+  } else if (effect == robot::Effect::temperature_drift) {  // a linear ramp, or a two-stage warm-up
     const double span = m.t.empty() ? 1.0 : m.t.back();
     if (unit(rng) < 0.5) {
       e.drift_ramp_s = span * (0.5 + unit(rng));
@@ -133,7 +133,7 @@ bool apply_friction_shape(const std::string& effect, sim::JointFrictionTruth& f,
       e.drift_second_time_constant_s = span * (1.0 + 2.0 * unit(rng));
     }
     calibrate(f, m, a, 0.05, [](sim::JointFrictionTruth& t, double d) { t.effects.drift = d; });
-  } else if (effect == "load_dependent_friction") {  // efficiency by power flow: back-driven 20-50 %
+  } else if (effect == robot::Effect::load_dependent_friction) {  // efficiency by power flow: back-driven 20-50 %
     const double backdriven_share = 0.2 + 0.3 * unit(rng);
     calibrate(f, m, a, 0.01, [&](sim::JointFrictionTruth& t, double mu) {
       t.effects.load_coefficient = mu;
@@ -158,9 +158,9 @@ void add_point_mass(sim::PlantLink& link, double dm, const Eigen::Vector3d& p) {
 }
 
 /// The arm's bodies: payload, link mass, link inertia.
-bool apply_body_shape(const std::string& effect, std::size_t j, double a, sim::SimulationSetup& s, std::mt19937_64& rng) {
+bool apply_body_shape(robot::Effect effect, std::size_t j, double a, sim::SimulationSetup& s, std::mt19937_64& rng) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  if (effect == "payload") {  // a rigid body (a box), centre off the flange's axis
+  if (effect == robot::Effect::payload) {  // a rigid body (a box), centre off the flange's axis
     const double mass = a / 3.0;
     const Eigen::Vector3d dims(0.08 + 0.12 * unit(rng), 0.05 + 0.1 * unit(rng), 0.05 + 0.1 * unit(rng));
     const Eigen::Vector3d centre(0.1 + 0.1 * unit(rng), 0.03 + 0.07 * unit(rng), -0.05 + 0.1 * unit(rng));
@@ -169,13 +169,13 @@ bool apply_body_shape(const std::string& effect, std::size_t j, double a, sim::S
                                                    dims.x() * dims.x() + dims.z() * dims.z(),
                                                    dims.x() * dims.x() + dims.y() * dims.y())).asDiagonal();
     s.plant.payload = p;
-  } else if (effect == "link_inertial_error") {
+  } else if (effect == robot::Effect::link_inertial_error) {
     // A local mass the CAD lacks (cable bundle, heavier housing) near the joint, off the
     // link's x axis: the centre moves towards it, the inertia by the parallel-axis term.
     auto& link = s.plant.links[j];
     const Eigen::Vector3d p(0.05 + 0.1 * unit(rng), 0.03 + 0.04 * unit(rng), 0.04 * unit(rng));
     add_point_mass(link, a / (9.81 * std::hypot(p.x(), p.y())), p);
-  } else if (effect == "inertia_error") {  // the link's own inertia about its joint axis, not the rotor's
+  } else if (effect == robot::Effect::inertia_error) {  // the link's own inertia about its joint axis, not the rotor's
     s.plant.links[j].inertia_com(2, 2) += a / 2.0;
   } else {
     return false;
@@ -184,12 +184,12 @@ bool apply_body_shape(const std::string& effect, std::size_t j, double a, sim::S
 }
 
 /// Drive and sensor shapes; the amplitude is the RMS torque error where it has one.
-bool apply_sensor_shape(const std::string& effect, std::size_t j, double a, sim::SimulationSetup& s,
+bool apply_sensor_shape(robot::Effect effect, std::size_t j, double a, sim::SimulationSetup& s,
                         const ReferenceMotion& m, std::mt19937_64& rng) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const std::size_t n = s.plant.links.size();
   const double k = s.sensors.drives[j].torque_constant_nominal;
-  if (effect == "torque_constant") {  // saturation: K falls with |i|, RMS of -s K i |i| = a
+  if (effect == robot::Effect::torque_constant) {  // saturation: K falls with |i|, RMS of -s K i |i| = a
     double acc = 0.0, peak = 0.0;
     for (const double tau : m.motor) {
       acc += tau * tau * tau * tau;
@@ -199,12 +199,12 @@ bool apply_sensor_shape(const std::string& effect, std::size_t j, double a, sim:
     const double sat = std::min(a * k / std::max(rms_sq, 1e-9), 0.2 / std::max(peak, 1e-9));  // K at most 20 % low
     s.sensors.torque_constant_saturation_per_a.assign(n, 0.0);
     s.sensors.torque_constant_saturation_per_a[j] = sat;
-  } else if (effect == "current_offset") {  // drifts from 0.4 a to 1.6 a over the recording
+  } else if (effect == robot::Effect::current_offset) {  // drifts from 0.4 a to 1.6 a over the recording
     const double span = m.t.empty() ? 1.0 : m.t.back();
     s.sensors.drives[j].current_offset_a = 0.4 * a / k;
     s.sensors.current_offset_drift_a_per_s.assign(n, 0.0);
     s.sensors.current_offset_drift_a_per_s[j] = 1.2 * a / k / span;
-  } else if (effect == "time_delay") {  // 0.25-2.75 samples, never a whole one
+  } else if (effect == robot::Effect::time_delay) {  // 0.25-2.75 samples, never a whole one
     const int whole = static_cast<int>(3.0 * unit(rng)) % 3;
     s.sensors.current_delay_samples = whole;
     s.sensors.current_delay_fraction = 0.25 + 0.5 * unit(rng);
@@ -214,29 +214,30 @@ bool apply_sensor_shape(const std::string& effect, std::size_t j, double a, sim:
   return true;
 }
 
-void apply_second(const std::string& effect, int joint, double a, sim::SimulationSetup& s, std::mt19937_64& rng) {
-  if (effect.empty() || effect == "none") return;  // a matched pair without a shared shape
+void apply_second(robot::Effect effect, int joint, double a, sim::SimulationSetup& s, std::mt19937_64& rng) {
+  if (effect == robot::Effect::none) return;  // a matched pair without a shared shape
   const auto j = static_cast<std::size_t>(joint - 1);
   const ReferenceMotion m = reference_motion(s, j);
   if (apply_friction_shape(effect, s.plant.friction[j], m, a, rng)) return;
   if (apply_body_shape(effect, j, a, s, rng)) return;
   if (apply_sensor_shape(effect, j, a, s, m, rng)) return;
-  if (effect == "joint_elasticity") {
+  if (effect == robot::Effect::joint_elasticity) {
     // A hardening gear: softer than the first set's at small deflection, stiffening as it
     // winds up (the stiffness doubles at 4e-4 rad).
     make_elastic(s, j, 0.7 * 5100.0 / a, 0.0);
     s.plant.elasticity[j].hardening_rad = 4e-4;
-  } else if (effect == "backlash") {  // the dead zone (see run_case_second for the gear)
+  } else if (effect == robot::Effect::backlash) {  // the dead zone (see run_case_second for the gear)
     s.plant.elasticity[j].backlash_rad = 3.5e-4 * a / 0.17;
-  } else if (effect != "none") {
+  } else if (effect != robot::Effect::none) {
     throw std::invalid_argument("the second generator cannot produce effect '" + effect + "'");
   }
 }
 
-/// A matched pair's shared shape: "matched:<effect>" -> effect, "matched" -> "".
-std::string shared_shape(const ConcealedCase& c) {
+/// A matched pair's shared shape: "matched:<effect>" -> effect, "matched" -> none.
+robot::Effect shared_shape(const ConcealedCase& c) {
   const auto colon = c.concealment.find(':');
-  return c.effect == "none" ? (colon == std::string::npos ? std::string() : c.concealment.substr(colon + 1)) : c.effect;
+  if (c.effect != robot::Effect::none || colon == std::string::npos) return c.effect;
+  return robot::parse_effect(c.concealment.substr(colon + 1)).value_or(robot::Effect::none);
 }
 }  // namespace
 
@@ -246,21 +247,21 @@ std::vector<ConcealedCase> draw_cases_second(int count, unsigned long long seed,
   const auto& effects = producible_effects();
   const char* concealments[] = {"low_amplitude", "plain", "mixed"};
   auto pick_effect = [&] { return effects[static_cast<std::size_t>(unit(rng) * static_cast<double>(effects.size())) % effects.size()]; };
-  auto pick_joint = [&](const std::string& effect) {
+  auto pick_joint = [&](robot::Effect effect) {
     int joint = 1 + static_cast<int>(unit(rng) * joints) % joints;
-    if (effect == "payload") joint = joints;
-    if (effect == "link_inertial_error") joint = joints > 2 ? 2 + static_cast<int>(unit(rng) * (joints - 2)) % (joints - 2) : joints;
+    if (effect == robot::Effect::payload) joint = joints;
+    if (effect == robot::Effect::link_inertial_error) joint = joints > 2 ? 2 + static_cast<int>(unit(rng) * (joints - 2)) % (joints - 2) : joints;
     return joint;
   };
   std::vector<ConcealedCase> out;
   for (int i = 0; i < count; ++i) {
     ConcealedCase c;
     c.seed = seed * 2000003ULL + 17ULL * static_cast<unsigned long long>(i) + 5ULL;
-    const std::string effect = pick_effect();
+    const robot::Effect effect = pick_effect();
     c.joint = pick_joint(effect);
     const double u = unit(rng), v = unit(rng);
     if (i % 6 == 5) {  // one case in six is a matched pair; half of them share a shape
-      c.effect = "none";
+      c.effect = robot::Effect::none;
       c.concealment = u < 0.5 ? "matched" : "matched:" + effect;
       c.amplitude_nm = noise_rms_nm * (1.0 + 2.0 * v);
       out.push_back(c);
@@ -275,17 +276,17 @@ std::vector<ConcealedCase> draw_cases_second(int count, unsigned long long seed,
 }
 
 CaseOutcome run_case_second(const ConcealedCase& c, const TestArm& arm_in) {
-  const std::string shape = shared_shape(c);
+  const robot::Effect shape = shared_shape(c);
   TestArm arm = arm_in;
-  if (shape == "backlash") {  // a user's motion about the zero of the gravity load, not exactly on it
+  if (shape == robot::Effect::backlash) {  // a user's motion about the zero of the gravity load, not exactly on it
     arm = backlash_arm(arm_in, c.joint);
     arm.posture(c.joint - 1) += 0.05;
   }
-  if (shape == "link_inertial_error") arm.excitation_amplitude_rad = 1.5;  // a user identifying link masses
+  if (shape == robot::Effect::link_inertial_error) arm.excitation_amplitude_rad = 1.5;  // a user identifying link masses
   sim::SimulationSetup real = nominal_setup(arm, c.seed * 2 + 1);
   sim::SimulationSetup nominal = nominal_setup(arm, c.seed * 2 + 2);
   const auto j = static_cast<std::size_t>(c.joint - 1);
-  if (shape == "backlash") {  // the hardening gear is known to the model: only the dead zone is not
+  if (shape == robot::Effect::backlash) {  // the hardening gear is known to the model: only the dead zone is not
     for (auto* s : {&real, &nominal}) {
       make_elastic(*s, j, kBacklashGearStiffness, 0.0);
       s->plant.elasticity[j].hardening_rad = kBacklashGearHardening;
@@ -293,7 +294,7 @@ CaseOutcome run_case_second(const ConcealedCase& c, const TestArm& arm_in) {
   }
   std::mt19937_64 r1(c.seed), r2(c.seed);
   apply_second(shape, c.joint, c.amplitude_nm, real, r1);
-  if (c.effect == "none") apply_second(shape, c.joint, c.amplitude_nm, nominal, r2);  // known: in both
+  if (c.effect == robot::Effect::none) apply_second(shape, c.joint, c.amplitude_nm, nominal, r2);  // known: in both
   if (c.concealment == "mixed") {  // a second, known effect in both: the other joint's friction 8 % higher
     const auto other = static_cast<std::size_t>(c.joint % static_cast<int>(arm.links.size()));
     for (auto* s : {&real, &nominal}) {
@@ -304,24 +305,24 @@ CaseOutcome run_case_second(const ConcealedCase& c, const TestArm& arm_in) {
   return diagnose_pair(c, arm, real, nominal);
 }
 
-std::string second_shape_description(const std::string& effect) {
-  static const std::map<std::string, std::string> d = {
-      {"coulomb", "Coulomb and static level scaled together (1 + r)"},
-      {"viscous", "shear-thinning c sgn(w) |w|^p, p 0.5-0.8"},
-      {"stribeck", "excess with an exponential law exp(-|w|/w_s'), w_s' 1.5-3x nominal"},
-      {"presliding", "Dahl hyperbolic law (exponent 2) at 0.4 tau_c, displacement bisected"},
-      {"asymmetric_friction", "negative direction: tau_c, tau_s, w_s scaled separately"},
-      {"position_ripple", "two harmonics (n and 2n per rev, second 40-80 %)"},
-      {"temperature_drift", "linear ramp, or two-time-constant warm-up"},
-      {"load_dependent_friction", "efficiency by power flow: back-driven 20-50 % of driving"},
-      {"payload", "rigid box with its own inertia, centre off the flange axis"},
-      {"link_inertial_error", "local point mass near the joint, off the link's x axis"},
-      {"inertia_error", "the link's own inertia about its joint axis (not the rotor's)"},
-      {"torque_constant", "saturation: K falls with |i| (at most 20 %)"},
-      {"current_offset", "offset drifting linearly from 0.4 A to 1.6 A (torque units)"},
-      {"time_delay", "fractional delay 0.25-2.75 samples (interpolated current)"},
-      {"backlash", "dead zone in a hardening gear, motion 0.05 rad off the gravity zero"},
-      {"joint_elasticity", "hardening spring k0 (1 + (d / 4e-4 rad)^2)"},
+std::string second_shape_description(robot::Effect effect) {
+  static const std::map<robot::Effect, std::string> d = {
+      {robot::Effect::coulomb, "Coulomb and static level scaled together (1 + r)"},
+      {robot::Effect::viscous, "shear-thinning c sgn(w) |w|^p, p 0.5-0.8"},
+      {robot::Effect::stribeck, "excess with an exponential law exp(-|w|/w_s'), w_s' 1.5-3x nominal"},
+      {robot::Effect::presliding, "Dahl hyperbolic law (exponent 2) at 0.4 tau_c, displacement bisected"},
+      {robot::Effect::asymmetric_friction, "negative direction: tau_c, tau_s, w_s scaled separately"},
+      {robot::Effect::position_ripple, "two harmonics (n and 2n per rev, second 40-80 %)"},
+      {robot::Effect::temperature_drift, "linear ramp, or two-time-constant warm-up"},
+      {robot::Effect::load_dependent_friction, "efficiency by power flow: back-driven 20-50 % of driving"},
+      {robot::Effect::payload, "rigid box with its own inertia, centre off the flange axis"},
+      {robot::Effect::link_inertial_error, "local point mass near the joint, off the link's x axis"},
+      {robot::Effect::inertia_error, "the link's own inertia about its joint axis (not the rotor's)"},
+      {robot::Effect::torque_constant, "saturation: K falls with |i| (at most 20 %)"},
+      {robot::Effect::current_offset, "offset drifting linearly from 0.4 A to 1.6 A (torque units)"},
+      {robot::Effect::time_delay, "fractional delay 0.25-2.75 samples (interpolated current)"},
+      {robot::Effect::backlash, "dead zone in a hardening gear, motion 0.05 rad off the gravity zero"},
+      {robot::Effect::joint_elasticity, "hardening spring k0 (1 + (d / 4e-4 rad)^2)"},
   };
   const auto it = d.find(effect);
   return it == d.end() ? std::string("none") : it->second;

@@ -26,6 +26,6 @@ std::vector<ConcealedCase> draw_cases_second(int count, unsigned long long seed,
 CaseOutcome run_case_second(const ConcealedCase& c, const TestArm& arm);
 
 /// One line per effect: the second shape, for the bench's printout and the docs' table.
-std::string second_shape_description(const std::string& effect);
+std::string second_shape_description(robot::Effect effect);
 
 }  // namespace jg::diag

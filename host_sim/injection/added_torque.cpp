@@ -42,7 +42,7 @@ std::vector<ArmStage> arm_stages(const sim::ArmDynamics& nominal, std::vector<ro
   std::vector<ArmStage> stages;
   for (const auto& e : arm) {
     const Eigen::Vector3d h(e.coefficients[1], e.coefficients[2], e.coefficients[3]);
-    if (e.effect == "payload") {
+    if (e.effect == robot::Effect::payload) {
       // A point mass, as the plant adds a payload (plant/plant.cpp, apply_payload_if_due).
       links.back() = sim::with_point_mass(links.back(), e.coefficients[0], h / e.coefficients[0]);
     } else {
@@ -88,7 +88,7 @@ std::vector<PerJoint> joint_added(const std::vector<Signals>& parts, const std::
     for (const auto& e : effects) {
       if (e.joint != static_cast<int>(j) + 1 || channel_of(e) != Channel::joint) continue;  // joint: 1-based position
       std::vector<double> b = e.coefficients;
-      if (e.effect == "asymmetric_friction") b.resize(2, 0.0);  // the viscous slope is optional
+      if (e.effect == robot::Effect::asymmetric_friction) b.resize(2, 0.0);  // the viscous slope is optional
       model.push_back({e.effect, e.setting, b});
     }
     if (model.empty()) continue;

@@ -11,7 +11,7 @@ namespace {
 /// What an entry of an effect may hold. Exact coefficient counts: predict_effects needs as
 /// many as the effect has columns, and an extra number is a typo, not something to ignore.
 struct Rule {
-  const char* effect;
+  robot::Effect effect;
   Channel channel;
   std::size_t min_coefficients, max_coefficients;
   std::vector<const char*> settings;  ///< allowed setting keys (a typo such as picked_up_at would act silently)
@@ -19,25 +19,25 @@ struct Rule {
 
 const std::vector<Rule>& rules() {
   static const std::vector<Rule> r = {
-      {"payload", Channel::arm, 4, 4, {"link", "picked_up_at_s"}},
-      {"link_inertial_error", Channel::arm, 4, 4, {"link"}},
-      {"coulomb", Channel::joint, 1, 1, {"model_curve"}},
-      {"viscous", Channel::joint, 1, 1, {}},
-      {"stribeck", Channel::joint, 1, 1, {"w_s", "model_curve"}},
-      {"presliding", Channel::joint, 1, 1, {"displacement_rad", "sigma0_ratio"}},
-      {"asymmetric_friction", Channel::joint, 1, 2, {}},  // level, and optionally the viscous slope
-      {"position_ripple", Channel::joint, 2, 2, {"periods_per_rev"}},
-      {"temperature_drift", Channel::joint, 1, 1, {"time_constant_s"}},
-      {"load_dependent_friction", Channel::joint, 1, 1, {}},
-      {"inertia_error", Channel::joint, 1, 1, {}},
-      {"torque_constant", Channel::scale, 1, 1, {}},
-      {"current_offset", Channel::offset, 1, 1, {}},
-      {"time_delay", Channel::delay, 1, 1, {}},
+      {robot::Effect::payload, Channel::arm, 4, 4, {"link", "picked_up_at_s"}},
+      {robot::Effect::link_inertial_error, Channel::arm, 4, 4, {"link"}},
+      {robot::Effect::coulomb, Channel::joint, 1, 1, {"model_curve"}},
+      {robot::Effect::viscous, Channel::joint, 1, 1, {}},
+      {robot::Effect::stribeck, Channel::joint, 1, 1, {"w_s", "model_curve"}},
+      {robot::Effect::presliding, Channel::joint, 1, 1, {"displacement_rad", "sigma0_ratio"}},
+      {robot::Effect::asymmetric_friction, Channel::joint, 1, 2, {}},  // level, and optionally the viscous slope
+      {robot::Effect::position_ripple, Channel::joint, 2, 2, {"periods_per_rev"}},
+      {robot::Effect::temperature_drift, Channel::joint, 1, 1, {"time_constant_s"}},
+      {robot::Effect::load_dependent_friction, Channel::joint, 1, 1, {}},
+      {robot::Effect::inertia_error, Channel::joint, 1, 1, {}},
+      {robot::Effect::torque_constant, Channel::scale, 1, 1, {}},
+      {robot::Effect::current_offset, Channel::offset, 1, 1, {}},
+      {robot::Effect::time_delay, Channel::delay, 1, 1, {}},
   };
   return r;
 }
 
-const Rule* rule_of(const std::string& effect) {
+const Rule* rule_of(robot::Effect effect) {
   for (const auto& r : rules()) {
     if (effect == r.effect) return &r;
   }
@@ -68,7 +68,7 @@ robot::EffectProblem setting_problem(const robot::PlantEffect& e, const Rule& r)
 robot::EffectProblem arm_problem(const robot::PlantEffect& e, const InjectTarget& t) {
   const double n = static_cast<double>(t.joints);
   const auto link = e.setting.find("link");
-  if (e.effect == "payload") {
+  if (e.effect == robot::Effect::payload) {
     if (!(e.coefficients[0] > 0.0)) {
       return {"coefficients", "a payload's mass (coefficients[0]) must be > 0 kg (a lighter link is link_inertial_error)"};
     }
@@ -97,7 +97,7 @@ robot::EffectProblem arm_problem(const robot::PlantEffect& e, const InjectTarget
 }  // namespace
 
 robot::EffectProblem injection_problem(const robot::PlantEffect& e, const InjectTarget& t, Channel* channel) {
-  if (e.effect == "joint_elasticity" || e.effect == "backlash") {
+  if (e.effect == robot::Effect::joint_elasticity || e.effect == robot::Effect::backlash) {
     return {"effect", "'" + e.effect + "' changes the gear's deflection, i.e. the motion itself (the motor-side dq against "
                       "the link-side q), which the recording fixes: a torque column cannot carry it"};
   }
@@ -116,11 +116,11 @@ robot::EffectProblem injection_problem(const robot::PlantEffect& e, const Inject
   }
   if (auto p = setting_problem(e, *r); !p.field.empty()) return p;
   const bool sensor = t.torque == io::TorqueKind::tau_j;
-  if (sensor && (e.effect == "torque_constant" || e.effect == "current_offset")) {
+  if (sensor && (e.effect == robot::Effect::torque_constant || e.effect == robot::Effect::current_offset)) {
     return {"effect", "'" + e.effect + "' is an error of the motor current's channel; the recording's torque is a joint torque "
                       "sensor's (tau_j), which has none"};
   }
-  if (sensor && e.effect == "inertia_error") {
+  if (sensor && e.effect == robot::Effect::inertia_error) {
     return {"effect", "'inertia_error' is the rotor's inertia, which a joint torque sensor after the gear (tau_j) does not see"};
   }
   const bool model_curve = e.setting.count("model_curve") != 0U || e.setting.count("sigma0_ratio") != 0U;
@@ -128,13 +128,13 @@ robot::EffectProblem injection_problem(const robot::PlantEffect& e, const Inject
     return {"setting", "'" + e.effect + "' here is a change of the nominal LuGre friction's parameters: give that friction "
                        "with --friction F.json (identify's JSON)"};
   }
-  if (e.effect == "stribeck" && !model_curve && e.setting.count("w_s") == 0U) return {"setting", "'stribeck' needs setting 'w_s'"};
-  if (e.effect == "presliding" && !model_curve && e.setting.count("displacement_rad") == 0U) {
+  if (e.effect == robot::Effect::stribeck && !model_curve && e.setting.count("w_s") == 0U) return {"setting", "'stribeck' needs setting 'w_s'"};
+  if (e.effect == robot::Effect::presliding && !model_curve && e.setting.count("displacement_rad") == 0U) {
     return {"setting", "'presliding' needs setting 'displacement_rad' (or sigma0_ratio with --friction)"};
   }
-  if (e.effect == "position_ripple" && e.setting.count("periods_per_rev") == 0U) return {"setting", "needs 'periods_per_rev'"};
-  if (e.effect == "temperature_drift" && e.setting.count("time_constant_s") == 0U) return {"setting", "needs 'time_constant_s'"};
-  if (e.effect == "torque_constant" && !(1.0 + e.coefficients[0] > 0.0)) {
+  if (e.effect == robot::Effect::position_ripple && e.setting.count("periods_per_rev") == 0U) return {"setting", "needs 'periods_per_rev'"};
+  if (e.effect == robot::Effect::temperature_drift && e.setting.count("time_constant_s") == 0U) return {"setting", "needs 'time_constant_s'"};
+  if (e.effect == robot::Effect::torque_constant && !(1.0 + e.coefficients[0] > 0.0)) {
     return {"coefficients", "a scale of 1 + " + number(e.coefficients[0]) + " <= 0 would flip or erase the reading"};
   }
   if (r->channel == Channel::arm) {

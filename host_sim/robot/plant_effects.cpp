@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 #include "io/yaml_fields.hpp"
 #include "robot/robot_model.hpp"
@@ -80,7 +81,7 @@ EffectProblem setting_range_problem(const PlantEffect& p, std::size_t joints) {
     if (key == "link") {
       const double n = static_cast<double>(joints);
       if (!(value >= 1.0 && value <= n && value == std::floor(value))) {
-        return {"setting.link", p.effect + " needs setting link in 1.." + std::to_string(joints) + " (a whole number: a link of the "
+        return {"setting.link", effect_word(p.effect) + " needs setting link in 1.." + std::to_string(joints) + " (a whole number: a link of the "
                                 "arm), got " + exact(value)};
       }
       continue;
@@ -101,7 +102,7 @@ EffectProblem setting_range_problem(const PlantEffect& p, std::size_t joints) {
   };
   for (const auto& r : params) {
     const auto it = p.params.find(r.key);
-    if (it == p.params.end() || (std::string(r.key) == "mass_kg" && p.effect != "payload")) continue;
+    if (it == p.params.end() || (std::string(r.key) == "mass_kg" && p.effect != Effect::payload)) continue;
     if (auto e = out_of_range(std::string("params.") + r.key, it->second, r); !e.field.empty()) return e;
   }
   return {};
@@ -111,14 +112,14 @@ EffectProblem setting_range_problem(const PlantEffect& p, std::size_t joints) {
 EffectProblem coefficient_range_problem(const PlantEffect& p) {
   const auto& b = p.coefficients;
   if (b.empty()) return {};
-  if (p.effect == "payload") {
+  if (p.effect == Effect::payload) {
     if (auto e = out_of_range("coefficients", b[0], {"", 1e-9, kMaxPayloadKg, "(0, 5000] kg: a payload's mass "
                                                                               "(coefficients[0]; a lighter link is link_inertial_error)"});
         !e.field.empty()) {
       return e;
     }
   }
-  if (p.effect == "payload" || p.effect == "link_inertial_error") {
+  if (p.effect == Effect::payload || p.effect == Effect::link_inertial_error) {
     // The first moment m·c: the centre of mass within 10 m of the link frame.
     const double m = std::max(std::fabs(b[0]), 1e-3);
     for (std::size_t i = 1; i < b.size() && i < 4; ++i) {
@@ -130,7 +131,7 @@ EffectProblem coefficient_range_problem(const PlantEffect& p) {
     }
     return out_of_range("coefficients", b[0], {"", -kMaxPayloadKg, kMaxPayloadKg, "[-5000, 5000] kg (a mass change)"});
   }
-  if (p.effect == "torque_constant") {
+  if (p.effect == Effect::torque_constant) {
     if (p.setting.count("saturation") != 0U && b.size() > 1) {
       if (auto e = out_of_range("coefficients", b[1], {"", 0.0, 1.0, "[0, 1] per N·m: a saturation (coefficients[1]) lowers the "
                                                                      "constant as the current grows"});
@@ -141,11 +142,11 @@ EffectProblem coefficient_range_problem(const PlantEffect& p) {
     return out_of_range("coefficients", b[0], {"", -0.9, 9.0, "[-0.9, 9]: the measured torque's scale 1 + b (0.1 to 10 times "
                                                               "the true torque; <= 0 would flip or erase it)"});
   }
-  if (p.effect == "time_delay") {
+  if (p.effect == Effect::time_delay) {
     return out_of_range("coefficients", -b[0], {"", 0.0, 1.0, "[0, 1] s as a delay (-coefficients[0])"});
   }
-  if (p.effect == "inertia_error") return out_of_range("coefficients", b[0], {"", -kMaxRotorInertiaKgM2, kMaxRotorInertiaKgM2, "+/-1e4 kg·m²"});
-  if (p.effect == "load_dependent_friction") {
+  if (p.effect == Effect::inertia_error) return out_of_range("coefficients", b[0], {"", -kMaxRotorInertiaKgM2, kMaxRotorInertiaKgM2, "+/-1e4 kg·m²"});
+  if (p.effect == Effect::load_dependent_friction) {
     for (const double v : b) {
       if (auto e = out_of_range("coefficients", v, {"", -1.0, 1.0, "[-1, 1] N·m per N·m"}); !e.field.empty()) return e;
     }
@@ -154,7 +155,7 @@ EffectProblem coefficient_range_problem(const PlantEffect& p) {
   for (const double v : b) {  // friction levels, offsets, ripple: torques an arm's drive can hold
     if (auto e = out_of_range("coefficients", v, {"", -1e5, 1e5, "+/-1e5 (N·m or N·m·s/rad)"}); !e.field.empty()) return e;
   }
-  if (p.effect == "presliding" && p.setting.count("sigma0_ratio") != 0U && !(p.setting.at("sigma0_ratio") * b[0] + (1.0 - b[0]) > 0.0)) {
+  if (p.effect == Effect::presliding && p.setting.count("sigma0_ratio") != 0U && !(p.setting.at("sigma0_ratio") * b[0] + (1.0 - b[0]) > 0.0)) {
     return {"coefficients", "the bristle stiffness would not stay positive (sigma0_ratio x b + 1 - b <= 0)"};
   }
   return {};
@@ -162,44 +163,27 @@ EffectProblem coefficient_range_problem(const PlantEffect& p) {
 }  // namespace
 
 EffectProblem simulation_problem(const PlantEffect& p) {
+  const EffectInfo& info = effect_info(p.effect);
+  const std::string word = "'" + effect_word(p.effect) + "'";
+  if (info.channel == EffectChannel::none) return {"effect", word + " is not an effect the plant can simulate"};
+  // The plain shape's counts and setting (the catalogue); richer shapes add a coefficient,
+  // and the model-curve instances (changes of the nominal LuGre) need no setting of their own.
   const bool model_curve = p.setting.count("model_curve") != 0U;
-  struct Needs {
-    const char* effect;
-    std::size_t coefficients;
-    const char* setting;  ///< nullptr: none
-  };
-  // The generic Stribeck and Dahl shapes carry their nonlinear setting; the model-curve
-  // instances (changes of the nominal LuGre) do not.
-  const Needs needs[] = {
-      {"coulomb", 1, nullptr},
-      {"viscous", 1, nullptr},
-      {"stribeck", 1, model_curve ? nullptr : "w_s"},
-      {"presliding", 1, p.setting.count("sigma0_ratio") != 0U ? nullptr : "displacement_rad"},
-      {"asymmetric_friction", p.setting.count("side") != 0U ? 2U : 1U, nullptr},
-      {"position_ripple", 2, "periods_per_rev"},
-      {"temperature_drift", 1, "time_constant_s"},
-      {"load_dependent_friction", p.setting.count("power_flow") != 0U ? 2U : 1U, nullptr},
-      {"inertia_error", 1, nullptr},
-      {"torque_constant", p.setting.count("saturation") != 0U ? 2U : 1U, nullptr},
-      {"current_offset", 1, nullptr},
-      {"time_delay", 1, nullptr},
-      {"backlash", 0, nullptr},
-      {"joint_elasticity", 0, nullptr},
-      {"payload", 4, nullptr},
-      {"link_inertial_error", 4, "link"}};
-  const Needs* need = nullptr;
-  for (const auto& n : needs) {
-    if (p.effect == n.effect) need = &n;
+  std::size_t coefficients = info.coefficients;
+  if ((p.effect == Effect::asymmetric_friction && p.setting.count("side") != 0U) ||
+      (p.effect == Effect::load_dependent_friction && p.setting.count("power_flow") != 0U) ||
+      (p.effect == Effect::torque_constant && p.setting.count("saturation") != 0U)) {
+    coefficients = 2;
   }
-  if (need == nullptr) return {"effect", "'" + p.effect + "' is not an effect the plant can simulate"};
-  if (p.coefficients.size() < need->coefficients) {
-    return {"coefficients", "'" + p.effect + "' needs " + std::to_string(need->coefficients) + " coefficient(s)"};
+  std::string setting(info.setting);
+  if ((p.effect == Effect::stribeck && model_curve) || (p.effect == Effect::presliding && p.setting.count("sigma0_ratio") != 0U) ||
+      p.effect == Effect::backlash) {
+    setting.clear();  // backlash's gap is a reported parameter (params.gap_rad), not a grid setting
   }
-  if (need->setting != nullptr && p.setting.count(need->setting) == 0U) {
-    return {"setting", "'" + p.effect + "' needs setting '" + need->setting + "'"};
-  }
-  if ((p.effect == "payload" || p.effect == "link_inertial_error") != (p.joint == 0)) {
-    return {"joint", "'" + p.effect + "' belongs to " + (p.joint == 0 ? "a joint (1..n)" : "the arm (joint 0)")};
+  if (p.coefficients.size() < coefficients) return {"coefficients", word + " needs " + std::to_string(coefficients) + " coefficient(s)"};
+  if (!setting.empty() && p.setting.count(setting) == 0U) return {"setting", word + " needs setting '" + setting + "'"};
+  if ((info.scope == EffectScope::arm) != (p.joint == 0)) {
+    return {"joint", word + " belongs to " + (p.joint == 0 ? "a joint (1..n)" : "the arm (joint 0)")};
   }
   return {};
 }
@@ -210,7 +194,10 @@ std::vector<PlantEffect> read_plant_effects(const io::YamlFields& root, std::siz
   for (const auto& e : root.sequence("plant_effects")) {
     e.allow_only({"effect", "joint", "setting", "coefficients", "params"});
     PlantEffect p;
-    p.effect = e.text("effect");
+    const std::string word = e.text("effect");
+    const std::optional<Effect> effect = parse_effect(word);
+    if (!effect || *effect == Effect::none) e.fail("effect", "'" + word + "' is not an effect the plant can simulate (one of: " + effect_words() + ", without none)");
+    p.effect = *effect;
     const long j = e.integer("joint", 0);
     if (j < 0 || j > static_cast<long>(joints)) e.fail("joint", "expected 0 (the arm) or a joint 1.." + std::to_string(joints));
     p.joint = static_cast<int>(j);

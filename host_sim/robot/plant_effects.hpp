@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "robot/effect_catalogue.hpp"
+
 namespace jg::io {
 class YamlFields;
 }
@@ -17,7 +19,7 @@ class YamlFields;
 namespace jg::robot {
 
 struct PlantEffect {
-  std::string effect;                       ///< vocabulary word (docs/diagnosis.md)
+  Effect effect = Effect::none;             ///< the cause (robot/effect_catalogue.hpp)
   int joint = 0;                            ///< 1-based joint; 0 = the arm (payload, a link's mass)
   std::map<std::string, double> setting;    ///< nonlinear settings (grid values)
   std::vector<double> coefficients;         ///< fitted amplitudes (the diagnosis's regression)

@@ -49,30 +49,30 @@ void apply_effect(const robot::PlantEffect& e, std::size_t j, int joint, Simulat
   }
   std::ostringstream os;
   os.precision(4);
-  if (e.effect == "coulomb") {
+  if (e.effect == robot::Effect::coulomb) {
     // The model's Coulomb level alone, or (the generic sign shape) the whole level curve.
     os << "coulomb: tau_c " << lugre.tau_c;
     lugre.tau_c = positive(lugre.tau_c + b[0]);
     if (!model_curve) lugre.tau_s = positive(lugre.tau_s + b[0]);
     os << " -> " << lugre.tau_c << " N·m";
-  } else if (e.effect == "viscous") {
+  } else if (e.effect == robot::Effect::viscous) {
     os << "viscous: sigma2 " << lugre.sigma2;
     lugre.sigma2 = std::max(0.0, lugre.sigma2 + b[0]);
     os << " -> " << lugre.sigma2 << " N·m·s/rad";
-  } else if (e.effect == "stribeck" && model_curve) {
+  } else if (e.effect == robot::Effect::stribeck && model_curve) {
     os << "stribeck: tau_s " << lugre.tau_s;
     lugre.tau_s = positive(lugre.tau_s + b[0]);
     os << " -> " << lugre.tau_s << " N·m";
-  } else if (e.effect == "stribeck") {
+  } else if (e.effect == robot::Effect::stribeck) {
     // The fitted shape itself: an excess at low speed with its own Stribeck velocity.
     f.effects.stribeck_extra_nm = b[0];
     f.effects.stribeck_extra_w_s = e.setting.at("w_s");
     os << "stribeck: " << b[0] << " N·m extra below " << f.effects.stribeck_extra_w_s << " rad/s";
-  } else if (e.effect == "presliding" && e.setting.count("sigma0_ratio") != 0U) {
+  } else if (e.effect == robot::Effect::presliding && e.setting.count("sigma0_ratio") != 0U) {
     os << "presliding: sigma0 " << lugre.sigma0;
     lugre.sigma0 = positive(lugre.sigma0 * (e.setting.at("sigma0_ratio") * b[0] + (1.0 - b[0])));
     os << " -> " << lugre.sigma0 << " N·m/rad";
-  } else if (e.effect == "presliding") {
+  } else if (e.effect == robot::Effect::presliding) {
     // The fitted Dahl shape itself (a LuGre bristle stiffness would change the whole curve),
     // with its law (1 exponential, 2 hyperbolic).
     f.effects.dahl_extra_nm = b[0];
@@ -80,25 +80,25 @@ void apply_effect(const robot::PlantEffect& e, std::size_t j, int joint, Simulat
     f.effects.dahl_exponent = e.setting.count("law") != 0U ? static_cast<int>(e.setting.at("law")) : 1;
     os << "presliding: Dahl shape " << b[0] << " N·m over " << f.effects.dahl_displacement_rad << " rad"
        << (f.effects.dahl_exponent == 2 ? " (hyperbolic law)" : "");
-  } else if (e.effect == "asymmetric_friction" && e.setting.count("side") != 0U) {
+  } else if (e.effect == robot::Effect::asymmetric_friction && e.setting.count("side") != 0U) {
     apply_one_sided(e, f, os);
-  } else if (e.effect == "asymmetric_friction") {
+  } else if (e.effect == robot::Effect::asymmetric_friction) {
     // The plant scales the Coulomb/static levels by 1 +/- a: a level difference b0 is a = b0 / tau_c.
     f.effects.asymmetry = std::clamp(f.effects.asymmetry + b[0] / lugre.tau_c, -0.95, 0.95);
     if (b.size() > 1) f.effects.viscous_asymmetry += b[1];
     os << "asymmetric_friction: asymmetry " << f.effects.asymmetry << ", viscous " << f.effects.viscous_asymmetry
        << " N·m·s/rad";
-  } else if (e.effect == "position_ripple") {
+  } else if (e.effect == robot::Effect::position_ripple) {
     f.effects.ripple_periods_per_rev = e.setting.at("periods_per_rev");
     f.effects.ripple_amplitude = std::hypot(b[0], b[1]);
     f.effects.ripple_phase = std::atan2(b[1], b[0]);
     os << "position_ripple: " << f.effects.ripple_amplitude << " N·m, " << f.effects.ripple_periods_per_rev << " per turn";
-  } else if (e.effect == "temperature_drift") {
+  } else if (e.effect == robot::Effect::temperature_drift) {
     // The fitted shape itself: the level, not the viscous term, drifts.
     f.effects.drift_extra_nm = b[0];
     f.effects.drift_extra_time_constant_s = e.setting.at("time_constant_s");
     os << "temperature_drift: level + " << b[0] << " N·m (1 - exp(-t / " << f.effects.drift_extra_time_constant_s << " s))";
-  } else if (e.effect == "load_dependent_friction") {
+  } else if (e.effect == robot::Effect::load_dependent_friction) {
     // By the power flow: the back-driven coefficient of its own (before: the driving one's).
     const double backdriven = f.effects.load_coefficient_backdriven >= 0.0 ? f.effects.load_coefficient_backdriven
                                                                            : f.effects.load_coefficient;
@@ -106,12 +106,12 @@ void apply_effect(const robot::PlantEffect& e, std::size_t j, int joint, Simulat
     if (e.setting.count("power_flow") != 0U) f.effects.load_coefficient_backdriven = std::max(0.0, backdriven + b[1]);
     os << "load_dependent_friction: " << f.effects.load_coefficient << " N·m per N·m";
     if (e.setting.count("power_flow") != 0U) os << " (back-driven " << f.effects.load_coefficient_backdriven << ")";
-  } else if (e.effect == "inertia_error") {
+  } else if (e.effect == robot::Effect::inertia_error) {
     auto& link = s.plant.links[j];
     os << "inertia_error: rotor inertia " << link.rotor_inertia;
     link.rotor_inertia = std::max(0.0, link.rotor_inertia + b[0]);
     os << " -> " << link.rotor_inertia << " kg·m²";
-  } else if (e.effect == "torque_constant") {
+  } else if (e.effect == robot::Effect::torque_constant) {
     // Measured = (1 + b) x true torque; the drive's true K_I = nominal (1 + error) and the
     // measurement is true / (1 + error).
     drive.torque_constant_error = (1.0 + drive.torque_constant_error) / (1.0 + b[0]) - 1.0;
@@ -123,14 +123,14 @@ void apply_effect(const robot::PlantEffect& e, std::size_t j, int joint, Simulat
       sat[j] += b[1] * drive.torque_constant_nominal;
       os << ", saturating " << sat[j] << " per A";
     }
-  } else if (e.effect == "current_offset") {
+  } else if (e.effect == robot::Effect::current_offset) {
     drive.current_offset_a += b[0] / drive.torque_constant_nominal;
     os << "current_offset: " << drive.current_offset_a << " A";
-  } else if (e.effect == "time_delay") {
+  } else if (e.effect == robot::Effect::time_delay) {
     delays.push_back(-b[0]);
     return;  // one delay for all drives' current channels, set below
   } else {
-    r.not_modelled.push_back(joint_text(joint, e.effect + ": the plant has no setting for it"));
+    r.not_modelled.push_back(joint_text(joint, robot::effect_word(e.effect) + ": the plant has no setting for it"));
     return;
   }
   r.applied.push_back(joint_text(joint, os.str()));
@@ -175,7 +175,7 @@ void apply_gear(const robot::PlantEffect& e, std::size_t j, SimulationSetup& s, 
 void apply_arm_effect(const robot::PlantEffect& e, SimulationSetup& s, EffectsReport& r) {
   std::ostringstream os;
   os.precision(4);
-  if (e.effect == "link_inertial_error" && e.coefficients.size() >= 4 && e.setting.count("link") != 0U) {
+  if (e.effect == robot::Effect::link_inertial_error && e.coefficients.size() >= 4 && e.setting.count("link") != 0U) {
     // Mass and first moment changed, the rotational inertia about the link origin kept.
     const auto l = static_cast<std::size_t>(e.setting.at("link")) - 1;
     if (l >= s.plant.links.size()) {
@@ -187,14 +187,14 @@ void apply_arm_effect(const robot::PlantEffect& e, SimulationSetup& s, EffectsRe
     link = with_mass_first_moment_change(link, e.coefficients[0],
                                          Eigen::Vector3d(e.coefficients[1], e.coefficients[2], e.coefficients[3]));
     os << " -> " << link.mass << " kg";
-  } else if (e.effect == "payload" && e.coefficients.size() >= 4 && e.coefficients[0] > 0.0) {
+  } else if (e.effect == robot::Effect::payload && e.coefficients.size() >= 4 && e.coefficients[0] > 0.0) {
     const double m = e.coefficients[0];
     const auto it = e.setting.find("picked_up_at_s");
     const double t_s = it != e.setting.end() ? it->second : 0.0;
     s.plant.payload = PayloadChange{t_s, m, Eigen::Vector3d(e.coefficients[1], e.coefficients[2], e.coefficients[3]) / m};
     os << "arm: payload " << m << " kg from t = " << t_s << " s";
   } else {
-    r.not_modelled.push_back("arm: " + e.effect + ": the plant has no setting for it");
+    r.not_modelled.push_back("arm: " + robot::effect_word(e.effect) + ": the plant has no setting for it");
     return;
   }
   r.applied.push_back(os.str());
@@ -214,10 +214,10 @@ EffectsReport apply_plant_effects(const std::vector<robot::PlantEffect>& effects
     }
     const auto j = static_cast<std::size_t>(e.joint - 1);
     if (j >= s.plant.links.size() || j >= s.plant.friction.size() || j >= s.sensors.drives.size()) {
-      r.not_modelled.push_back(joint_text(e.joint, e.effect + ": no such joint (or no friction model) in the simulation"));
+      r.not_modelled.push_back(joint_text(e.joint, robot::effect_word(e.effect) + ": no such joint (or no friction model) in the simulation"));
       continue;
     }
-    if (e.effect == "joint_elasticity" || e.effect == "backlash") {
+    if (e.effect == robot::Effect::joint_elasticity || e.effect == robot::Effect::backlash) {
       apply_gear(e, j, s, r);
     } else {
       apply_effect(e, j, e.joint, s, delays, r);

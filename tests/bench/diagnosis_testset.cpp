@@ -53,7 +53,7 @@ int main(int argc, char** argv) {
   std::vector<jg::diag::CaseOutcome> outcomes(cases.size());
   jg::eval::parallel_for(cases.size(), jobs, [&](std::size_t i) {
     const auto& c = cases[i];
-    if (std::getenv("JG_DIAG_TRACE")) std::fprintf(stderr, "running %s joint %d %s A=%.3f seed %llu\n", c.effect.c_str(), c.joint, c.concealment.c_str(), c.amplitude_nm, c.seed);
+    if (std::getenv("JG_DIAG_TRACE")) std::fprintf(stderr, "running %s joint %d %s A=%.3f seed %llu\n", jg::robot::effect_cstr(c.effect), c.joint, c.concealment.c_str(), c.amplitude_nm, c.seed);
     outcomes[i] = second ? jg::diag::run_case_second(c, arm) : jg::diag::run_case(c, arm);
   });
   int effect_cases = 0, named = 0, matched = 0, false_claims = 0, floor_ok = 0, floor_n = 0, resim_ok = 0;
@@ -71,16 +71,16 @@ int main(int argc, char** argv) {
     for (const auto& j : o.joints)
       for (const auto& f : j.findings) found += "j" + std::to_string(j.joint) + ":" + f.effect + " ";
     std::printf("%-24s joint %d %-13s A=%.3f held-out %.3f -> %.3f (noise %.3f), re-simulated %.3f (noise %.3f)%s -> %s%s\n",
-                c.effect.c_str(), c.joint, c.concealment.c_str(), c.amplitude_nm, o.heldout_before, o.heldout_after, o.noise,
+                jg::robot::effect_cstr(c.effect), c.joint, c.concealment.c_str(), c.amplitude_nm, o.heldout_before, o.heldout_after, o.noise,
                 o.resim_heldout, o.resim_noise, jg::diag::resim_at_noise_floor(o) ? "" : " NOT AT FLOOR",
-                found.empty() ? "none" : found.c_str(), c.effect == "none" ? (o.false_claim ? "  FALSE CLAIM" : "  ok") : (o.named ? "  ok" : "  MISSED"));
-    if (c.effect == "none") {
+                found.empty() ? "none" : found.c_str(), c.effect == jg::robot::Effect::none ? (o.false_claim ? "  FALSE CLAIM" : "  ok") : (o.named ? "  ok" : "  MISSED"));
+    if (c.effect == jg::robot::Effect::none) {
       ++matched;
       false_claims += o.false_claim ? 1 : 0;
     } else {
       ++effect_cases;
       named += o.named ? 1 : 0;
-      auto& pe = per_effect[c.effect];
+      auto& pe = per_effect[jg::robot::effect_word(c.effect)];  // by name: the table prints in its order
       pe.second++;
       pe.first += o.named ? 1 : 0;
       ++floor_n;
@@ -94,7 +94,7 @@ int main(int argc, char** argv) {
               resim_ok, floor_n, 100.0 * resim_ok / std::max(1, floor_n));
   for (const auto& [e, v] : per_effect) {
     std::printf("  %-24s %d / %d", e.c_str(), v.first, v.second);
-    if (second) std::printf("   (%s)", jg::diag::second_shape_description(e).c_str());
+    if (second) std::printf("   (%s)", jg::diag::second_shape_description(*jg::robot::parse_effect(e)).c_str());
     std::printf("\n");
   }
   return 0;

@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
     const auto r = jg::diag::friction_study(files, c.train, ga, ranges);
     std::printf("%s joint %d: LuGre sigma0 %.1f sigma1 %.3f sigma2 %.4f tau_c %.4f tau_s %.4f w_s %.4f\n", c.name, r.joint,
                 r.lugre.sigma0, r.lugre.sigma1, r.lugre.sigma2, r.lugre.tau_c, r.lugre.tau_s, r.lugre.w_s);
-    for (const auto& f : r.diagnosis.findings) std::printf("  finding: %s (confidence %.2f): %s\n", f.effect.c_str(), f.confidence, f.text.c_str());
+    for (const auto& f : r.diagnosis.findings) std::printf("  finding: %s (confidence %.2f): %s\n", jg::robot::effect_cstr(f.effect), f.confidence, f.text.c_str());
     for (const auto& f : r.files)
       std::printf("  %-18s %s LuGre RMS %.4f  LuGre+effects RMS %.4f\n", std::filesystem::path(f.path).filename().c_str(),
                   f.training ? "(train)" : "(held) ", f.lugre_rms, f.extended_rms);

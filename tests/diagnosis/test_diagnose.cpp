@@ -63,7 +63,7 @@ TEST(Diagnose, FindsPositionRippleAtNoiseLevel) {
   const auto d = run_pair(s);
   for (const auto& j : d) std::printf("joint %d: %s noise %.3f rms %.3f -> %.3f heldout %.3f -> %.3f\n", j.joint, names(j).c_str(), j.noise_rms, j.rms_before, j.rms_after, j.heldout_rms_before, j.heldout_rms_after);
   ASSERT_FALSE(d[1].findings.empty());
-  EXPECT_EQ(d[1].findings[0].effect, "position_ripple");
+  EXPECT_EQ(d[1].findings[0].effect, jg::robot::Effect::position_ripple);
   EXPECT_EQ(d[1].findings[0].params.at("periods_per_rev"), 50.0);
   EXPECT_NEAR(d[1].findings[0].params.at("amplitude"), 0.12, 0.03);
   EXPECT_TRUE(d[0].findings.empty()) << names(d[0]);
@@ -77,9 +77,9 @@ TEST(Diagnose, FindsCurrentOffsetAndTorqueConstant) {
   const auto d = run_pair(s);
   for (const auto& j : d) std::printf("joint %d: %s\n", j.joint, names(j).c_str());
   ASSERT_FALSE(d[0].findings.empty());
-  EXPECT_EQ(d[0].findings[0].effect, "current_offset");
+  EXPECT_EQ(d[0].findings[0].effect, jg::robot::Effect::current_offset);
   ASSERT_FALSE(d[2].findings.empty());
-  EXPECT_EQ(d[2].findings[0].effect, "torque_constant");
+  EXPECT_EQ(d[2].findings[0].effect, jg::robot::Effect::torque_constant);
 }
 }  // namespace
 
@@ -99,14 +99,14 @@ TEST(Diagnose, StartOffsetColumnsAreZeroAtRestAtTheFirstPosition) {
   s.tau_model.assign(s.t.size(), 0.0);
   s.residual.assign(s.t.size(), 0.0);
   s.offset_at_start = true;
-  const auto ripple = jg::diag::make_candidate("position_ripple", {{"periods_per_rev", 3.0}}, s);
+  const auto ripple = jg::diag::make_candidate(jg::robot::Effect::position_ripple, {{"periods_per_rev", 3.0}}, s);
   ASSERT_EQ(ripple.columns.size(), 2U);
   EXPECT_NEAR(ripple.columns[0][0], 0.0, 1e-12);
   EXPECT_NEAR(ripple.columns[1][0], 0.0, 1e-12);
   EXPECT_NEAR(ripple.columns[0][1000], std::sin(3.0 * s.q[1000]) - std::sin(3.0 * 0.3), 1e-12);
-  const auto coulomb = jg::diag::make_candidate("coulomb", {}, s);
+  const auto coulomb = jg::diag::make_candidate(jg::robot::Effect::coulomb, {}, s);
   EXPECT_NEAR(coulomb.columns[0][500], 1.0, 1e-12);  // sign at rest is zero: nothing to subtract
-  const auto offset = jg::diag::make_candidate("current_offset", {}, s);
+  const auto offset = jg::diag::make_candidate(jg::robot::Effect::current_offset, {}, s);
   EXPECT_NEAR(offset.columns[0][1000], 1.0, 1e-12);
 }
 
@@ -138,7 +138,7 @@ TEST(DiagnoseRealArmRules, NegativeFrictionLevelIsNotClaimed) {
   const auto s = synthetic_joint([](double, double dq) { return dq > 0.0 ? -0.5 : (dq < 0.0 ? 0.5 : 0.0); }, 3);
   const auto d = jg::diag::diagnose_joint(s);
   for (const auto& f : d.findings) {
-    if (f.effect == "coulomb") {
+    if (f.effect == jg::robot::Effect::coulomb) {
       EXPECT_GE(f.params.at("delta_tau_c"), 0.0) << f.text;
     }
   }
@@ -157,8 +157,8 @@ TEST(DiagnoseRealArmRules, NoTorqueConstantOnAJointTorqueSensor) {
   }
   const auto motor = jg::diag::diagnose_joint(s);
   bool named = false;
-  for (const auto& f : motor.findings) named = named || f.effect == "torque_constant";
+  for (const auto& f : motor.findings) named = named || f.effect == jg::robot::Effect::torque_constant;
   EXPECT_TRUE(named) << "with a motor current the scale error is a torque constant";
   s.joint_torque_sensor = true;
-  for (const auto& f : jg::diag::diagnose_joint(s).findings) EXPECT_NE(f.effect, "torque_constant");
+  for (const auto& f : jg::diag::diagnose_joint(s).findings) EXPECT_NE(f.effect, jg::robot::Effect::torque_constant);
 }

@@ -14,7 +14,7 @@ TEST(DiagnosisTestSet, NamesConcealedEffectsAndClaimsNothingOnMatchedPairs) {
   int effects = 0, named = 0, matched = 0, false_claims = 0, at_floor = 0;
   for (const auto& c : cases) {
     const auto o = jg::diag::run_case(c, arm);
-    if (c.effect == "none") {
+    if (c.effect == jg::robot::Effect::none) {
       ++matched;
       false_claims += o.false_claim ? 1 : 0;
       continue;
@@ -22,7 +22,7 @@ TEST(DiagnosisTestSet, NamesConcealedEffectsAndClaimsNothingOnMatchedPairs) {
     ++effects;
     named += o.named ? 1 : 0;
     at_floor += jg::diag::at_noise_floor(o) ? 1 : 0;
-    std::printf("%-24s joint %d %-13s -> %s\n", c.effect.c_str(), c.joint, c.concealment.c_str(), o.named ? "named" : "missed");
+    std::printf("%-24s joint %d %-13s -> %s\n", jg::robot::effect_cstr(c.effect), c.joint, c.concealment.c_str(), o.named ? "named" : "missed");
   }
   std::printf("named %d / %d, false claims %d / %d, held-out at noise floor %d / %d\n", named, effects, false_claims, matched,
               at_floor, effects);
@@ -38,11 +38,11 @@ namespace {
 TEST(DiagnosisTestSet, NamesPreslidingBacklashAndElasticity) {
   const auto arm = jg::diag::default_test_arm();
   const auto cases = jg::diag::draw_cases(200, 12, 0.17, 3);
-  for (const std::string effect : {"presliding", "backlash", "joint_elasticity"}) {
+  for (const jg::robot::Effect effect : {jg::robot::Effect::presliding, jg::robot::Effect::backlash, jg::robot::Effect::joint_elasticity}) {
     const auto it = std::find_if(cases.begin(), cases.end(), [&](const jg::diag::ConcealedCase& c) { return c.effect == effect; });
     ASSERT_NE(it, cases.end()) << effect;
     const auto o = jg::diag::run_case(*it, arm);
-    std::printf("%-18s joint %d %-13s held-out %.3f -> %.3f (noise %.3f): %s\n", effect.c_str(), it->joint,
+    std::printf("%-18s joint %d %-13s held-out %.3f -> %.3f (noise %.3f): %s\n", jg::robot::effect_cstr(effect), it->joint,
                 it->concealment.c_str(), o.heldout_before, o.heldout_after, o.noise, o.named ? "named" : "missed");
     EXPECT_TRUE(o.named) << effect << " on joint " << it->joint;
     EXPECT_TRUE(jg::diag::at_noise_floor(o)) << effect;

@@ -30,9 +30,9 @@ TEST(DiagnosisTestSetSecond, NamesMostEffectsInOtherShapesAndClaimsNothingOnMatc
     for (const auto& f : o.arm.findings) found += "arm:" + f.effect + " ";
     for (const auto& j : o.joints)
       for (const auto& f : j.findings) found += "j" + std::to_string(j.joint) + ":" + f.effect + " ";
-    std::printf("%-24s joint %d %-28s A=%.3f -> %s\n", c.effect.c_str(), c.joint, c.concealment.c_str(), c.amplitude_nm,
+    std::printf("%-24s joint %d %-28s A=%.3f -> %s\n", jg::robot::effect_cstr(c.effect), c.joint, c.concealment.c_str(), c.amplitude_nm,
                 found.empty() ? "none" : found.c_str());
-    if (c.effect == "none") {
+    if (c.effect == jg::robot::Effect::none) {
       ++matched;
       false_claims += o.false_claim ? 1 : 0;
       continue;
@@ -53,12 +53,12 @@ TEST(DiagnosisTestSetSecond, DrawsItsOwnCases) {
   const auto cases = jg::diag::draw_cases_second(120, 61, 0.17, 3);
   const auto first = jg::diag::draw_cases(120, 61, 0.17, 3);
   const auto& words = jg::diag::producible_effects();
-  const std::set<std::string> vocabulary(words.begin(), words.end());
-  std::set<std::string> seen;
+  const std::set<jg::robot::Effect> vocabulary(words.begin(), words.end());
+  std::set<jg::robot::Effect> seen;
   int same_effect = 0;
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const auto& c = cases[i];
-    if (c.effect == "none") {
+    if (c.effect == jg::robot::Effect::none) {
       EXPECT_EQ(c.concealment.rfind("matched", 0), 0U) << c.concealment;
       continue;
     }
@@ -81,11 +81,11 @@ TEST(DiagnosisTestSetSecond, RicherShapesWrittenBackReachThePlant) {
   const double tc3 = s.plant.friction[2].lugre.tau_c;
   const double k2 = s.sensors.drives[1].torque_constant_nominal;
   const std::vector<PlantEffect> effects = {
-      {"asymmetric_friction", 1, {{"side", -1.0}}, {0.1 * tc, 0.2 * ts}, {}},
-      {"asymmetric_friction", 3, {{"side", 1.0}}, {0.5, 0.5}, {}},
-      {"torque_constant", 2, {{"saturation", 1.0}}, {0.0, 0.01}, {}},
-      {"load_dependent_friction", 3, {{"power_flow", 1.0}}, {0.05, 0.02}, {}},
-      {"presliding", 1, {{"displacement_rad", 1e-3}, {"law", 2.0}}, {-0.1}, {}}};
+      {jg::robot::Effect::asymmetric_friction, 1, {{"side", -1.0}}, {0.1 * tc, 0.2 * ts}, {}},
+      {jg::robot::Effect::asymmetric_friction, 3, {{"side", 1.0}}, {0.5, 0.5}, {}},
+      {jg::robot::Effect::torque_constant, 2, {{"saturation", 1.0}}, {0.0, 0.01}, {}},
+      {jg::robot::Effect::load_dependent_friction, 3, {{"power_flow", 1.0}}, {0.05, 0.02}, {}},
+      {jg::robot::Effect::presliding, 1, {{"displacement_rad", 1e-3}, {"law", 2.0}}, {-0.1}, {}}};
   const auto report = jg::sim::apply_plant_effects(effects, 0.002, s);
   EXPECT_TRUE(report.not_modelled.empty());
   const auto& f1 = s.plant.friction[0].effects;
@@ -99,9 +99,9 @@ TEST(DiagnosisTestSetSecond, RicherShapesWrittenBackReachThePlant) {
   EXPECT_NEAR(f3.effects.load_coefficient_backdriven, 0.02, 1e-12);
   ASSERT_EQ(s.sensors.torque_constant_saturation_per_a.size(), 3U);
   EXPECT_NEAR(s.sensors.torque_constant_saturation_per_a[1], 0.01 * k2, 1e-12);
-  EXPECT_FALSE(jg::robot::simulation_problem({"torque_constant", 2, {{"saturation", 1.0}}, {0.0}, {}}).field.empty());
-  EXPECT_FALSE(jg::robot::simulation_problem({"load_dependent_friction", 2, {{"power_flow", 1.0}}, {0.1}, {}}).field.empty());
-  EXPECT_FALSE(jg::robot::simulation_problem({"asymmetric_friction", 2, {{"side", 1.0}}, {0.1}, {}}).field.empty());
+  EXPECT_FALSE(jg::robot::simulation_problem({jg::robot::Effect::torque_constant, 2, {{"saturation", 1.0}}, {0.0}, {}}).field.empty());
+  EXPECT_FALSE(jg::robot::simulation_problem({jg::robot::Effect::load_dependent_friction, 2, {{"power_flow", 1.0}}, {0.1}, {}}).field.empty());
+  EXPECT_FALSE(jg::robot::simulation_problem({jg::robot::Effect::asymmetric_friction, 2, {{"side", 1.0}}, {0.1}, {}}).field.empty());
 }
 }  // namespace
 

@@ -97,24 +97,24 @@ TEST(InjectEffects, WhatATorqueColumnCannotCarry) {
   jg::inject::InjectTarget sensor = motor;
   sensor.torque = jg::io::TorqueKind::tau_j;
   auto field = [](const PlantEffect& e, const jg::inject::InjectTarget& t) { return jg::inject::injection_problem(e, t).field; };
-  EXPECT_EQ(field({"payload", 0, {{"link", 3}}, {0.5, 0.1, 0, 0}, {}}, motor), "");
-  EXPECT_EQ(field({"payload", 0, {{"link", 2}}, {0.5, 0.1, 0, 0}, {}}, motor), "setting.link");
-  EXPECT_EQ(field({"payload", 0, {}, {0.0, 0, 0, 0}, {}}, motor), "coefficients");
-  EXPECT_EQ(field({"payload", 0, {}, {0.5, 0, 0, 0}, {{"mass_kg", 0.6}}}, motor), "params.mass_kg");
-  EXPECT_EQ(field({"payload", 2, {}, {0.5, 0, 0, 0}, {}}, motor), "joint");
-  EXPECT_EQ(field({"link_inertial_error", 0, {{"link", 2}}, {-3.5, 0, 0, 0}, {}}, motor), "coefficients");
-  EXPECT_EQ(field({"joint_elasticity", 2, {}, {}, {{"stiffness_nm_per_rad", 1e4}}}, motor), "effect");
-  EXPECT_EQ(field({"backlash", 2, {{"gap_rad", 1e-3}}, {0.1}, {}}, motor), "effect");
-  EXPECT_EQ(field({"coulomb", 2, {{"model_curve", 1}}, {0.6}, {}}, motor), "setting");
-  EXPECT_EQ(field({"stribeck", 2, {{"w_s", 0.0}}, {0.6}, {}}, motor), "setting.w_s");
-  EXPECT_EQ(field({"asymmetric_friction", 1, {}, {0.1}, {}}, motor), "");
-  EXPECT_EQ(field({"asymmetric_friction", 1, {}, {0.1, 0.2, 0.3}, {}}, motor), "coefficients");
-  EXPECT_EQ(field({"torque_constant", 1, {}, {-1.0}, {}}, motor), "coefficients");
-  EXPECT_EQ(field({"torque_constant", 1, {}, {0.05}, {}}, sensor), "effect");
-  EXPECT_EQ(field({"current_offset", 1, {}, {0.3}, {}}, sensor), "effect");
-  EXPECT_EQ(field({"inertia_error", 1, {}, {0.01}, {}}, sensor), "effect");
-  EXPECT_EQ(field({"time_delay", 1, {}, {-0.002}, {}}, sensor), "");
-  EXPECT_EQ(field({"none", 1, {}, {}, {}}, motor), "effect");
+  EXPECT_EQ(field({jg::robot::Effect::payload, 0, {{"link", 3}}, {0.5, 0.1, 0, 0}, {}}, motor), "");
+  EXPECT_EQ(field({jg::robot::Effect::payload, 0, {{"link", 2}}, {0.5, 0.1, 0, 0}, {}}, motor), "setting.link");
+  EXPECT_EQ(field({jg::robot::Effect::payload, 0, {}, {0.0, 0, 0, 0}, {}}, motor), "coefficients");
+  EXPECT_EQ(field({jg::robot::Effect::payload, 0, {}, {0.5, 0, 0, 0}, {{"mass_kg", 0.6}}}, motor), "params.mass_kg");
+  EXPECT_EQ(field({jg::robot::Effect::payload, 2, {}, {0.5, 0, 0, 0}, {}}, motor), "joint");
+  EXPECT_EQ(field({jg::robot::Effect::link_inertial_error, 0, {{"link", 2}}, {-3.5, 0, 0, 0}, {}}, motor), "coefficients");
+  EXPECT_EQ(field({jg::robot::Effect::joint_elasticity, 2, {}, {}, {{"stiffness_nm_per_rad", 1e4}}}, motor), "effect");
+  EXPECT_EQ(field({jg::robot::Effect::backlash, 2, {{"gap_rad", 1e-3}}, {0.1}, {}}, motor), "effect");
+  EXPECT_EQ(field({jg::robot::Effect::coulomb, 2, {{"model_curve", 1}}, {0.6}, {}}, motor), "setting");
+  EXPECT_EQ(field({jg::robot::Effect::stribeck, 2, {{"w_s", 0.0}}, {0.6}, {}}, motor), "setting.w_s");
+  EXPECT_EQ(field({jg::robot::Effect::asymmetric_friction, 1, {}, {0.1}, {}}, motor), "");
+  EXPECT_EQ(field({jg::robot::Effect::asymmetric_friction, 1, {}, {0.1, 0.2, 0.3}, {}}, motor), "coefficients");
+  EXPECT_EQ(field({jg::robot::Effect::torque_constant, 1, {}, {-1.0}, {}}, motor), "coefficients");
+  EXPECT_EQ(field({jg::robot::Effect::torque_constant, 1, {}, {0.05}, {}}, sensor), "effect");
+  EXPECT_EQ(field({jg::robot::Effect::current_offset, 1, {}, {0.3}, {}}, sensor), "effect");
+  EXPECT_EQ(field({jg::robot::Effect::inertia_error, 1, {}, {0.01}, {}}, sensor), "effect");
+  EXPECT_EQ(field({jg::robot::Effect::time_delay, 1, {}, {-0.002}, {}}, sensor), "");
+  EXPECT_EQ(field({jg::robot::Effect::none, 1, {}, {}, {}}, motor), "effect");
 }
 
 /// A 3-joint recording of ref3 (2 s at 1 kHz): joints 1 and 2 swing, tau_m1 = sin(pi t).
@@ -169,7 +169,7 @@ Injected run(const std::vector<PlantEffect>& effects, const std::string& name) {
 
 TEST(InjectSensor, TimeDelayShiftsTheReading) {
   // time_delay's coefficient is the diagnosis's (b dtau/dt): b = -0.02 is a 20 ms lag.
-  const Injected x = run({{"time_delay", 1, {}, {-0.02}, {}}}, "jg_inject_delay.csv");
+  const Injected x = run({{jg::robot::Effect::time_delay, 1, {}, {-0.02}, {}}}, "jg_inject_delay.csv");
   for (std::size_t k = 0; k < x.after.size(); ++k) {
     const double t = x.before[k][0];
     const double want = t >= 0.02 ? std::sin(M_PI * (t - 0.02)) : 0.0;  // held at the first sample before
@@ -179,7 +179,7 @@ TEST(InjectSensor, TimeDelayShiftsTheReading) {
 }
 
 TEST(InjectArm, PayloadPickedUpActsFromThen) {
-  const Injected x = run({{"payload", 0, {{"picked_up_at_s", 1.0}}, {1.0, 0.2, 0.0, 0.0}, {}}}, "jg_inject_pickup.csv");
+  const Injected x = run({{jg::robot::Effect::payload, 0, {{"picked_up_at_s", 1.0}}, {1.0, 0.2, 0.0, 0.0}, {}}}, "jg_inject_pickup.csv");
   for (std::size_t k = 0; k < x.after.size(); ++k) {
     const double t = x.before[k][0];
     if (t < 1.0) {
