@@ -34,21 +34,12 @@ void apply_one_sided(const robot::PlantEffect& e, JointFrictionTruth& f, std::os
      << b[0] << " N·m, static level " << b[1] << " N·m off";
 }
 
-/// One torque-channel effect of joint j (0-based) into the setup.
-void apply_effect(const robot::PlantEffect& e, std::size_t j, int joint, SimulationSetup& s, std::vector<double>& delays,
-                  EffectsReport& r) {
-  auto& f = s.plant.friction[j];
+/// A friction effect of joint j into its friction truth f (what was set, into os); false:
+/// not a friction effect.
+bool apply_friction_effect(const robot::PlantEffect& e, JointFrictionTruth& f, std::ostringstream& os) {
   auto& lugre = f.lugre;
-  auto& drive = s.sensors.drives[j];
   const auto& b = e.coefficients;
   const bool model_curve = e.setting.count("model_curve") != 0U;
-  // Effects made in memory (the diagnosis's) are checked as the file reader checks them.
-  if (const robot::EffectProblem problem = robot::simulation_problem(e); !problem.field.empty()) {
-    r.not_modelled.push_back(joint_text(joint, problem.what));
-    return;
-  }
-  std::ostringstream os;
-  os.precision(4);
   if (e.effect == "coulomb") {
     // The model's Coulomb level alone, or (the generic sign shape) the whole level curve.
     os << "coulomb: tau_c " << lugre.tau_c;
@@ -106,7 +97,18 @@ void apply_effect(const robot::PlantEffect& e, std::size_t j, int joint, Simulat
     if (e.setting.count("power_flow") != 0U) f.effects.load_coefficient_backdriven = std::max(0.0, backdriven + b[1]);
     os << "load_dependent_friction: " << f.effects.load_coefficient << " N·m per N·m";
     if (e.setting.count("power_flow") != 0U) os << " (back-driven " << f.effects.load_coefficient_backdriven << ")";
-  } else if (e.effect == "inertia_error") {
+  } else {
+    return false;
+  }
+  return true;
+}
+
+/// A rotor or drive effect of joint j (0-based) into the setup (what was set, into os);
+/// false: not one.
+bool apply_drive_effect(const robot::PlantEffect& e, std::size_t j, SimulationSetup& s, std::ostringstream& os) {
+  auto& drive = s.sensors.drives[j];
+  const auto& b = e.coefficients;
+  if (e.effect == "inertia_error") {
     auto& link = s.plant.links[j];
     os << "inertia_error: rotor inertia " << link.rotor_inertia;
     link.rotor_inertia = std::max(0.0, link.rotor_inertia + b[0]);
@@ -126,10 +128,29 @@ void apply_effect(const robot::PlantEffect& e, std::size_t j, int joint, Simulat
   } else if (e.effect == "current_offset") {
     drive.current_offset_a += b[0] / drive.torque_constant_nominal;
     os << "current_offset: " << drive.current_offset_a << " A";
-  } else if (e.effect == "time_delay") {
-    delays.push_back(-b[0]);
-    return;  // one delay for all drives' current channels, set below
   } else {
+    return false;
+  }
+  return true;
+}
+
+/// One torque-channel effect of joint j (0-based) into the setup.
+void apply_effect(const robot::PlantEffect& e, std::size_t j, int joint, SimulationSetup& s, std::vector<double>& delays,
+                  EffectsReport& r) {
+  auto& f = s.plant.friction[j];
+  const auto& b = e.coefficients;
+  // Effects made in memory (the diagnosis's) are checked as the file reader checks them.
+  if (const robot::EffectProblem problem = robot::simulation_problem(e); !problem.field.empty()) {
+    r.not_modelled.push_back(joint_text(joint, problem.what));
+    return;
+  }
+  std::ostringstream os;
+  os.precision(4);
+  if (!apply_friction_effect(e, f, os) && !apply_drive_effect(e, j, s, os)) {
+    if (e.effect == "time_delay") {
+      delays.push_back(-b[0]);
+      return;  // one delay for all drives' current channels, set below
+    }
     r.not_modelled.push_back(joint_text(joint, e.effect + ": the plant has no setting for it"));
     return;
   }
