@@ -186,16 +186,21 @@ std::vector<std::vector<double>> predict_torque(const robot::RobotModel& model, 
   return out;
 }
 
-RigidBodyIdResult identify_rigid_body(const io::Recording& rec, const robot::RobotModel& prior,
-                                      const RigidBodyIdOptions& opt) {
-  RigidBodyIdResult res;
+namespace {
+
+// identify_rigid_body's stages, in the order it runs them. What one stage hands the next is
+// a struct (the signals, the prior as parameters, the normal equations, the fit), so each
+// stage reads as the step of the method it is.
+
+/// The recording's checks (joints against the model, length, uniform sampling) and its step.
+/// Uniform sampling is a precondition (recordings are made uniform upstream).
+double checked_step(const io::Recording& rec, const robot::RobotModel& prior) {
   const std::size_t n = rec.joints(), S = rec.samples();
   if (n != prior.joints.size()) {
     throw std::invalid_argument("the recording has " + std::to_string(n) + " joints, the model " +
                                 std::to_string(prior.joints.size()));
   }
   if (S < 200) throw std::invalid_argument("too few samples for rigid-body identification (" + std::to_string(S) + " < 200)");
-  // Uniform sampling is a precondition (recordings are made uniform upstream).
   std::vector<double> steps(S - 1);
   for (std::size_t k = 1; k < S; ++k) steps[k - 1] = rec.t[k] - rec.t[k - 1];
   std::vector<double> sorted = steps;
@@ -209,12 +214,20 @@ RigidBodyIdResult identify_rigid_body(const io::Recording& rec, const robot::Rob
       throw std::invalid_argument(buf);
     }
   }
-  bool tau_j_columns = false;
-  res.measured = recording_torque(rec, prior, &tau_j_columns);
-  const bool sensor = opt.joint_torque_sensor || tau_j_columns;
-  if (tau_j_columns && !opt.joint_torque_sensor) res.notes.push_back("tau_j<j> columns: joint-torque-sensor data, no rotor inertia");
+  return dt;
+}
 
-  // Accelerations.
+/// Per joint: the smoothed velocity, the friction's tanh width and the speed below which a
+/// row is left out of the fit.
+struct Signals {
+  std::vector<double> eps, slow;
+  std::vector<std::vector<double>> dq_smooth;
+};
+
+/// The accelerations (a Gaussian derivative of dq, into res.acceleration and res.ddq) and
+/// the Signals: eps 3x the velocity noise (the residual of the smoothing) unless given.
+Signals accelerations(const io::Recording& rec, const RigidBodyIdOptions& opt, double dt, RigidBodyIdResult& res) {
+  const std::size_t n = rec.joints(), S = rec.samples();
   res.acceleration = choose_sigma_detail(rec.dq, dt);
   if (opt.sigma_s > 0.0) {
     res.acceleration.sigma_s = opt.sigma_s;
@@ -222,37 +235,45 @@ RigidBodyIdResult identify_rigid_body(const io::Recording& rec, const robot::Rob
   }
   const double sigma = res.acceleration.sigma_s;
   res.ddq.resize(n);
-  std::vector<double> eps(n), motion(n, 0.0), slow(n, 0.0);
-  std::vector<std::vector<double>> dq_smooth(n);
+  Signals sig;
+  sig.eps.resize(n);
+  sig.slow.assign(n, 0.0);
+  sig.dq_smooth.resize(n);
+  std::vector<double> motion(n, 0.0);
   for (std::size_t j = 0; j < n; ++j) {
     res.ddq[j] = smooth_derivative(rec.dq[j], dt, sigma);
-    dq_smooth[j] = smooth(rec.dq[j], dt, sigma);
-    const std::vector<double>& dqs = dq_smooth[j];
+    sig.dq_smooth[j] = smooth(rec.dq[j], dt, sigma);
+    const std::vector<double>& dqs = sig.dq_smooth[j];
     double s = 0.0;
     for (std::size_t k = 0; k < S; ++k) {
       s += (rec.dq[j][k] - dqs[k]) * (rec.dq[j][k] - dqs[k]);
       motion[j] = std::max(motion[j], std::abs(dqs[k]));
     }
     const double noise = std::sqrt(s / static_cast<double>(S));
-    eps[j] = opt.friction_eps > 0.0 ? opt.friction_eps : std::max(3.0 * noise, 1e-3);
-    slow[j] = opt.slow_speed_rad_s >= 0.0 ? opt.slow_speed_rad_s : 3.0 * eps[j];
+    sig.eps[j] = opt.friction_eps > 0.0 ? opt.friction_eps : std::max(3.0 * noise, 1e-3);
+    sig.slow[j] = opt.slow_speed_rad_s >= 0.0 ? opt.slow_speed_rad_s : 3.0 * sig.eps[j];
   }
   if (*std::max_element(motion.begin(), motion.end()) < 1e-3) throw std::invalid_argument("no joint moves: nothing to identify");
+  return sig;
+}
 
-  const std::vector<bool> train = opt.train_mask.empty() ? default_train_mask(S) : opt.train_mask;
-  if (train.size() != S) throw std::invalid_argument("train_mask size differs from the sample count");
+/// The prior as parameters: its values x0, their scales (the prior's std is scale /
+/// sqrt(prior_weight)), the regularisation weights lambda and the links' consistency bounds.
+struct PriorParams {
+  Vec x0, scale, lambda;
+  std::vector<LinkBounds> bounds;
+};
 
-  Layout L;
-  L.n = static_cast<int>(n);
-  L.rotor = !sensor;
-  L.fric_per_joint = opt.friction_offset || opt.asymmetric_coulomb ? 3 : 2;
+PriorParams prior_params(const robot::RobotModel& prior, const sim::ArmDynamics& arm, const Layout& L,
+                         const RigidBodyIdOptions& opt, const std::vector<std::vector<double>>& measured, std::size_t S) {
+  const std::size_t n = prior.joints.size();
   const int P = L.total();
-  robot::RobotModel geometry = prior;
-  const sim::ArmDynamics arm = make_arm(geometry);
-
-  // Prior parameters and their scales (the prior's std is scale / sqrt(prior_weight)).
-  Vec x0 = Vec::Zero(P), scale = Vec::Ones(P);
-  std::vector<LinkBounds> bounds(n);
+  PriorParams pp;
+  pp.x0 = Vec::Zero(P);
+  pp.scale = Vec::Ones(P);
+  pp.bounds.resize(n);
+  Vec& x0 = pp.x0;
+  Vec& scale = pp.scale;
   for (std::size_t i = 0; i < n; ++i) {
     const sim::PlantLink& l = arm.link(static_cast<int>(i));
     x0.segment<kLinkParams>(kLinkParams * static_cast<int>(i)) = link_params(l);
@@ -265,29 +286,45 @@ RigidBodyIdResult identify_rigid_body(const io::Recording& rec, const robot::Rob
       x0(L.rotor0() + static_cast<int>(i)) = l.rotor_inertia;
       scale(L.rotor0() + static_cast<int>(i)) = std::max(l.rotor_inertia, 0.01);
     }
-    bounds[i].com_radius_m = std::max(prior.joints[i].reach_m, l.com.norm()) + opt.com_margin_m;
-    bounds[i].min_mass_kg = std::max(1e-3, 0.05 * l.mass);
-    bounds[i].min_second_moment = 1e-7;
+    pp.bounds[i].com_radius_m = std::max(prior.joints[i].reach_m, l.com.norm()) + opt.com_margin_m;
+    pp.bounds[i].min_mass_kg = std::max(1e-3, 0.05 * l.mass);
+    pp.bounds[i].min_second_moment = 1e-7;
   }
   // Friction: practically unregularised (scale from the torque's spread).
   for (std::size_t j = 0; j < n; ++j) {
     double m = 0.0, v = 0.0;
-    for (double t : res.measured[j]) m += t;
+    for (double t : measured[j]) m += t;
     m /= static_cast<double>(S);
-    for (double t : res.measured[j]) v += (t - m) * (t - m);
+    for (double t : measured[j]) v += (t - m) * (t - m);
     const double s = std::max(std::sqrt(v / static_cast<double>(S)), 1e-3) * 1e3;
     for (int c = 0; c < L.fric_per_joint; ++c) scale(L.fric0() + L.fric_per_joint * static_cast<int>(j) + c) = s;
   }
+  pp.lambda = Vec::Zero(P);
+  for (int c = 0; c < P; ++c) pp.lambda(c) = opt.prior_weight / (scale(c) * scale(c));
+  return pp;
+}
 
-  // One pass over the data: per-joint normal equations on training and held-out samples,
-  // and a thinned stack of training rows for the base-parameter count.
-  // fit_n: the training rows the fit uses (a joint's row is left out while it is slower
-  // than `slow`: there the joint may stick, and stiction is not a function of the state).
-  Normal train_n, held_n, fit_n, held_moving_n;
-  for (Normal* N : {&train_n, &held_n, &fit_n, &held_moving_n}) N->init(L.n, P);
-  std::vector<long> fit_rows(n, 0), held_moving_rows(n, 0);
-  const std::size_t thin = std::max<std::size_t>(1, S / 3000);
+/// The data's per-joint normal equations: training and held-out samples, and of each the
+/// rows of a moving joint. fit: the training rows the fit uses (a joint's row is left out
+/// while it is slower than `slow`: there the joint may stick, and stiction is not a
+/// function of the state). stack_rows: a thinned stack of training rows for the
+/// base-parameter count.
+struct Normals {
+  Normal train, held, fit, held_moving;
+  std::vector<long> fit_rows, held_moving_rows;
   std::vector<Eigen::RowVectorXd> stack_rows;
+};
+
+/// One pass over the data.
+Normals accumulate(const io::Recording& rec, const sim::ArmDynamics& arm, const Layout& L, const RigidBodyIdOptions& opt,
+                   const RigidBodyIdResult& res, const Signals& sig, const std::vector<bool>& train) {
+  const std::size_t n = rec.joints(), S = rec.samples();
+  const int P = L.total();
+  Normals nm;
+  for (Normal* N : {&nm.train, &nm.held, &nm.fit, &nm.held_moving}) N->init(L.n, P);
+  nm.fit_rows.assign(n, 0);
+  nm.held_moving_rows.assign(n, 0);
+  const std::size_t thin = std::max<std::size_t>(1, S / 3000);
   Mat A(L.n, P);
   for (std::size_t k = 0; k < S; ++k) {
     A.setZero();
@@ -295,9 +332,9 @@ RigidBodyIdResult identify_rigid_body(const io::Recording& rec, const robot::Rob
     A.leftCols(kLinkParams * L.n) = link_regressor(arm, q, dq, ddq);
     for (int j = 0; j < L.n; ++j) {
       if (L.rotor) A(j, L.rotor0() + j) = ddq(j);
-      friction_columns(L, opt.asymmetric_coulomb, j, dq(j), eps[static_cast<std::size_t>(j)], A);
+      friction_columns(L, opt.asymmetric_coulomb, j, dq(j), sig.eps[static_cast<std::size_t>(j)], A);
     }
-    Normal& N = train[k] ? train_n : held_n;
+    Normal& N = train[k] ? nm.train : nm.held;
     ++N.count;
     for (int j = 0; j < L.n; ++j) {
       const auto u = static_cast<std::size_t>(j);
@@ -305,209 +342,236 @@ RigidBodyIdResult identify_rigid_body(const io::Recording& rec, const robot::Rob
       N.H[u].selfadjointView<Eigen::Upper>().rankUpdate(A.row(j).transpose());
       N.g[u] += A.row(j).transpose() * t;
       N.tt[u] += t * t;
-      if (std::abs(dq_smooth[u][k]) >= slow[u]) {
-        Normal& M = train[k] ? fit_n : held_moving_n;
+      if (std::abs(sig.dq_smooth[u][k]) >= sig.slow[u]) {
+        Normal& M = train[k] ? nm.fit : nm.held_moving;
         M.H[u].selfadjointView<Eigen::Upper>().rankUpdate(A.row(j).transpose());
         M.g[u] += A.row(j).transpose() * t;
         M.tt[u] += t * t;
-        ++(train[k] ? fit_rows : held_moving_rows)[u];
+        ++(train[k] ? nm.fit_rows : nm.held_moving_rows)[u];
       }
     }
     if (train[k] && k % thin == 0) {
-      for (int j = 0; j < L.n; ++j) stack_rows.push_back(A.row(j).head(L.rigid()));
+      for (int j = 0; j < L.n; ++j) nm.stack_rows.push_back(A.row(j).head(L.rigid()));
     }
   }
-  for (Normal* N : {&train_n, &held_n, &fit_n, &held_moving_n}) {
+  for (Normal* N : {&nm.train, &nm.held, &nm.fit, &nm.held_moving}) {
     for (auto& H : N->H) H = H.selfadjointView<Eigen::Upper>();
   }
-  res.train_samples = static_cast<int>(train_n.count);
-  res.heldout_samples = static_cast<int>(held_n.count);
-  if (train_n.count < 100) throw std::invalid_argument("too few training samples");
+  return nm;
+}
 
-  // Free parameters.
-  std::vector<bool> free(static_cast<std::size_t>(P), false), link_free(n, false);
-  for (int c = L.fric0(); c < P; ++c) free[static_cast<std::size_t>(c)] = true;
+/// Which parameters the fit estimates: friction always; links (all, or the last one's with
+/// payload_only) and rotor inertias when identifying links.
+struct FreeParams {
+  std::vector<bool> free, link_free;
+};
+
+FreeParams free_params(const Layout& L, const RigidBodyIdOptions& opt, std::size_t n) {
+  const int P = L.total();
+  FreeParams fp{std::vector<bool>(static_cast<std::size_t>(P), false), std::vector<bool>(n, false)};
+  for (int c = L.fric0(); c < P; ++c) fp.free[static_cast<std::size_t>(c)] = true;
   if (opt.identify_links) {
-    for (std::size_t i = 0; i < n; ++i) link_free[i] = !opt.payload_only || i + 1 == n;
+    for (std::size_t i = 0; i < n; ++i) fp.link_free[i] = !opt.payload_only || i + 1 == n;
     for (std::size_t i = 0; i < n; ++i) {
-      for (int c = 0; c < kLinkParams; ++c) free[static_cast<std::size_t>(kLinkParams * static_cast<int>(i) + c)] = link_free[i];
+      for (int c = 0; c < kLinkParams; ++c) fp.free[static_cast<std::size_t>(kLinkParams * static_cast<int>(i) + c)] = fp.link_free[i];
     }
     if (L.rotor && !opt.payload_only) {
-      for (int j = 0; j < L.n; ++j) free[static_cast<std::size_t>(L.rotor0() + j)] = true;
+      for (int j = 0; j < L.n; ++j) fp.free[static_cast<std::size_t>(L.rotor0() + j)] = true;
     }
   }
-  Vec lambda = Vec::Zero(P);
-  for (int c = 0; c < P; ++c) lambda(c) = opt.prior_weight / (scale(c) * scale(c));
+  return fp;
+}
 
-  // Base parameters of the estimated rigid-body columns.
-  {
-    std::vector<int> cols;
-    for (int c = 0; c < L.rigid(); ++c) {
-      if (free[static_cast<std::size_t>(c)]) cols.push_back(c);
-    }
-    res.free_parameters = static_cast<int>(cols.size());
-    if (!cols.empty()) {
-      Mat W(static_cast<Eigen::Index>(stack_rows.size()), static_cast<Eigen::Index>(cols.size()));
-      Vec sc(static_cast<Eigen::Index>(cols.size()));
-      for (std::size_t r = 0; r < stack_rows.size(); ++r) {
-        for (std::size_t c = 0; c < cols.size(); ++c) W(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = stack_rows[r](cols[c]);
-      }
-      for (std::size_t c = 0; c < cols.size(); ++c) sc(static_cast<Eigen::Index>(c)) = scale(cols[c]);
-      res.base_parameters = base_parameters(W, sc).rank;
-    }
+/// Base parameters of the estimated rigid-body columns (res.free_parameters, res.base_parameters).
+void count_base_parameters(const Layout& L, const FreeParams& fp, const Normals& nm, const Vec& scale,
+                           RigidBodyIdResult& res) {
+  std::vector<int> cols;
+  for (int c = 0; c < L.rigid(); ++c) {
+    if (fp.free[static_cast<std::size_t>(c)]) cols.push_back(c);
   }
+  res.free_parameters = static_cast<int>(cols.size());
+  if (cols.empty()) return;
+  const std::vector<Eigen::RowVectorXd>& stack_rows = nm.stack_rows;
+  Mat W(static_cast<Eigen::Index>(stack_rows.size()), static_cast<Eigen::Index>(cols.size()));
+  Vec sc(static_cast<Eigen::Index>(cols.size()));
+  for (std::size_t r = 0; r < stack_rows.size(); ++r) {
+    for (std::size_t c = 0; c < cols.size(); ++c) W(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = stack_rows[r](cols[c]);
+  }
+  for (std::size_t c = 0; c < cols.size(); ++c) sc(static_cast<Eigen::Index>(c)) = scale(cols[c]);
+  res.base_parameters = base_parameters(W, sc).rank;
+}
 
-  // Step 1: friction alone on the prior rigid body; its residual sets the joints' weights.
+/// A joint's residual std on the rows the fit uses.
+double fit_std(const Normals& nm, int j, const Vec& v) {
+  return std::max(std::sqrt(nm.fit.sse(j, v) / std::max(1.0, static_cast<double>(nm.fit_rows[static_cast<std::size_t>(j)]))), 1e-6);
+}
+
+/// The estimate as it is refined: x, the prior's rigid body with its friction fitted
+/// (x_prior_fric, the baseline of the model selection), the joints' row weights w.
+struct Fit {
+  Vec x, x_prior_fric;
+  std::vector<double> w;
+};
+
+/// Step 1: friction alone on the prior rigid body, x_prior_fric; its residual sets the
+/// joints' weights (res.noise_weight, w).
+void fit_friction_on_prior(const Layout& L, const PriorParams& pp, const Normals& nm, Fit& f, RigidBodyIdResult& res) {
+  const int P = L.total();
   std::vector<bool> fric_only(static_cast<std::size_t>(P), false);
   for (int c = L.fric0(); c < P; ++c) fric_only[static_cast<std::size_t>(c)] = true;
-  const std::vector<double> unit(n, 1.0);
-  Vec x_prior_fric = solve(fit_n, unit, lambda, x0, fric_only, x0);
-  std::vector<double> w(n);
-  res.noise_weight.resize(n);
-  const auto fit_std = [&](int j, const Vec& v) {
-    return std::max(std::sqrt(fit_n.sse(j, v) / std::max(1.0, static_cast<double>(fit_rows[static_cast<std::size_t>(j)]))), 1e-6);
-  };
+  const std::vector<double> unit(static_cast<std::size_t>(L.n), 1.0);
+  f.x_prior_fric = solve(nm.fit, unit, pp.lambda, pp.x0, fric_only, pp.x0);
   for (int j = 0; j < L.n; ++j) {
-    res.noise_weight[static_cast<std::size_t>(j)] = fit_std(j, x_prior_fric);
-    w[static_cast<std::size_t>(j)] = 1.0 / res.noise_weight[static_cast<std::size_t>(j)];
+    res.noise_weight[static_cast<std::size_t>(j)] = fit_std(nm, j, f.x_prior_fric);
+    f.w[static_cast<std::size_t>(j)] = 1.0 / res.noise_weight[static_cast<std::size_t>(j)];
   }
-  Vec x = x_prior_fric;
-  if (opt.identify_links && opt.slow_speed_rad_s < 0.0) {
-    // Does a joint stick? With the model fitted on moving rows, a joint whose slow rows fit
-    // about as well as its moving ones (RMS within 2x) does not: its slow rows go back in.
-    x = solve(fit_n, w, lambda, x0, free, x0);
-    bool changed = false;
-    for (int j = 0; j < L.n; ++j) {
-      const auto u = static_cast<std::size_t>(j);
-      const double slow_rows = static_cast<double>(train_n.count - fit_rows[u]);
-      if (!(slow_rows > 0.0)) continue;
-      const double rms_slow = std::sqrt(std::max(0.0, train_n.sse(j, x) - fit_n.sse(j, x)) / slow_rows);
-      if (rms_slow <= 2.0 * fit_std(j, x)) {
-        fit_n.H[u] = train_n.H[u];
-        fit_n.g[u] = train_n.g[u];
-        fit_n.tt[u] = train_n.tt[u];
-        fit_rows[u] = train_n.count;
-        slow[u] = 0.0;
-        changed = true;
-      }
-    }
-    if (changed) {
-      x_prior_fric = solve(fit_n, unit, lambda, x0, fric_only, x0);
-      for (int j = 0; j < L.n; ++j) {
-        res.noise_weight[static_cast<std::size_t>(j)] = fit_std(j, x_prior_fric);
-        w[static_cast<std::size_t>(j)] = 1.0 / res.noise_weight[static_cast<std::size_t>(j)];
-      }
-    }
-  }
-  if (opt.identify_links) {
-    // Step 2: the joint weighted, regularised estimate; reweight once by its own residual.
-    for (int pass = 0; pass < 2; ++pass) {
-      x = solve(fit_n, w, lambda, x0, free, x0);
-      for (int j = 0; j < L.n; ++j) {
-        const double s = fit_std(j, x);
-        res.noise_weight[static_cast<std::size_t>(j)] = s;
-        w[static_cast<std::size_t>(j)] = 1.0 / s;
-      }
-    }
-    // Step 3: physical consistency. The line search from the (feasible) prior towards the
-    // unconstrained estimate is reported per link (how far the data pull it outside); when
-    // any link is infeasible, the constrained optimum of the same objective is solved for
-    // (constrained_fit.hpp), starting from the prior's links.
-    res.links.resize(n);
-    bool feasible = true;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!link_free[i]) continue;
-      const int c0 = kLinkParams * static_cast<int>(i);
-      const LinkParams p0 = x0.segment<kLinkParams>(c0), pe = x.segment<kLinkParams>(c0);
-      res.links[i].step = check_link(pe, bounds[i]).ok ? 1.0 : feasible_step(p0, pe, bounds[i]);
-      feasible = feasible && res.links[i].step == 1.0;
-    }
-    if (L.rotor) {
-      for (int j = 0; j < L.n; ++j) feasible = feasible && !(free[static_cast<std::size_t>(L.rotor0() + j)] && x(L.rotor0() + j) < 0.0);
-    }
-    if (!feasible) {
-      std::vector<bool> fr = free;
-      Vec start = x;
-      std::vector<LinkConstraint> cons;
-      for (std::size_t i = 0; i < n; ++i) {
-        if (!link_free[i]) continue;
-        const int c0 = kLinkParams * static_cast<int>(i);
-        start.segment<kLinkParams>(c0) = x0.segment<kLinkParams>(c0);
-        if (strictly_feasible(x0.segment<kLinkParams>(c0), bounds[i])) {
-          cons.push_back({c0, bounds[i]});
-        } else {
-          for (int c = 0; c < kLinkParams; ++c) fr[static_cast<std::size_t>(c0 + c)] = false;
-          res.notes.push_back("link " + std::to_string(i + 1) + ": the prior is not physically consistent (" +
-                              check_link(x0.segment<kLinkParams>(c0), bounds[i]).reason + "); held at the prior");
-        }
-      }
-      std::vector<int> positive;
-      if (L.rotor) {
-        for (int j = 0; j < L.n; ++j) {
-          const int c = L.rotor0() + j;
-          if (!fr[static_cast<std::size_t>(c)]) continue;
-          positive.push_back(c);
-          start(c) = std::max(x0(c), 1e-3 * scale(c));
-        }
-      }
-      Mat Q = Mat::Zero(P, P);
-      Vec cv = Vec::Zero(P);
-      for (std::size_t j = 0; j < n; ++j) {
-        Q += w[j] * w[j] * fit_n.H[j];
-        cv += w[j] * w[j] * fit_n.g[j];
-      }
-      Q.diagonal() += lambda;
-      cv += lambda.cwiseProduct(x0);
-      const BarrierResult br = constrained_minimize(Q, cv, start, fr, cons, positive);
-      x = br.x;
-      char buf[200];
-      std::snprintf(buf, sizeof buf,
-                    "unconstrained estimate not physically consistent (line-search step from the prior %.3f): "
-                    "constrained optimum by log-barrier Newton, %d steps%s",
-                    [&] {
-                      double s = 1.0;
-                      for (const auto& l : res.links) s = std::min(s, l.step);
-                      return s;
-                    }(),
-                    br.newton_steps, br.converged ? "" : " (not converged)");
-      res.notes.emplace_back(buf);
-    }
-  } else {
-    res.links.resize(n);
-  }
+}
 
-  // Model selection on the held-out blocks: the identified rigid body is kept only when it
-  // predicts them better than the prior with its friction re-fitted (mean of the per-joint
-  // MSE ratios <= 0.98); otherwise the data did not support the change (a poorly exciting
-  // motion, or effects the model lacks) and the prior's links are kept.
-  if (opt.identify_links && held_n.count > 0) {
-    double ratio = 0.0;
-    for (int j = 0; j < L.n; ++j) {
-      const double before = held_n.sse(j, x_prior_fric), after = held_n.sse(j, x);
-      ratio += before > 0.0 ? after / before : 1.0;
-    }
-    res.heldout_mse_ratio = ratio / L.n;
-    res.accepted = res.heldout_mse_ratio <= 0.98;
-    if (!res.accepted) {
-      char buf[200];
-      std::snprintf(buf, sizeof buf,
-                    "the identified rigid body does not predict the held-out blocks better than the prior (MSE ratio %.3f > 0.98): prior's links kept",
-                    res.heldout_mse_ratio);
-      res.notes.emplace_back(buf);
-      x = x_prior_fric;
+/// Does a joint stick? With the model fitted on moving rows, a joint whose slow rows fit
+/// about as well as its moving ones (RMS within 2x) does not: its slow rows go back in (and
+/// step 1 is redone on them). Returns the moving-rows fit.
+Vec readmit_slow_rows(const Layout& L, const PriorParams& pp, const FreeParams& fp, Normals& nm, Signals& sig, Fit& f,
+                      RigidBodyIdResult& res) {
+  const Vec x = solve(nm.fit, f.w, pp.lambda, pp.x0, fp.free, pp.x0);
+  bool changed = false;
+  for (int j = 0; j < L.n; ++j) {
+    const auto u = static_cast<std::size_t>(j);
+    const double slow_rows = static_cast<double>(nm.train.count - nm.fit_rows[u]);
+    if (!(slow_rows > 0.0)) continue;
+    const double rms_slow = std::sqrt(std::max(0.0, nm.train.sse(j, x) - nm.fit.sse(j, x)) / slow_rows);
+    if (rms_slow <= 2.0 * fit_std(nm, j, x)) {
+      nm.fit.H[u] = nm.train.H[u];
+      nm.fit.g[u] = nm.train.g[u];
+      nm.fit.tt[u] = nm.train.tt[u];
+      nm.fit_rows[u] = nm.train.count;
+      sig.slow[u] = 0.0;
+      changed = true;
     }
   }
+  if (changed) fit_friction_on_prior(L, pp, nm, f, res);
+  return x;
+}
 
-  // Results.
+/// Step 3, when a link is infeasible: the constrained optimum of the same objective
+/// (constrained_fit.hpp), starting from the prior's links; a link whose prior is itself not
+/// consistent is held at the prior.
+void constrain_links(const Layout& L, const PriorParams& pp, const FreeParams& fp, const Normals& nm, Fit& f,
+                     RigidBodyIdResult& res) {
+  const std::size_t n = fp.link_free.size();
+  const int P = L.total();
+  const Vec& x0 = pp.x0;
+  std::vector<bool> fr = fp.free;
+  Vec start = f.x;
+  std::vector<LinkConstraint> cons;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!fp.link_free[i]) continue;
+    const int c0 = kLinkParams * static_cast<int>(i);
+    start.segment<kLinkParams>(c0) = x0.segment<kLinkParams>(c0);
+    if (strictly_feasible(x0.segment<kLinkParams>(c0), pp.bounds[i])) {
+      cons.push_back({c0, pp.bounds[i]});
+    } else {
+      for (int c = 0; c < kLinkParams; ++c) fr[static_cast<std::size_t>(c0 + c)] = false;
+      res.notes.push_back("link " + std::to_string(i + 1) + ": the prior is not physically consistent (" +
+                          check_link(x0.segment<kLinkParams>(c0), pp.bounds[i]).reason + "); held at the prior");
+    }
+  }
+  std::vector<int> positive;
+  if (L.rotor) {
+    for (int j = 0; j < L.n; ++j) {
+      const int c = L.rotor0() + j;
+      if (!fr[static_cast<std::size_t>(c)]) continue;
+      positive.push_back(c);
+      start(c) = std::max(x0(c), 1e-3 * pp.scale(c));
+    }
+  }
+  Mat Q = Mat::Zero(P, P);
+  Vec cv = Vec::Zero(P);
+  for (std::size_t j = 0; j < n; ++j) {
+    Q += f.w[j] * f.w[j] * nm.fit.H[j];
+    cv += f.w[j] * f.w[j] * nm.fit.g[j];
+  }
+  Q.diagonal() += pp.lambda;
+  cv += pp.lambda.cwiseProduct(x0);
+  const BarrierResult br = constrained_minimize(Q, cv, start, fr, cons, positive);
+  f.x = br.x;
+  char buf[200];
+  std::snprintf(buf, sizeof buf,
+                "unconstrained estimate not physically consistent (line-search step from the prior %.3f): "
+                "constrained optimum by log-barrier Newton, %d steps%s",
+                [&] {
+                  double s = 1.0;
+                  for (const auto& l : res.links) s = std::min(s, l.step);
+                  return s;
+                }(),
+                br.newton_steps, br.converged ? "" : " (not converged)");
+  res.notes.emplace_back(buf);
+}
+
+/// Step 2: the joint weighted, regularised estimate, reweighted once by its own residual.
+/// Step 3: physical consistency. The line search from the (feasible) prior towards the
+/// unconstrained estimate is reported per link (how far the data pull it outside); when any
+/// link is infeasible, constrain_links.
+void fit_links(const Layout& L, const PriorParams& pp, const FreeParams& fp, const Normals& nm, Fit& f,
+               RigidBodyIdResult& res) {
+  const std::size_t n = fp.link_free.size();
+  for (int pass = 0; pass < 2; ++pass) {
+    f.x = solve(nm.fit, f.w, pp.lambda, pp.x0, fp.free, pp.x0);
+    for (int j = 0; j < L.n; ++j) {
+      const double s = fit_std(nm, j, f.x);
+      res.noise_weight[static_cast<std::size_t>(j)] = s;
+      f.w[static_cast<std::size_t>(j)] = 1.0 / s;
+    }
+  }
+  res.links.resize(n);
+  bool feasible = true;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!fp.link_free[i]) continue;
+    const int c0 = kLinkParams * static_cast<int>(i);
+    const LinkParams p0 = pp.x0.segment<kLinkParams>(c0), pe = f.x.segment<kLinkParams>(c0);
+    res.links[i].step = check_link(pe, pp.bounds[i]).ok ? 1.0 : feasible_step(p0, pe, pp.bounds[i]);
+    feasible = feasible && res.links[i].step == 1.0;
+  }
+  if (L.rotor) {
+    for (int j = 0; j < L.n; ++j) feasible = feasible && !(fp.free[static_cast<std::size_t>(L.rotor0() + j)] && f.x(L.rotor0() + j) < 0.0);
+  }
+  if (!feasible) constrain_links(L, pp, fp, nm, f, res);
+}
+
+/// Model selection on the held-out blocks: the identified rigid body is kept only when it
+/// predicts them better than the prior with its friction re-fitted (mean of the per-joint
+/// MSE ratios <= 0.98); otherwise the data did not support the change (a poorly exciting
+/// motion, or effects the model lacks) and the prior's links are kept.
+void select_on_heldout(const Layout& L, const Normals& nm, Fit& f, RigidBodyIdResult& res) {
+  double ratio = 0.0;
+  for (int j = 0; j < L.n; ++j) {
+    const double before = nm.held.sse(j, f.x_prior_fric), after = nm.held.sse(j, f.x);
+    ratio += before > 0.0 ? after / before : 1.0;
+  }
+  res.heldout_mse_ratio = ratio / L.n;
+  res.accepted = res.heldout_mse_ratio <= 0.98;
+  if (!res.accepted) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf,
+                  "the identified rigid body does not predict the held-out blocks better than the prior (MSE ratio %.3f > 0.98): prior's links kept",
+                  res.heldout_mse_ratio);
+    res.notes.emplace_back(buf);
+    f.x = f.x_prior_fric;
+  }
+}
+
+/// The results: per link its report and the model's link written from x; per joint the friction.
+void write_model(const robot::RobotModel& prior, const sim::ArmDynamics& arm, const Layout& L, const RigidBodyIdOptions& opt,
+                 const PriorParams& pp, const Signals& sig, const Vec& x, RigidBodyIdResult& res) {
+  const std::size_t n = prior.joints.size();
   res.model = prior;
   res.feasibility_step = 1.0;
   for (std::size_t i = 0; i < n; ++i) {
     const int c0 = kLinkParams * static_cast<int>(i);
     LinkReport& lr = res.links[i];
-    lr.before = x0.segment<kLinkParams>(c0);
+    lr.before = pp.x0.segment<kLinkParams>(c0);
     lr.after = x.segment<kLinkParams>(c0);
-    lr.com_bound_m = bounds[i].com_radius_m;
-    lr.consistency = check_link(lr.after, bounds[i]);
+    lr.com_bound_m = pp.bounds[i].com_radius_m;
+    lr.consistency = check_link(lr.after, pp.bounds[i]);
     lr.rotor_before = prior.joints[i].link.rotor_inertia;
     lr.rotor_after = L.rotor ? x(L.rotor0() + static_cast<int>(i)) : lr.rotor_before;
     res.feasibility_step = std::min(res.feasibility_step, lr.step);
@@ -520,65 +584,121 @@ RigidBodyIdResult identify_rigid_body(const io::Recording& rec, const robot::Rob
     for (int a = 0; a < 6; ++a) d.inertia_com[a] = I6[a];
     if (L.rotor) d.rotor_inertia = lr.rotor_after;
   }
-  for (std::size_t j = 0; j < n; ++j) res.friction.push_back(friction_from(L, opt.asymmetric_coulomb, x, static_cast<int>(j), eps[j]));
+  for (std::size_t j = 0; j < n; ++j) res.friction.push_back(friction_from(L, opt.asymmetric_coulomb, x, static_cast<int>(j), sig.eps[j]));
+}
 
-  // Payload: the change of the last link against the prior.
-  {
-    const LinkReport& last = res.links.back();
-    const LinkParams dp = last.after - last.before;
-    PayloadEstimate& pe = res.payload;
-    pe.mass = dp(0);
-    if (std::abs(dp(0)) > 1e-9) {
-      pe.com = dp.segment<3>(1) / dp(0);
-      pe.inertia_com = inertia_com(dp);
-    }
-    const double bound = bounds.back().com_radius_m;
-    if (!opt.identify_links) {
-      pe.reason = "links not identified";
-    } else if (!res.accepted) {
-      pe.reason = "identified links not kept (no held-out improvement)";
-    } else if (std::abs(pe.mass) < 0.01) {
-      pe.reason = "no payload: the last link's mass changed by less than 10 g";
-    } else if (!(pe.mass >= 0.0)) {
-      pe.reason = "negative mass change of the last link";
-    } else if (!(pe.com.norm() <= bound)) {
-      char buf[96];
-      std::snprintf(buf, sizeof buf, "CoM %.3f m from the last link's origin (bound %.3f m)", pe.com.norm(), bound);
-      pe.reason = buf;
-    } else {
-      pe.claimed = true;
-    }
+/// Payload: the change of the last link against the prior, claimed only when plausible.
+void estimate_payload(const RigidBodyIdOptions& opt, const PriorParams& pp, RigidBodyIdResult& res) {
+  const LinkReport& last = res.links.back();
+  const LinkParams dp = last.after - last.before;
+  PayloadEstimate& pe = res.payload;
+  pe.mass = dp(0);
+  if (std::abs(dp(0)) > 1e-9) {
+    pe.com = dp.segment<3>(1) / dp(0);
+    pe.inertia_com = inertia_com(dp);
   }
+  const double bound = pp.bounds.back().com_radius_m;
+  if (!opt.identify_links) {
+    pe.reason = "links not identified";
+  } else if (!res.accepted) {
+    pe.reason = "identified links not kept (no held-out improvement)";
+  } else if (std::abs(pe.mass) < 0.01) {
+    pe.reason = "no payload: the last link's mass changed by less than 10 g";
+  } else if (!(pe.mass >= 0.0)) {
+    pe.reason = "negative mass change of the last link";
+  } else if (!(pe.com.norm() <= bound)) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "CoM %.3f m from the last link's origin (bound %.3f m)", pe.com.norm(), bound);
+    pe.reason = buf;
+  } else {
+    pe.claimed = true;
+  }
+}
 
-  // Figures: RMS from the normal equations (exact sums of squares), and the predicted series.
+/// Figures: RMS from the normal equations (exact sums of squares), whole file and held out,
+/// of the prior rigid body, the prior with friction and the identified model.
+void residual_figures(const Layout& L, const PriorParams& pp, const Normals& nm, const Signals& sig, const Fit& f,
+                      RigidBodyIdResult& res) {
+  const auto n = static_cast<std::size_t>(L.n);
+  const int P = L.total();
   res.rms_prior_rigid.resize(n);
   res.rms_before.resize(n);
   res.rms_after.resize(n);
   res.heldout_rms_prior_rigid.resize(n);
   res.heldout_rms_prior.resize(n);
   res.heldout_rms_after.resize(n);
-  Vec x_prior_rigid = x0;
+  Vec x_prior_rigid = pp.x0;
   x_prior_rigid.segment(L.fric0(), P - L.fric0()).setZero();
   for (int j = 0; j < L.n; ++j) {
     const auto u = static_cast<std::size_t>(j);
     const auto whole = [&](const Vec& v) {
-      return std::sqrt((train_n.sse(j, v) + held_n.sse(j, v)) / static_cast<double>(train_n.count + held_n.count));
+      return std::sqrt((nm.train.sse(j, v) + nm.held.sse(j, v)) / static_cast<double>(nm.train.count + nm.held.count));
     };
     res.rms_prior_rigid[u] = whole(x_prior_rigid);
-    res.rms_before[u] = whole(x_prior_fric);
-    res.rms_after[u] = whole(x);
-    res.heldout_rms_prior_rigid[u] = held_n.rms(j, x_prior_rigid);
-    res.heldout_rms_prior[u] = held_n.rms(j, x_prior_fric);
-    res.heldout_rms_after[u] = held_n.rms(j, x);
-    const double hm = std::max(1.0, static_cast<double>(held_moving_rows[u]));
-    res.heldout_moving_rms_prior.push_back(std::sqrt(held_moving_n.sse(j, x_prior_fric) / hm));
-    res.heldout_moving_rms_after.push_back(std::sqrt(held_moving_n.sse(j, x) / hm));
-    res.slow_speed_rad_s.push_back(slow[u]);
+    res.rms_before[u] = whole(f.x_prior_fric);
+    res.rms_after[u] = whole(f.x);
+    res.heldout_rms_prior_rigid[u] = nm.held.rms(j, x_prior_rigid);
+    res.heldout_rms_prior[u] = nm.held.rms(j, f.x_prior_fric);
+    res.heldout_rms_after[u] = nm.held.rms(j, f.x);
+    const double hm = std::max(1.0, static_cast<double>(nm.held_moving_rows[u]));
+    res.heldout_moving_rms_prior.push_back(std::sqrt(nm.held_moving.sse(j, f.x_prior_fric) / hm));
+    res.heldout_moving_rms_after.push_back(std::sqrt(nm.held_moving.sse(j, f.x) / hm));
+    res.slow_speed_rad_s.push_back(sig.slow[u]);
   }
+}
+
+}  // namespace
+
+RigidBodyIdResult identify_rigid_body(const io::Recording& rec, const robot::RobotModel& prior,
+                                      const RigidBodyIdOptions& opt) {
+  RigidBodyIdResult res;
+  const std::size_t n = rec.joints(), S = rec.samples();
+  const double dt = checked_step(rec, prior);
+  bool tau_j_columns = false;
+  res.measured = recording_torque(rec, prior, &tau_j_columns);
+  const bool sensor = opt.joint_torque_sensor || tau_j_columns;
+  if (tau_j_columns && !opt.joint_torque_sensor) res.notes.push_back("tau_j<j> columns: joint-torque-sensor data, no rotor inertia");
+  Signals sig = accelerations(rec, opt, dt, res);
+
+  const std::vector<bool> train = opt.train_mask.empty() ? default_train_mask(S) : opt.train_mask;
+  if (train.size() != S) throw std::invalid_argument("train_mask size differs from the sample count");
+
+  Layout L;
+  L.n = static_cast<int>(n);
+  L.rotor = !sensor;
+  L.fric_per_joint = opt.friction_offset || opt.asymmetric_coulomb ? 3 : 2;
+  const robot::RobotModel geometry = prior;
+  const sim::ArmDynamics arm = make_arm(geometry);
+  const PriorParams pp = prior_params(prior, arm, L, opt, res.measured, S);
+
+  Normals nm = accumulate(rec, arm, L, opt, res, sig, train);
+  res.train_samples = static_cast<int>(nm.train.count);
+  res.heldout_samples = static_cast<int>(nm.held.count);
+  if (nm.train.count < 100) throw std::invalid_argument("too few training samples");
+
+  const FreeParams fp = free_params(L, opt, n);
+  count_base_parameters(L, fp, nm, pp.scale, res);
+
+  Fit f;
+  f.w.resize(n);
+  res.noise_weight.resize(n);
+  fit_friction_on_prior(L, pp, nm, f, res);
+  f.x = f.x_prior_fric;
+  if (opt.identify_links && opt.slow_speed_rad_s < 0.0) f.x = readmit_slow_rows(L, pp, fp, nm, sig, f, res);
+  if (opt.identify_links) {
+    fit_links(L, pp, fp, nm, f, res);
+  } else {
+    res.links.resize(n);
+  }
+  if (opt.identify_links && nm.held.count > 0) select_on_heldout(L, nm, f, res);
+
+  write_model(prior, arm, L, opt, pp, sig, f.x, res);
+  estimate_payload(opt, pp, res);
+  residual_figures(L, pp, nm, sig, f, res);
   res.predicted = predict_torque(res.model, res.friction, rec.q, rec.dq, res.ddq, sensor);
   char buf[200];
   std::snprintf(buf, sizeof buf, "acceleration: Gaussian derivative of dq, sigma = %.1f ms (velocity band up to %.2f Hz)",
-                sigma * 1e3, res.acceleration.cutoff_hz);
+                res.acceleration.sigma_s * 1e3, res.acceleration.cutoff_hz);
   res.notes.emplace_back(buf);
   return res;
 }

@@ -97,6 +97,37 @@ double SimBus::next_edge(double t, double limit) const {
   return next;
 }
 
+void SimBus::deliver(const hal::CanFrame& frame, const SimPort* sender, std::uniform_real_distribution<double>& unit) {
+  // Windowed faults act on the frame by its identifier at the end of its transmission.
+  bool w_drop = false, w_corrupt = false, w_duplicate = false;
+  double w_delay = 0.0;
+  for (const auto& w : windows_) {
+    if (!w.active(now_) || !w.affects(frame.id)) continue;
+    w_drop = w_drop || w.effect == FaultWindow::Effect::drop;
+    w_corrupt = w_corrupt || w.effect == FaultWindow::Effect::corrupt;
+    w_duplicate = w_duplicate || w.effect == FaultWindow::Effect::duplicate;
+    if (w.effect == FaultWindow::Effect::delay) w_delay = std::max(w_delay, w.delay_s);
+  }
+  if (w_drop) return;
+  const bool affected = (frame.id & faults_.affected_id_mask) == (faults_.affected_id_match & faults_.affected_id_mask);
+  if (affected && unit(rng_) < faults_.drop_probability) return;
+  hal::CanFrame delivered = frame;
+  if (affected && frame.length > 0 && unit(rng_) < faults_.corrupt_probability) {
+    delivered.data[static_cast<std::size_t>(unit(rng_) * frame.length) % frame.length] ^= 0x04U;
+  }
+  if (w_corrupt && frame.length > 0) delivered.data[frame.length / 2U] ^= 0x04U;  // one byte flipped: the CRC sees it
+  delivered.timestamp_us =
+      static_cast<std::uint64_t>(std::llround((now_ + (affected ? faults_.extra_delay_s : 0.0) + w_delay) * 1e6));
+  const int copies = (affected && unit(rng_) < faults_.duplicate_probability) || w_duplicate ? 2 : 1;
+  for (auto& p : ports_) {
+    if (p.get() == sender || !p->powered_) continue;
+    bool accept = p->filters_.empty();
+    for (const auto& fl : p->filters_) accept = accept || (delivered.id & fl.mask) == (fl.match & fl.mask);
+    if (!accept) continue;
+    for (int c = 0; c < copies; ++c) p->rx_.push_back(delivered);
+  }
+}
+
 void SimBus::run_until(double t) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   while (true) {
@@ -154,34 +185,7 @@ void SimBus::run_until(double t) {
     ++frames_;
     order_.push_back(frame.id);
     if (!babbled) winner->tx_.pop_front();
-    // Windowed faults act on the frame by its identifier at the end of its transmission.
-    bool w_drop = false, w_corrupt = false, w_duplicate = false;
-    double w_delay = 0.0;
-    for (const auto& w : windows_) {
-      if (!w.active(now_) || !w.affects(frame.id)) continue;
-      w_drop = w_drop || w.effect == FaultWindow::Effect::drop;
-      w_corrupt = w_corrupt || w.effect == FaultWindow::Effect::corrupt;
-      w_duplicate = w_duplicate || w.effect == FaultWindow::Effect::duplicate;
-      if (w.effect == FaultWindow::Effect::delay) w_delay = std::max(w_delay, w.delay_s);
-    }
-    if (w_drop) continue;
-    const bool affected = (frame.id & faults_.affected_id_mask) == (faults_.affected_id_match & faults_.affected_id_mask);
-    if (affected && unit(rng_) < faults_.drop_probability) continue;
-    hal::CanFrame delivered = frame;
-    if (affected && frame.length > 0 && unit(rng_) < faults_.corrupt_probability) {
-      delivered.data[static_cast<std::size_t>(unit(rng_) * frame.length) % frame.length] ^= 0x04U;
-    }
-    if (w_corrupt && frame.length > 0) delivered.data[frame.length / 2U] ^= 0x04U;  // one byte flipped: the CRC sees it
-    delivered.timestamp_us =
-        static_cast<std::uint64_t>(std::llround((now_ + (affected ? faults_.extra_delay_s : 0.0) + w_delay) * 1e6));
-    const int copies = (affected && unit(rng_) < faults_.duplicate_probability) || w_duplicate ? 2 : 1;
-    for (auto& p : ports_) {
-      if (p.get() == sender || !p->powered_) continue;
-      bool accept = p->filters_.empty();
-      for (const auto& fl : p->filters_) accept = accept || (delivered.id & fl.mask) == (fl.match & fl.mask);
-      if (!accept) continue;
-      for (int c = 0; c < copies; ++c) p->rx_.push_back(delivered);
-    }
+    deliver(frame, sender, unit);
   }
 }
 

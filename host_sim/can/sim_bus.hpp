@@ -126,6 +126,10 @@ class SimBus {
   const FaultWindow* active_babble(double t) const;
   /// Earliest window edge (start or end) after t, or `limit`.
   double next_edge(double t, double limit) const;
+  /// A frame at the end of its transmission (now_) through the faults (windowed, by its
+  /// identifier; random, drawing from unit) to every powered port but the sender whose
+  /// filters accept it.
+  void deliver(const hal::CanFrame& frame, const SimPort* sender, std::uniform_real_distribution<double>& unit);
 };
 
 }  // namespace jg::can

@@ -126,12 +126,9 @@ long static_stack(const std::string& elf, const std::string& root, std::string& 
 
 }  // namespace
 
-McuFigures measure_mcu(const std::string& elf, const std::string& core_lib, const std::string& machine) {
-  McuFigures f;
-  if (!std::filesystem::exists(elf)) {
-    f.note = "cycle benchmark ELF not built (" + elf + "): build the host preset with the arm toolchain installed";
-    return f;
-  }
+namespace {
+/// The bench's marker functions' addresses in the ELF (jg_bench_begin, _end, _section).
+std::map<std::string, unsigned long> bench_markers(const std::string& elf) {
   std::map<std::string, unsigned long> addr;
   std::istringstream nm(run_capture("arm-none-eabi-nm " + elf));
   for (std::string line; std::getline(nm, line);) {
@@ -140,19 +137,13 @@ McuFigures measure_mcu(const std::string& elf, const std::string& core_lib, cons
     ls >> a >> t >> name;
     if (name == "jg_bench_begin" || name == "jg_bench_end" || name == "jg_bench_section") addr[name] = std::stoul(a, nullptr, 16);
   }
-  const auto log = std::filesystem::temp_directory_path() / ("jg_trace_" + std::to_string(::getpid()) + ".log");
-  const std::string cmd = "qemu-system-arm -M " + machine + " -nographic -monitor none -serial none "
-                          "-semihosting-config enable=on,target=native -singlestep -d nochain,exec -D " +
-                          log.string() + " -kernel " + elf + " 2>&1";
-  int status = 0;
-  const std::string console = run_capture(cmd, &status);
-  if (status != 0 || addr.size() != 3) {
-    std::filesystem::remove(log);
-    f.note = "qemu run failed: " + console;
-    return f;
-  }
-  // One trace line per instruction (-singlestep): "Trace N: 0x... [xxxxxxxx/PC/...]".
-  // Sections open at jg_bench_section; within a section every begin/end pair is one cycle.
+  return addr;
+}
+
+/// One trace line per instruction (-singlestep): "Trace N: 0x... [xxxxxxxx/PC/...]".
+/// Sections open at jg_bench_section; within a section every begin/end pair is one cycle.
+/// Returns [section][cycle] instructions.
+std::vector<std::vector<long>> cycles_per_section(const std::string& log, std::map<std::string, unsigned long>& addr) {
   std::ifstream in(log);
   std::vector<std::vector<long>> cycles;  // [section][cycle] instructions
   long index = 0, begin = -1;
@@ -172,6 +163,52 @@ McuFigures measure_mcu(const std::string& elf, const std::string& core_lib, cons
       begin = -1;
     }
   }
+  return cycles;
+}
+
+/// The painted stack ("stack drive_float N" / "stack drive_q N" on the bench's console) and
+/// the core library's size (arm-none-eabi-size) into f.
+void read_stack_and_size(const std::string& console, const std::string& core_lib, McuFigures& f) {
+  std::istringstream con(console);
+  for (std::string line; std::getline(con, line);) {
+    std::istringstream ls(line);
+    std::string word, name;
+    long bytes = -1;
+    if (ls >> word >> name >> bytes && word == "stack") {
+      if (name == "drive_float") f.float_stack = bytes;
+      if (name == "drive_q") f.q_stack = bytes;
+    }
+  }
+  std::istringstream sz(core_lib.empty() ? std::string() : run_capture("arm-none-eabi-size -t " + core_lib));
+  for (std::string line; std::getline(sz, line);) {
+    if (line.find("(TOTALS)") != std::string::npos) {
+      std::istringstream ls(line);
+      ls >> f.text >> f.data >> f.bss;
+    }
+  }
+}
+
+}  // namespace
+
+McuFigures measure_mcu(const std::string& elf, const std::string& core_lib, const std::string& machine) {
+  McuFigures f;
+  if (!std::filesystem::exists(elf)) {
+    f.note = "cycle benchmark ELF not built (" + elf + "): build the host preset with the arm toolchain installed";
+    return f;
+  }
+  std::map<std::string, unsigned long> addr = bench_markers(elf);
+  const auto log = std::filesystem::temp_directory_path() / ("jg_trace_" + std::to_string(::getpid()) + ".log");
+  const std::string cmd = "qemu-system-arm -M " + machine + " -nographic -monitor none -serial none "
+                          "-semihosting-config enable=on,target=native -singlestep -d nochain,exec -D " +
+                          log.string() + " -kernel " + elf + " 2>&1";
+  int status = 0;
+  const std::string console = run_capture(cmd, &status);
+  if (status != 0 || addr.size() != 3) {
+    std::filesystem::remove(log);
+    f.note = "qemu run failed: " + console;
+    return f;
+  }
+  std::vector<std::vector<long>> cycles = cycles_per_section(log.string(), addr);  // [section][cycle] instructions
   std::filesystem::remove(log);
   if (cycles.size() < 4 || cycles[0].empty() || cycles[1].empty() || cycles[2].empty() || cycles[3].empty()) {
     f.note = "markers not found in the trace";
@@ -190,24 +227,7 @@ McuFigures measure_mcu(const std::string& elf, const std::string& core_lib, cons
   f.q_drive_insns = mean(cycles[3]);
   f.float_drive_max = worst(cycles[2]);
   f.q_drive_max = worst(cycles[3]);
-  // "stack drive_float N" / "stack drive_q N" from the bench's console (stack painting).
-  std::istringstream con(console);
-  for (std::string line; std::getline(con, line);) {
-    std::istringstream ls(line);
-    std::string word, name;
-    long bytes = -1;
-    if (ls >> word >> name >> bytes && word == "stack") {
-      if (name == "drive_float") f.float_stack = bytes;
-      if (name == "drive_q") f.q_stack = bytes;
-    }
-  }
-  std::istringstream sz(core_lib.empty() ? std::string() : run_capture("arm-none-eabi-size -t " + core_lib));
-  for (std::string line; std::getline(sz, line);) {
-    if (line.find("(TOTALS)") != std::string::npos) {
-      std::istringstream ls(line);
-      ls >> f.text >> f.data >> f.bss;
-    }
-  }
+  read_stack_and_size(console, core_lib, f);
   std::string note;
   f.float_stack_static = static_stack(elf, "jg::JointDrive<float, jg::hal::LoopbackCan<8u> >::poll()", note);
   f.q_stack_static = static_stack(elf, "jg::JointDrive<jg::Q<16>, jg::hal::LoopbackCan<8u> >::poll()", note);
@@ -216,6 +236,117 @@ McuFigures measure_mcu(const std::string& elf, const std::string& core_lib, cons
   if (f.float_stack_static < 0 || f.q_stack_static < 0) f.note += (f.note.empty() ? "" : "; ") + ("static stack unknown: " + note);
   return f;
 }
+
+namespace {
+/// Another cross build's figures.
+struct OtherTarget {
+  const char* cpu;
+  const char* machine;
+  McuFigures figures;
+};
+
+/// The FPU-less Cortex-M3 and the Armv8-M Cortex-M33, when their cross builds exist.
+std::vector<OtherTarget> measure_other_targets() {
+  std::vector<OtherTarget> others;
+  for (const auto& [cpu, machine] : {std::pair{"cortex-m3", "mps2-an385"}, std::pair{"cortex-m33", "mps2-an505"}}) {
+    const std::string elf = mcu_build_dir(cpu) + "/toolchain/mcu/jg_cycle_bench.elf";
+    if (std::filesystem::exists(elf)) others.push_back({cpu, machine, measure_mcu(elf, "", machine)});
+  }
+  return others;
+}
+
+/// One scalar's figures in the JSON.
+nlohmann::json scalar_json(double joint, double drive, double drive_max, long stack, long stack_static) {
+  return nlohmann::json{{"instructions_per_joint_cycle", joint},
+                        {"instructions_per_drive_cycle", drive},
+                        {"instructions_per_drive_cycle_max", drive_max},
+                        {"stack_bytes", stack},
+                        {"stack_bytes_static", stack_static}};
+}
+
+/// The JSON's "firmware": the Cortex-M4F's figures, the other targets' and the definitions.
+nlohmann::json firmware_json(const McuFigures& m, const std::vector<OtherTarget>& others) {
+  nlohmann::json targets = nlohmann::json::object();
+  for (const OtherTarget& o : others) {
+    const McuFigures& f = o.figures;
+    targets[o.cpu] = {{"machine", o.machine}, {"measured", f.ok}, {"note", f.note},
+                      {"scalar", {{"float", scalar_json(f.float_insns, f.float_drive_insns, f.float_drive_max, f.float_stack, f.float_stack_static)},
+                                  {"q", scalar_json(f.q_insns, f.q_drive_insns, f.q_drive_max, f.q_stack, f.q_stack_static)}}}};
+  }
+  return nlohmann::json{{"targets", targets},
+      {"target", "cortex-m4"},
+      {"scalar",
+       {{"float", scalar_json(m.float_insns, m.float_drive_insns, m.float_drive_max, m.float_stack, m.float_stack_static)},
+        {"q", scalar_json(m.q_insns, m.q_drive_insns, m.q_drive_max, m.q_stack, m.q_stack_static)}}},
+      {"text", m.text}, {"data", m.data}, {"bss", m.bss}, {"measured", m.ok}, {"note", m.note},
+      {"definitions",
+       {{"joint_cycle", "estimator: outward + inward step, LuGre, observer, detector (mean of 20)"},
+        {"drive_cycle", "JointDrive::poll of joint 2 of 3 over the loopback port: sync, both neighbour frames "
+                        "checked and decoded, estimator, both frames encoded, status frame, one collision "
+                        "event (mean and worst of 20)"},
+        {"stack_bytes", "deepest stack of a drive cycle, measured by stack painting under qemu"},
+        {"stack_bytes_static", "worst-case stack of JointDrive::poll over its call graph from the ELF's disassembly "
+                               "(every frame's stack-pointer decrements, newlib included)"}}}};
+}
+
+void print_firmware(const McuFigures& m, const std::vector<OtherTarget>& others) {
+  for (const OtherTarget& o : others) {
+    const McuFigures& f = o.figures;
+    if (f.ok) {
+      std::printf("%s (qemu -M %s): estimator float %.0f, Q16.16 %.0f; drive cycle float %.0f (worst %.0f), "
+                  "Q16.16 %.0f (worst %.0f); stack float %ld B, Q16.16 %ld B (static %ld B, %ld B)\n",
+                  o.cpu, o.machine, f.float_insns, f.q_insns, f.float_drive_insns, f.float_drive_max, f.q_drive_insns,
+                  f.q_drive_max, f.float_stack, f.q_stack, f.float_stack_static, f.q_stack_static);
+    } else {
+      std::printf("%s figures unavailable: %s\n", o.cpu, f.note.c_str());
+    }
+  }
+  if (m.ok) {
+    std::printf("Cortex-M4F (instructions counted under qemu):\n"
+                "  estimator cycle (outward + inward + LuGre + observer + detector): float %.0f, Q16.16 %.0f\n"
+                "  drive cycle (JointDrive::poll: sync, 2 neighbour frames, estimator, 2 frames, status, event):\n"
+                "    float %.0f (worst %.0f), Q16.16 %.0f (worst %.0f)\n"
+                "  drive cycle stack: painted float %ld B, Q16.16 %ld B; static worst case float %ld B, Q16.16 %ld B\n"
+                "  core text %ld, data %ld, bss %ld bytes\n",
+                m.float_insns, m.q_insns, m.float_drive_insns, m.float_drive_max, m.q_drive_insns, m.q_drive_max,
+                m.float_stack, m.q_stack, m.float_stack_static, m.q_stack_static, m.text, m.data, m.bss);
+  } else {
+    std::printf("Cortex-M4F figures unavailable: %s\n", m.note.c_str());
+  }
+}
+
+/// The host's speed: 60 s of the reference arm at 1 kHz (plant, sensors, controller),
+/// recording off, against the wall clock; one paper-sized GA run.
+struct HostFigures {
+  double simulated_s = 0.0, sim_wall = 0.0, ga_s = 0.0;
+};
+
+HostFigures measure_host() {
+  eval::ExperimentConfig c;
+  c.model = robot::load_robot(JG_DEFAULT_MODEL);
+  sim::JointVector home = sim::JointVector::Zero(3), lo(3), hi(3);
+  home << 0.0, 0.6, -0.8;
+  lo = home.array() - 0.7;
+  hi = home.array() + 0.7;
+  auto setup = eval::base_setup(c, std::shared_ptr<const sim::Trajectory>(sim::make_random_moves(home, lo, hi, 0.8, 65.0, 1)), 1);
+  setup.duration_s = 60.0;
+  setup.record = false;
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto r = sim::run_simulation(setup);
+  const double sim_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  // Identification: one paper-sized GA run (200 x 300 over 1251 samples).
+  const sim::PaperExcitation traj(0.6, 0.2, 4, 2.5);
+  ident::FrictionSeries s;
+  s.dt = 0.008;
+  for (long k = 0; k < 1251; ++k) s.velocity.push_back(traj.at(traj.steady_begin() + 0.008 * static_cast<double>(k)).dq);
+  s.friction = ident::lugre_predict(sim::kPaperTable1[0], s.velocity, s.dt);
+  double cost = 0.0;
+  const auto t1 = std::chrono::steady_clock::now();
+  (void)ident::run_ga(s, ident::GaSettings{}, ident::SearchRanges{}, 1, cost);
+  const double ga_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+  return {r.simulated_s, sim_wall, ga_s};
+}
+}  // namespace
 
 Command add_bench(CLI::App& app) {
   auto json = std::make_shared<std::string>();
@@ -230,112 +361,25 @@ Command add_bench(CLI::App& app) {
   return {cmd, [json, firmware_only]() {
             const std::string mcu = mcu_build_dir();
             const McuFigures m = measure_mcu(mcu + "/toolchain/mcu/jg_cycle_bench.elf", mcu + "/firmware/libjg_core.a");
-            // The FPU-less Cortex-M3 and the Armv8-M Cortex-M33, when their cross builds exist.
-            struct Other {
-              const char* cpu;
-              const char* machine;
-              McuFigures figures;
-            };
-            std::vector<Other> others;
-            for (const auto& [cpu, machine] : {std::pair{"cortex-m3", "mps2-an385"}, std::pair{"cortex-m33", "mps2-an505"}}) {
-              const std::string elf = mcu_build_dir(cpu) + "/toolchain/mcu/jg_cycle_bench.elf";
-              if (std::filesystem::exists(elf)) others.push_back({cpu, machine, measure_mcu(elf, "", machine)});
-            }
-            const auto scalar = [](double joint, double drive, double drive_max, long stack, long stack_static) {
-              return nlohmann::json{{"instructions_per_joint_cycle", joint},
-                                    {"instructions_per_drive_cycle", drive},
-                                    {"instructions_per_drive_cycle_max", drive_max},
-                                    {"stack_bytes", stack},
-                                    {"stack_bytes_static", stack_static}};
-            };
-            const auto firmware_json = [&m, &others, &scalar]() {
-              nlohmann::json targets = nlohmann::json::object();
-              for (const Other& o : others) {
-                const McuFigures& f = o.figures;
-                targets[o.cpu] = {{"machine", o.machine}, {"measured", f.ok}, {"note", f.note},
-                                  {"scalar", {{"float", scalar(f.float_insns, f.float_drive_insns, f.float_drive_max, f.float_stack, f.float_stack_static)},
-                                              {"q", scalar(f.q_insns, f.q_drive_insns, f.q_drive_max, f.q_stack, f.q_stack_static)}}}};
-              }
-              return nlohmann::json{{"targets", targets},
-                  {"target", "cortex-m4"},
-                  {"scalar",
-                   {{"float", scalar(m.float_insns, m.float_drive_insns, m.float_drive_max, m.float_stack, m.float_stack_static)},
-                    {"q", scalar(m.q_insns, m.q_drive_insns, m.q_drive_max, m.q_stack, m.q_stack_static)}}},
-                  {"text", m.text}, {"data", m.data}, {"bss", m.bss}, {"measured", m.ok}, {"note", m.note},
-                  {"definitions",
-                   {{"joint_cycle", "estimator: outward + inward step, LuGre, observer, detector (mean of 20)"},
-                    {"drive_cycle", "JointDrive::poll of joint 2 of 3 over the loopback port: sync, both neighbour frames "
-                                    "checked and decoded, estimator, both frames encoded, status frame, one collision "
-                                    "event (mean and worst of 20)"},
-                    {"stack_bytes", "deepest stack of a drive cycle, measured by stack painting under qemu"},
-                    {"stack_bytes_static", "worst-case stack of JointDrive::poll over its call graph from the ELF's disassembly "
-                                           "(every frame's stack-pointer decrements, newlib included)"}}}};
-            };
-            const auto print_firmware = [&m, &others]() {
-              for (const Other& o : others) {
-                const McuFigures& f = o.figures;
-                if (f.ok) {
-                  std::printf("%s (qemu -M %s): estimator float %.0f, Q16.16 %.0f; drive cycle float %.0f (worst %.0f), "
-                              "Q16.16 %.0f (worst %.0f); stack float %ld B, Q16.16 %ld B (static %ld B, %ld B)\n",
-                              o.cpu, o.machine, f.float_insns, f.q_insns, f.float_drive_insns, f.float_drive_max, f.q_drive_insns,
-                              f.q_drive_max, f.float_stack, f.q_stack, f.float_stack_static, f.q_stack_static);
-                } else {
-                  std::printf("%s figures unavailable: %s\n", o.cpu, f.note.c_str());
-                }
-              }
-              if (m.ok) {
-                std::printf("Cortex-M4F (instructions counted under qemu):\n"
-                            "  estimator cycle (outward + inward + LuGre + observer + detector): float %.0f, Q16.16 %.0f\n"
-                            "  drive cycle (JointDrive::poll: sync, 2 neighbour frames, estimator, 2 frames, status, event):\n"
-                            "    float %.0f (worst %.0f), Q16.16 %.0f (worst %.0f)\n"
-                            "  drive cycle stack: painted float %ld B, Q16.16 %ld B; static worst case float %ld B, Q16.16 %ld B\n"
-                            "  core text %ld, data %ld, bss %ld bytes\n",
-                            m.float_insns, m.q_insns, m.float_drive_insns, m.float_drive_max, m.q_drive_insns, m.q_drive_max,
-                            m.float_stack, m.q_stack, m.float_stack_static, m.q_stack_static, m.text, m.data, m.bss);
-              } else {
-                std::printf("Cortex-M4F figures unavailable: %s\n", m.note.c_str());
-              }
-            };
+            const std::vector<OtherTarget> others = measure_other_targets();
             if (*firmware_only) {
-              print_firmware();
+              print_firmware(m, others);
               if (!json->empty()) {
-                write_json_file(*json, nlohmann::json{{"firmware", firmware_json()}});  // with the identity
+                write_json_file(*json, nlohmann::json{{"firmware", firmware_json(m, others)}});  // with the identity
                 std::printf("wrote %s\n", json->c_str());
               }
               bool all = m.ok;
-              for (const Other& o : others) all = all && o.figures.ok;
+              for (const OtherTarget& o : others) all = all && o.figures.ok;
               return all ? 0 : 1;
             }
-            // Host: 60 s of the reference arm at 1 kHz (plant, sensors, controller), recording off.
-            eval::ExperimentConfig c;
-            c.model = robot::load_robot(JG_DEFAULT_MODEL);
-            sim::JointVector home = sim::JointVector::Zero(3), lo(3), hi(3);
-            home << 0.0, 0.6, -0.8;
-            lo = home.array() - 0.7;
-            hi = home.array() + 0.7;
-            auto setup = eval::base_setup(c, std::shared_ptr<const sim::Trajectory>(sim::make_random_moves(home, lo, hi, 0.8, 65.0, 1)), 1);
-            setup.duration_s = 60.0;
-            setup.record = false;
-            const auto t0 = std::chrono::steady_clock::now();
-            const auto r = sim::run_simulation(setup);
-            const double sim_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-            // Identification: one paper-sized GA run (200 x 300 over 1251 samples).
-            const sim::PaperExcitation traj(0.6, 0.2, 4, 2.5);
-            ident::FrictionSeries s;
-            s.dt = 0.008;
-            for (long k = 0; k < 1251; ++k) s.velocity.push_back(traj.at(traj.steady_begin() + 0.008 * static_cast<double>(k)).dq);
-            s.friction = ident::lugre_predict(sim::kPaperTable1[0], s.velocity, s.dt);
-            double cost = 0.0;
-            const auto t1 = std::chrono::steady_clock::now();
-            (void)ident::run_ga(s, ident::GaSettings{}, ident::SearchRanges{}, 1, cost);
-            const double ga_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
-            print_firmware();
+            const HostFigures h = measure_host();
+            print_firmware(m, others);
             std::printf("host: simulation %.0fx real time (3-joint arm, 1 kHz control, 2 kHz plant); one paper-sized GA run %.3f s\n",
-                        r.simulated_s / sim_wall, ga_s);
+                        h.simulated_s / h.sim_wall, h.ga_s);
             if (!json->empty()) {
               nlohmann::json j;
-              j["firmware"] = firmware_json();
-              j["host"] = {{"sim_realtime_factor", r.simulated_s / sim_wall}, {"identify_seconds", ga_s},
+              j["firmware"] = firmware_json(m, others);
+              j["host"] = {{"sim_realtime_factor", h.simulated_s / h.sim_wall}, {"identify_seconds", h.ga_s},
                            {"identify_definition", "one GA run, population 200 x 300 generations, 1251 samples"}};
               write_json_file(*json, j);  // with the identity
               std::printf("wrote %s\n", json->c_str());

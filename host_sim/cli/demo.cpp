@@ -118,14 +118,10 @@ report::Plot trace_plot(const eval::RunResult& comp, const eval::RunResult& unco
 // Threshold margin above the calibrated collision-free band (the paper adds one too).
 constexpr double kMarginNm = 0.5;
 
-int run_demo(const DemoOptions& options) {
-  // Numbered by a counter: hand-written labels showed [4/7] twice.
-  constexpr int kSteps = 8;
-  int step_no = 0;
-  auto step = [&step_no](const char* what) { std::printf("[%d/%d] %s...\n", ++step_no, kSteps, what); };
-  const auto t_start = std::chrono::steady_clock::now();
-  std::filesystem::create_directories(options.out_dir);
-  std::ostringstream html;
+// run_demo's report sections, in its order: each writes its part of the HTML page.
+namespace {
+
+void write_head(std::ostream& html) {
   html << "<!doctype html><html><head><meta charset=\"utf-8\"><title>jointguard report</title><style>"
           "body{font-family:sans-serif;max-width:980px;margin:24px auto;color:#222}table{border-collapse:collapse;margin:8px 0}"
           "td,th{border:1px solid #ccc;padding:3px 8px;text-align:right}th{background:#f3f3f3}h2{margin-top:32px}"
@@ -135,13 +131,10 @@ int run_demo(const DemoOptions& options) {
           "encoder and current quantisation, 0.01 A current noise. The firmware core (momentum recursion, observer, LuGre, detector) "
           "runs in the loop in float and Q16.16. Reproduce: <code>bash scripts/demo.sh</code> "
           "(or <code>build/host/jointguard demo --out out</code>).</p>\n";
+}
 
-  // 1. Identification and calibration at 1 kHz.
-  step("identification from observer output and threshold calibration (1 kHz)");
-  eval::ExperimentConfig c;
-  c.model = robot::load_robot(JG_DEFAULT_MODEL);
-  c.rate_hz = 1000.0;
-  const auto prep = eval::prepare(c, kMarginNm);
+/// 1. The friction identified from the observer's output against the truth, and the thresholds.
+void write_identification(std::ostream& html, const eval::ExperimentConfig& c, const eval::Preparation& prep) {
   html << "<h2>Friction identified from the observer's output</h2>\n<table><tr><th>joint</th><th>parameter</th><th>identified</th><th>truth</th><th>error</th><th>identifiable</th></tr>\n";
   for (std::size_t j = 0; j < prep.identification.size(); ++j) {
     const auto& r = prep.identification[j];
@@ -165,15 +158,18 @@ int run_demo(const DemoOptions& options) {
   }
   html << "</table><p class=\"note\">Paper: one threshold of 7.80 N·m. Near standstill the friction is stiction, which no velocity-driven "
           "model predicts; the band widens there by the amount observed.</p>\n";
+}
 
-  // 2. The paper's three collisions at 1 kHz and 125 Hz, float and Q.
-  step("the paper's three collisions at 1 kHz and 125 Hz, float and Q16.16");
+/// 2. The paper's three collisions at 1 kHz and 125 Hz, float and Q16.16: the rows, also
+/// printed at the end.
+std::vector<PaperRow> write_paper_collisions(std::ostream& html, const eval::ExperimentConfig& c) {
   std::vector<PaperRow> rows;
   eval::ExperimentConfig c125 = c;
   c125.rate_hz = 125.0;
   c125.gains = tuning::default_gains(c125.rate_hz);
   eval::prepare(c125, kMarginNm);
-  for (const auto* cfg : {&c, &c125}) {
+  const eval::ExperimentConfig& c125_prepared = c125;
+  for (const auto* cfg : {&c, &c125_prepared}) {
     for (const char* scalar : {"float", "q"}) {
       eval::ExperimentConfig x = *cfg;
       x.scalar = scalar;
@@ -193,25 +189,33 @@ int run_demo(const DemoOptions& options) {
     }
   }
   html << "</table>\n";
+  return rows;
+}
 
-  // 3. Figures in the spirit of the paper's Figures 5-7.
-  step("traces with and without compensation");
-  {
-    eval::ExperimentConfig trace_cfg = c;
-    trace_cfg.reaction = Reaction::none;
-    const auto comp = eval::paper_experiments(trace_cfg, true);
-    eval::ExperimentConfig unc = trace_cfg;
-    unc.friction.clear();
-    const auto uncomp = eval::paper_experiments(unc, true);
-    for (std::size_t i = 0; i < comp.size() && i < uncomp.size(); ++i) {
-      const int joint = comp[i].link_true - 1;
-      html << report::render_svg(trace_plot(comp[i], uncomp[i], joint, c.thresholds[static_cast<std::size_t>(joint)],
-                                            prep.thresholds.threshold_uncompensated[static_cast<std::size_t>(joint)]));
-    }
+/// 3. Figures in the spirit of the paper's Figures 5-7: with and without compensation.
+void write_traces(std::ostream& html, const eval::ExperimentConfig& c, const eval::Preparation& prep) {
+  eval::ExperimentConfig trace_cfg = c;
+  trace_cfg.reaction = Reaction::none;
+  const auto comp = eval::paper_experiments(trace_cfg, true);
+  eval::ExperimentConfig unc = trace_cfg;
+  unc.friction.clear();
+  const auto uncomp = eval::paper_experiments(unc, true);
+  for (std::size_t i = 0; i < comp.size() && i < uncomp.size(); ++i) {
+    const int joint = comp[i].link_true - 1;
+    html << report::render_svg(trace_plot(comp[i], uncomp[i], joint, c.thresholds[static_cast<std::size_t>(joint)],
+                                          prep.thresholds.threshold_uncompensated[static_cast<std::size_t>(joint)]));
   }
+}
 
-  // 4. Campaign and false alarms.
-  step("random campaign (50 collisions on links 2-3) and a 10-minute collision-free run");
+/// 4. What the campaign and the collision-free run give, also printed at the end.
+struct CampaignFigures {
+  std::size_t collisions = 0;
+  eval::Summary sum;
+  int alarms = 0;
+  double free_s = 0.0, per_hour = 0.0;
+};
+
+CampaignFigures write_campaign(std::ostream& html, const eval::ExperimentConfig& c) {
   const auto camp = eval::campaign(c, 50, {2, 3});
   const eval::Summary sum = eval::summarize(camp);
   int alarms = 0;
@@ -230,13 +234,11 @@ int run_demo(const DemoOptions& options) {
           "Isolation names the highest joint over threshold at the detection cycle (paper's signature).</p>\n";
 
   html << report::contact_section(camp);  // the campaign's contact estimates, as sets where undetermined
+  return {camp.size(), sum, alarms, free_s, per_hour};
+}
 
-  // 4a. ISO/TS 15066: body-region contacts by reaction (report/safety_report.*).
-  step("ISO/TS 15066 body-region contacts, every region and reaction");
-  html << report::safety_section(c, report::SafetySectionOptions{});
-
-  // 4b. Model-mismatch diagnosis: concealed effects named, fitted, written back.
-  step("diagnosis: concealed effects named and written back into the simulation");
+/// 4b. Model-mismatch diagnosis: concealed effects named, fitted, written back.
+void write_diagnosis(std::ostream& html) {
   html << "<h2>Diagnosis: what the simulation left out, named and written back</h2>\n<table><tr><th>concealed in the \"real\" arm</th>"
           "<th>named by <code>jointguard diagnose</code></th><th>held-out RMS on its joint, before &rarr; after [N·m]</th>"
           "<th>re-simulated with the findings (<code>--model-out</code>) [N·m]</th><th>noise [N·m]</th></tr>\n";
@@ -266,9 +268,10 @@ int run_demo(const DemoOptions& options) {
           "the diagnosis names what differs (a payload and a link's mass once for the arm, the rest per joint, only with strong evidence, "
           "held-out gain and physically plausible parameters), writes it back into the simulation, and the re-simulation is compared "
           "with the real recording again. Figures over 300 cases: docs/results.md (Diagnosis); the real Panda and UR10e: docs/results.md (Real arms).</p>\n";
+}
 
-  // 5. Fixed point against double.
-  step("LuGre in float and Q16.16 against double");
+/// 5. Fixed point against double.
+void write_arithmetic(std::ostream& html) {
   html << "<h2>Firmware arithmetic: LuGre friction in float and Q16.16 against double</h2>\n<table><tr><th>joint</th><th>dT [s]</th>"
           "<th>max |float - double| [N·m]</th><th>max |Q16.16 - double| [N·m]</th><th>Q16.16 arithmetic alone [N·m]</th></tr>\n";
   for (const double dt : {0.008, 0.001}) {
@@ -279,8 +282,10 @@ int run_demo(const DemoOptions& options) {
     }
   }
   html << "</table>\n";
-  // 6. What one joint's cycle costs on the drive's MCU.
-  step("firmware cost per estimator and drive cycle on the emulated Cortex-M4F");
+}
+
+/// 6. What one joint's cycle costs on the drive's MCU.
+void write_mcu_cost(std::ostream& html) {
   const McuFigures mcu = measure_mcu(mcu_build_dir() + "/toolchain/mcu/jg_cycle_bench.elf", mcu_build_dir() + "/firmware/libjg_core.a");
   html << "<h2>Firmware cost per cycle (Cortex-M4F)</h2>\n";
   if (mcu.ok) {
@@ -299,6 +304,47 @@ int run_demo(const DemoOptions& options) {
   } else {
     html << "<p class=\"note\">Not measured: " << report::escape(mcu.note) << "</p>\n";
   }
+}
+}  // namespace
+
+int run_demo(const DemoOptions& options) {
+  // Numbered by a counter: hand-written labels showed [4/7] twice.
+  constexpr int kSteps = 8;
+  int step_no = 0;
+  auto step = [&step_no](const char* what) { std::printf("[%d/%d] %s...\n", ++step_no, kSteps, what); };
+  const auto t_start = std::chrono::steady_clock::now();
+  std::filesystem::create_directories(options.out_dir);
+  std::ostringstream html;
+  write_head(html);
+
+  step("identification from observer output and threshold calibration (1 kHz)");
+  eval::ExperimentConfig c;
+  c.model = robot::load_robot(JG_DEFAULT_MODEL);
+  c.rate_hz = 1000.0;
+  const auto prep = eval::prepare(c, kMarginNm);
+  write_identification(html, c, prep);
+
+  step("the paper's three collisions at 1 kHz and 125 Hz, float and Q16.16");
+  const std::vector<PaperRow> rows = write_paper_collisions(html, c);
+
+  step("traces with and without compensation");
+  write_traces(html, c, prep);
+
+  step("random campaign (50 collisions on links 2-3) and a 10-minute collision-free run");
+  const CampaignFigures camp = write_campaign(html, c);
+
+  // 4a. ISO/TS 15066: body-region contacts by reaction (report/safety_report.*).
+  step("ISO/TS 15066 body-region contacts, every region and reaction");
+  html << report::safety_section(c, report::SafetySectionOptions{});
+
+  step("diagnosis: concealed effects named and written back into the simulation");
+  write_diagnosis(html);
+
+  step("LuGre in float and Q16.16 against double");
+  write_arithmetic(html);
+
+  step("firmware cost per estimator and drive cycle on the emulated Cortex-M4F");
+  write_mcu_cost(html);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   html << "<p class=\"note\">Generated in " << fmt("%.0f", wall) << " s.</p></body></html>\n";
   const auto report_path = std::filesystem::path(options.out_dir) / "report.html";
@@ -307,7 +353,7 @@ int run_demo(const DemoOptions& options) {
   for (const auto& r : rows[0].runs) std::printf("%s ", r.t_detected ? fmt("%.0f ms", 1e3 * (*r.t_detected - r.t_collision)).c_str() : "missed");
   std::printf("\npaper collisions at 125 Hz (Q16.16): ");
   for (const auto& r : rows[3].runs) std::printf("%s ", r.t_detected ? fmt("%.0f ms", 1e3 * (*r.t_detected - r.t_collision)).c_str() : "missed");
-  std::printf("\ncampaign: %d/%zu detected, false alarms %d in %.0f s (%.1f per hour)\n", sum.detected, camp.size(), alarms, free_s, per_hour);
+  std::printf("\ncampaign: %d/%zu detected, false alarms %d in %.0f s (%.1f per hour)\n", camp.sum.detected, camp.collisions, camp.alarms, camp.free_s, camp.per_hour);
   std::printf("report: %s (%.0f s)\n", std::filesystem::absolute(report_path).string().c_str(), wall);
   return 0;
 }

@@ -162,6 +162,51 @@ nlohmann::json evaluate_json(const EvaluateFigures& f) {
   return j;
 }
 
+namespace {
+/// The contact estimates' figures (when any run has one).
+void print_contact_figures(const eval::Summary& sum, const std::vector<eval::RunResult>& runs) {
+  std::printf("contact estimate (%d detections, window around the detection): link right %d/%d, of the isolable %d/%d; "
+              "force within 20 %% of the truth at its cycle %d/%d (given the true point %d/%d), peak force within 20 %% "
+              "of the true peak %d/%d; point within 5 cm (link right) %d/%d, along the link %d/%d\n",
+              sum.estimated, sum.estimated_link_right, sum.estimated, sum.estimated_right_of_isolable, sum.isolable,
+              sum.force_within_20pct, sum.estimated, sum.force_within_20pct_true_point, sum.estimated,
+              sum.peak_force_within_20pct, sum.estimated, sum.point_within_5cm, sum.estimated, sum.along_within_5cm,
+              sum.estimated);
+  std::printf("contact force against the true force as the observer sees it (first-order filtered with its gain): "
+              "within 20 %% %d/%d (given the true point %d/%d, given the true link %d/%d); point within 5 cm given the true "
+              "link %d/%d\n",
+              sum.force_within_20pct_observed, sum.estimated, sum.force_within_20pct_observed_true_point, sum.estimated,
+              sum.force_within_20pct_observed_true_link, sum.estimated, sum.point_within_5cm_true_link, sum.estimated);
+  std::printf("%s\n", eval::describe(eval::contact_coverage(runs)).c_str());
+}
+
+/// The held pushes (the smallest detected per link, alarms in the hold) and the residual
+/// and holding detectors' thresholds.
+void print_held_and_detectors(const EvaluateFigures& f, const eval::Summary& sum) {
+  const nlohmann::json smallest = held_smallest(f.runs);
+  if (!smallest.empty()) {
+    std::printf("smallest push detected on a held joint (every larger one detected too):");
+    for (std::size_t k = 0; k < smallest.size(); ++k) {
+      std::printf(" link %zu %s", k + 1, smallest[k].is_null() ? "none" : (std::to_string(smallest[k].get<double>()).substr(0, 4) + " N·m").c_str());
+    }
+    int quiet_alarms = 0;
+    for (const auto& r : f.runs) quiet_alarms += r.held_push_nm <= 0.0 ? static_cast<int>(r.false_alarm_times.size()) : 0;
+    std::printf("; alarms in the hold without contact: %d\n", quiet_alarms);
+  }
+  if (f.config.contains("residual_change_threshold") && !f.config["residual_change_threshold"].empty()) {
+    std::printf("residual detector (baseline time constant %.3f s): change threshold",
+                f.config.value("residual_time_constant_s", 0.0));
+    for (const auto& h : f.config["residual_change_threshold"]) std::printf(" %.3f", h.get<double>());
+    std::printf(" N·m; detections first seen by it (not the band) %d\n", sum.detected_by_residual);
+  }
+  if (f.config.contains("hold_change_threshold") && !f.config["hold_change_threshold"].empty()) {
+    std::printf("holding detector: change threshold");
+    for (const auto& h : f.config["hold_change_threshold"]) std::printf(" %.3f", h.get<double>());
+    std::printf(" N·m\n");
+  }
+}
+}  // namespace
+
 void print_figures(const EvaluateFigures& f) {
   const eval::Summary sum = eval::summarize(f.runs);
   const FreeRunTotals fr = totals_of(f.free_run);
@@ -197,42 +242,8 @@ void print_figures(const EvaluateFigures& f) {
                 "both on the same cycle\n",
                 sum.same_cycle, sum.compared_detected);
   }
-  if (sum.estimated > 0) {
-    std::printf("contact estimate (%d detections, window around the detection): link right %d/%d, of the isolable %d/%d; "
-                "force within 20 %% of the truth at its cycle %d/%d (given the true point %d/%d), peak force within 20 %% "
-                "of the true peak %d/%d; point within 5 cm (link right) %d/%d, along the link %d/%d\n",
-                sum.estimated, sum.estimated_link_right, sum.estimated, sum.estimated_right_of_isolable, sum.isolable,
-                sum.force_within_20pct, sum.estimated, sum.force_within_20pct_true_point, sum.estimated,
-                sum.peak_force_within_20pct, sum.estimated, sum.point_within_5cm, sum.estimated, sum.along_within_5cm,
-                sum.estimated);
-    std::printf("contact force against the true force as the observer sees it (first-order filtered with its gain): "
-                "within 20 %% %d/%d (given the true point %d/%d, given the true link %d/%d); point within 5 cm given the true "
-                "link %d/%d\n",
-                sum.force_within_20pct_observed, sum.estimated, sum.force_within_20pct_observed_true_point, sum.estimated,
-                sum.force_within_20pct_observed_true_link, sum.estimated, sum.point_within_5cm_true_link, sum.estimated);
-    std::printf("%s\n", eval::describe(eval::contact_coverage(f.runs)).c_str());
-  }
-  const nlohmann::json smallest = held_smallest(f.runs);
-  if (!smallest.empty()) {
-    std::printf("smallest push detected on a held joint (every larger one detected too):");
-    for (std::size_t k = 0; k < smallest.size(); ++k) {
-      std::printf(" link %zu %s", k + 1, smallest[k].is_null() ? "none" : (std::to_string(smallest[k].get<double>()).substr(0, 4) + " N·m").c_str());
-    }
-    int quiet_alarms = 0;
-    for (const auto& r : f.runs) quiet_alarms += r.held_push_nm <= 0.0 ? static_cast<int>(r.false_alarm_times.size()) : 0;
-    std::printf("; alarms in the hold without contact: %d\n", quiet_alarms);
-  }
-  if (f.config.contains("residual_change_threshold") && !f.config["residual_change_threshold"].empty()) {
-    std::printf("residual detector (baseline time constant %.3f s): change threshold",
-                f.config.value("residual_time_constant_s", 0.0));
-    for (const auto& h : f.config["residual_change_threshold"]) std::printf(" %.3f", h.get<double>());
-    std::printf(" N·m; detections first seen by it (not the band) %d\n", sum.detected_by_residual);
-  }
-  if (f.config.contains("hold_change_threshold") && !f.config["hold_change_threshold"].empty()) {
-    std::printf("holding detector: change threshold");
-    for (const auto& h : f.config["hold_change_threshold"]) std::printf(" %.3f", h.get<double>());
-    std::printf(" N·m\n");
-  }
+  if (sum.estimated > 0) print_contact_figures(sum, f.runs);
+  print_held_and_detectors(f, sum);
   const double per_hour = f.free_run_s > 0.0 ? fr.alarms * 3600.0 / f.free_run_s : 0.0;
   std::printf("delay min/median/max %.1f/%.1f/%.1f ms; false alarms %d in %.0f s (%.2f per hour)", 1e3 * sum.delay_min,
               1e3 * sum.delay_median, 1e3 * sum.delay_max, fr.alarms, f.free_run_s, per_hour);

@@ -39,15 +39,14 @@ struct NodeOptions {
   robot::LoadOptions model_options;
 };
 
+// run_node's stages: the estimator's parameters, the drive's loop, its counters at the end.
+
+/// This joint's estimator parameters (friction, threshold band, holding detector) from the
+/// files; fc: the estimator configuration they were made with.
 template <class S>
-int run_node(const NodeOptions& o) {
-  const robot::RobotModel model = robot::load_robot(o.model, o.model_options);
+JointEstimatorParams<S> node_params(const NodeOptions& o, const robot::RobotModel& model, std::size_t j,
+                                    eval::FirmwareEstimatorConfig& fc) {
   const std::size_t n = model.joints.size();
-  if (o.joint < 1 || static_cast<std::size_t>(o.joint) > n) {
-    throw std::invalid_argument("--joint " + std::to_string(o.joint) + ": the robot " + o.model + " has joints 1.." + std::to_string(n));
-  }
-  const auto j = static_cast<std::size_t>(o.joint - 1);
-  eval::FirmwareEstimatorConfig fc;
   fc.model = model;
   fc.dt = 1.0 / o.rate;
   fc.observer = o.observer.to_gains(o.rate);
@@ -72,24 +71,13 @@ int run_node(const NodeOptions& o) {
   }
   const JointEstimatorParams<S> p =
       eval::joint_params<S>(fc, j, bands.empty() ? nullptr : &bands[j], o.debounce, hold ? &*hold : nullptr);
-  std::vector<hil::FaultSpec> faults;
-  try {
-    // Bad fault specs are usage errors (exit 2), refused before the drive opens its port.
-    for (const auto& f : o.faults) faults.push_back(hil::parse_fault(f));
-    hil::check_drive_faults(faults, o.joint);
-  } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "jointguard node: error: %s\n", e.what());
-    return 2;
-  }
-  hil::DriveFaultPort port(o.iface, faults, 1.0 / o.rate);
-  const DriveConfig dc{NodeConfig{static_cast<std::uint8_t>(o.joint), static_cast<std::uint8_t>(n), static_cast<std::uint8_t>(o.fault_cycles)},
-                       true};
-  JointDrive<S, hil::DriveFaultPort> drive(dc, p, port, eval::gravity_of<S>(model));
-  drive.set_reaction_gains(reaction_gains<S>(fc.dt));  // the reaction the master commands (0.3 s retreat/reflex)
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
-  std::fprintf(stderr, "jointguard node: joint %d of %zu (%s) on %s, waiting for the master's sync\n", o.joint, n,
-               is_q_v<S> ? "Q16.16" : "float", o.iface.c_str());
+  return p;
+}
+
+/// Polls the drive until SIGINT/SIGTERM or --idle-exit: it announces itself until the
+/// master's first sync (none within --startup: an error), and prints its first collision flag.
+template <class Drive>
+void serve(const NodeOptions& o, Drive& drive, hil::DriveFaultPort& port) {
   const hal::MonotonicClock clock;
   const std::uint64_t t0 = clock.now_us();
   std::uint64_t last = t0;
@@ -116,10 +104,15 @@ int run_node(const NodeOptions& o) {
     }
     if (started && o.idle_exit_s > 0.0 && now - last > static_cast<std::uint64_t>(o.idle_exit_s * 1e6)) break;
   }
+}
+
+/// The drive's and its port's counters at the end, printed and (--json) written.
+template <class Drive>
+void report_node(const NodeOptions& o, Drive& drive, hil::DriveFaultPort& port, bool any_faults) {
   const DriveCounters& c = drive.counters();
   const NodeCounters& nc = drive.node().counters();
   const hil::DriveFaultCounters& fault_counts = port.fault_counters();
-  if (!faults.empty()) {
+  if (any_faults) {
     std::printf("joint %d faults: %llu frames delayed, bus-off %llu time(s), recovered %llu time(s), %llu sends refused while bus-off\n",
                 o.joint, static_cast<unsigned long long>(fault_counts.frames_delayed), static_cast<unsigned long long>(fault_counts.bus_off_entries),
                 static_cast<unsigned long long>(fault_counts.bus_off_recoveries), static_cast<unsigned long long>(fault_counts.refused_bus_off));
@@ -145,6 +138,38 @@ int run_node(const NodeOptions& o) {
                                   {"bus_off_at_end", port.error_state() == hal::CanErrorState::bus_off}}}};
     write_json_file(o.json, js);  // every write checked: no exit 0 without the file; with the identity
   }
+}
+
+template <class S>
+int run_node(const NodeOptions& o) {
+  const robot::RobotModel model = robot::load_robot(o.model, o.model_options);
+  const std::size_t n = model.joints.size();
+  if (o.joint < 1 || static_cast<std::size_t>(o.joint) > n) {
+    throw std::invalid_argument("--joint " + std::to_string(o.joint) + ": the robot " + o.model + " has joints 1.." + std::to_string(n));
+  }
+  const auto j = static_cast<std::size_t>(o.joint - 1);
+  eval::FirmwareEstimatorConfig fc;
+  const JointEstimatorParams<S> p = node_params<S>(o, model, j, fc);
+  std::vector<hil::FaultSpec> faults;
+  try {
+    // Bad fault specs are usage errors (exit 2), refused before the drive opens its port.
+    for (const auto& f : o.faults) faults.push_back(hil::parse_fault(f));
+    hil::check_drive_faults(faults, o.joint);
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "jointguard node: error: %s\n", e.what());
+    return 2;
+  }
+  hil::DriveFaultPort port(o.iface, faults, 1.0 / o.rate);
+  const DriveConfig dc{NodeConfig{static_cast<std::uint8_t>(o.joint), static_cast<std::uint8_t>(n), static_cast<std::uint8_t>(o.fault_cycles)},
+                       true};
+  JointDrive<S, hil::DriveFaultPort> drive(dc, p, port, eval::gravity_of<S>(model));
+  drive.set_reaction_gains(reaction_gains<S>(fc.dt));  // the reaction the master commands (0.3 s retreat/reflex)
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  std::fprintf(stderr, "jointguard node: joint %d of %zu (%s) on %s, waiting for the master's sync\n", o.joint, n,
+               is_q_v<S> ? "Q16.16" : "float", o.iface.c_str());
+  serve(o, drive, port);
+  report_node(o, drive, port, !faults.empty());
   return 0;
 }
 

@@ -52,11 +52,11 @@ void HilOptions::add_to(CLI::App* cmd, bool plant) {
   observer.add_to(cmd);
 }
 
-int run_hil_command(const HilOptions& o) {
-  if (o.iface.empty() && o.bus != "sim") throw std::invalid_argument("say where the drives are: --iface IFACE (SocketCAN) or --bus sim");
-  if (o.threshold.empty()) throw std::invalid_argument("--threshold is required: the drives need their detection bands (jointguard calibrate)");
-  sim::Scenario scenario = sim::load_scenario(o.scenario, o.seed, o.has_seed);
-  if (o.duration_s > 0.0) scenario.setup.duration_s = o.duration_s;
+namespace {
+
+/// The drives' configuration: the model (the scenario's, or --model), friction, thresholds,
+/// observer, scalar, debounce, reaction, interface.
+hil::HilConfig hil_config(const HilOptions& o, const sim::Scenario& scenario) {
   hil::HilConfig c;
   const std::string model_path =
       !o.model.empty() ? o.model
@@ -76,20 +76,12 @@ int run_hil_command(const HilOptions& o) {
                                               : Reaction::stop;
   c.interface = o.iface;
   c.cycle_timeout_ms = o.timeout_ms;
-  try {
-    // Bad fault specs are usage errors (exit 2), refused before anything runs.
-    for (const auto& f : o.faults) c.faults.push_back(hil::parse_fault(f));
-    hil::check_faults(c.faults, c.model.joints.size(), scenario.setup.duration_s);
-    if (!c.interface.empty()) hil::check_socketcan_faults(c.faults);
-  } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 2;
-  }
-  for (const auto& f : c.faults) {
-    std::printf("fault injected: %s from %.3f s %s\n", hil::to_string(f.kind), f.start_s,
-                std::isfinite(f.duration_s) ? ("for " + std::to_string(f.duration_s) + " s").c_str() : "to the end");
-  }
-  const hil::HilResult r = hil::run_hil(scenario, c);
+  return c;
+}
+
+/// The run on the console: detection, contact estimate, faults, the drives' and the
+/// master's counters, the simulated bus.
+void print_hil_result(const sim::Scenario& scenario, const hil::HilResult& r) {
   const eval::RunResult& run = r.run;
   std::printf("%s: %zu cycles on %s\n", run.name.c_str(), run.trace.t.size(), r.bus.c_str());
   if (!scenario.setup.collisions.empty()) {
@@ -131,6 +123,78 @@ int run_hil_command(const HilOptions& o) {
                 100.0 * r.bus_busy_s / std::max(1e-9, r.bus_elapsed_s),
                 r.incomplete_cycles);
   }
+}
+
+/// The --json result: the run, the drives' events, the bus counters, the faults and their
+/// episodes, the drives at the end, the largest estimate per joint.
+nlohmann::json hil_json(const HilOptions& o, const hil::HilResult& r) {
+  const eval::RunResult& run = r.run;
+  nlohmann::json j;
+  nlohmann::json jr{{"name", run.name}, {"t_collision", run.t_collision}, {"link_true", run.link_true},
+                    {"link_isolated", run.link_isolated}, {"peak_force", run.peak_force_n}};
+  jr["t_detected"] = run.t_detected ? nlohmann::json(*run.t_detected) : nlohmann::json(nullptr);
+  jr["delay"] = run.t_detected ? nlohmann::json(*run.t_detected - run.t_collision) : nlohmann::json(nullptr);
+  jr["t_drives_flagged"] = run.t_node_flagged ? nlohmann::json(*run.t_node_flagged) : nlohmann::json(nullptr);
+  jr["link_drives_isolated"] = run.link_node_isolated;
+  jr["t_comm_fault"] = run.t_comm_fault ? nlohmann::json(*run.t_comm_fault) : nlohmann::json(nullptr);
+  jr["t_input_fault"] = run.t_input_fault ? nlohmann::json(*run.t_input_fault) : nlohmann::json(nullptr);
+  jr["force_estimate"] = run.contact ? nlohmann::json(run.contact->estimate.force_n) : nlohmann::json(nullptr);
+  jr["contact_estimate"] = run.contact ? contact_json(*run.contact) : nlohmann::json(nullptr);
+  j["runs"] = nlohmann::json::array({jr});
+  j["events"] = nlohmann::json::array();
+  for (const auto& e : r.events) j["events"].push_back({{"joint", e.joint}, {"cycle", e.cycle}, {"external_torque", e.external_torque}});
+  j["bus"] = {{"kind", r.bus}, {"cycles", run.trace.t.size()}, {"frames_received_by_master", r.master.frames_received},
+              {"rejected", r.master.rejected}, {"out_of_cycle", r.master.out_of_cycle}, {"foreign", r.master.foreign},
+              {"simulated_frames", r.bus_frames}, {"simulated_busy_s", r.bus_busy_s}, {"incomplete_cycles", r.incomplete_cycles},
+              {"restarts", r.master.restarts}, {"invalid_samples_sent", r.master.invalid_samples},
+              {"communication_fault_at_end", r.master_comm_fault_end}, {"input_fault_at_end", r.master_input_fault_end},
+              {"first_comm_fault_cycle", r.first_comm_fault_cycle}};
+  j["faults"] = o.faults;
+  // Each span a fault was raised: joint 0 the master's view (what the arm reacts to), j
+  // drive j's own status flag; to_cycle: first cycle clear again (null: raised at the end).
+  j["fault_episodes"] = nlohmann::json::array();
+  for (const hil::FaultEpisode& e : r.fault_episodes) {
+    j["fault_episodes"].push_back({{"fault", e.kind == hil::FaultEpisode::Kind::input ? "input" : "communication"},
+                                   {"joint", e.joint}, {"from_cycle", e.from_cycle},
+                                   {"to_cycle", e.to_cycle < 0 ? nlohmann::json(nullptr) : nlohmann::json(e.to_cycle)}});
+  }
+  j["drives_end"] = nlohmann::json::array();
+  for (std::size_t k = 0; k < r.drives.size(); ++k) {
+    j["drives_end"].push_back({{"joint", k + 1}, {"communication_fault", r.drives[k].communication_fault}, {"ready", r.drives[k].ready}});
+  }
+  std::vector<double> mu_max;
+  for (const auto& m : run.trace.mu) {
+    double v = 0.0;
+    for (const double x : m) v = std::max(v, std::fabs(x));
+    mu_max.push_back(v);
+  }
+  j["external_torque_max"] = mu_max;
+  return j;
+}
+}  // namespace
+
+int run_hil_command(const HilOptions& o) {
+  if (o.iface.empty() && o.bus != "sim") throw std::invalid_argument("say where the drives are: --iface IFACE (SocketCAN) or --bus sim");
+  if (o.threshold.empty()) throw std::invalid_argument("--threshold is required: the drives need their detection bands (jointguard calibrate)");
+  sim::Scenario scenario = sim::load_scenario(o.scenario, o.seed, o.has_seed);
+  if (o.duration_s > 0.0) scenario.setup.duration_s = o.duration_s;
+  hil::HilConfig c = hil_config(o, scenario);
+  try {
+    // Bad fault specs are usage errors (exit 2), refused before anything runs.
+    for (const auto& f : o.faults) c.faults.push_back(hil::parse_fault(f));
+    hil::check_faults(c.faults, c.model.joints.size(), scenario.setup.duration_s);
+    if (!c.interface.empty()) hil::check_socketcan_faults(c.faults);
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 2;
+  }
+  for (const auto& f : c.faults) {
+    std::printf("fault injected: %s from %.3f s %s\n", hil::to_string(f.kind), f.start_s,
+                std::isfinite(f.duration_s) ? ("for " + std::to_string(f.duration_s) + " s").c_str() : "to the end");
+  }
+  const hil::HilResult r = hil::run_hil(scenario, c);
+  const eval::RunResult& run = r.run;
+  print_hil_result(scenario, r);
   if (!o.trace.empty()) hil::write_trace_csv(o.trace, run.trace);
   if (!o.out.empty()) {
     io::Recording rec = run.recording;
@@ -139,47 +203,7 @@ int run_hil_command(const HilOptions& o) {
     std::printf("wrote %s\n", o.out.c_str());
   }
   if (!o.json.empty()) {
-    nlohmann::json j;
-    nlohmann::json jr{{"name", run.name}, {"t_collision", run.t_collision}, {"link_true", run.link_true},
-                      {"link_isolated", run.link_isolated}, {"peak_force", run.peak_force_n}};
-    jr["t_detected"] = run.t_detected ? nlohmann::json(*run.t_detected) : nlohmann::json(nullptr);
-    jr["delay"] = run.t_detected ? nlohmann::json(*run.t_detected - run.t_collision) : nlohmann::json(nullptr);
-    jr["t_drives_flagged"] = run.t_node_flagged ? nlohmann::json(*run.t_node_flagged) : nlohmann::json(nullptr);
-    jr["link_drives_isolated"] = run.link_node_isolated;
-    jr["t_comm_fault"] = run.t_comm_fault ? nlohmann::json(*run.t_comm_fault) : nlohmann::json(nullptr);
-    jr["t_input_fault"] = run.t_input_fault ? nlohmann::json(*run.t_input_fault) : nlohmann::json(nullptr);
-    jr["force_estimate"] = run.contact ? nlohmann::json(run.contact->estimate.force_n) : nlohmann::json(nullptr);
-    jr["contact_estimate"] = run.contact ? contact_json(*run.contact) : nlohmann::json(nullptr);
-    j["runs"] = nlohmann::json::array({jr});
-    j["events"] = nlohmann::json::array();
-    for (const auto& e : r.events) j["events"].push_back({{"joint", e.joint}, {"cycle", e.cycle}, {"external_torque", e.external_torque}});
-    j["bus"] = {{"kind", r.bus}, {"cycles", run.trace.t.size()}, {"frames_received_by_master", r.master.frames_received},
-                {"rejected", r.master.rejected}, {"out_of_cycle", r.master.out_of_cycle}, {"foreign", r.master.foreign},
-                {"simulated_frames", r.bus_frames}, {"simulated_busy_s", r.bus_busy_s}, {"incomplete_cycles", r.incomplete_cycles},
-                {"restarts", r.master.restarts}, {"invalid_samples_sent", r.master.invalid_samples},
-                {"communication_fault_at_end", r.master_comm_fault_end}, {"input_fault_at_end", r.master_input_fault_end},
-                {"first_comm_fault_cycle", r.first_comm_fault_cycle}};
-    j["faults"] = o.faults;
-    // Each span a fault was raised: joint 0 the master's view (what the arm reacts to), j
-    // drive j's own status flag; to_cycle: first cycle clear again (null: raised at the end).
-    j["fault_episodes"] = nlohmann::json::array();
-    for (const hil::FaultEpisode& e : r.fault_episodes) {
-      j["fault_episodes"].push_back({{"fault", e.kind == hil::FaultEpisode::Kind::input ? "input" : "communication"},
-                                     {"joint", e.joint}, {"from_cycle", e.from_cycle},
-                                     {"to_cycle", e.to_cycle < 0 ? nlohmann::json(nullptr) : nlohmann::json(e.to_cycle)}});
-    }
-    j["drives_end"] = nlohmann::json::array();
-    for (std::size_t k = 0; k < r.drives.size(); ++k) {
-      j["drives_end"].push_back({{"joint", k + 1}, {"communication_fault", r.drives[k].communication_fault}, {"ready", r.drives[k].ready}});
-    }
-    std::vector<double> mu_max;
-    for (const auto& m : run.trace.mu) {
-      double v = 0.0;
-      for (const double x : m) v = std::max(v, std::fabs(x));
-      mu_max.push_back(v);
-    }
-    j["external_torque_max"] = mu_max;
-    write_json_file(o.json, j);  // with the identity
+    write_json_file(o.json, hil_json(o, r));  // with the identity
     std::printf("wrote %s\n", o.json.c_str());
   }
   return 0;

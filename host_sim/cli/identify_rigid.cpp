@@ -28,38 +28,8 @@ nlohmann::json link_json(const dyn::LinkParams& p) {
           {"inertia_origin_kg_m2", {{"xx", p(4)}, {"yy", p(5)}, {"zz", p(6)}, {"xy", p(7)}, {"xz", p(8)}, {"yz", p(9)}}}};
 }
 
-/// Both outputs are prepared in full, written to temporary files, then renamed.
-
-
-}  // namespace
-
-void add_rigid_body_options(CLI::App* cmd, RigidBodyCliOptions& o) {
-  cmd->add_flag("--rigid-body", o.enabled,
-                "Identify the whole arm's rigid-body parameters (+ payload, + per-joint friction) instead of LuGre;\n"
-                "example: jointguard identify rec.csv --model models/panda.yaml --rigid-body --torque-kind joint --model-out out/panda_id.yaml --json out/rbid.json");
-  cmd->add_option("--model-out", o.model_out, "With --rigid-body: write the corrected robot file here (YAML)")->check(output_file());
-  cmd->add_option("--com-margin", o.com_margin_m,
-                  "With --rigid-body: CoM bound = max(reach, |prior CoM|) + this [m]")
-      ->capture_default_str()
-      ->check(CLI::Range(0.0, 10.0));
-  cmd->add_option("--sigma-ms", o.sigma_ms, "With --rigid-body: acceleration filter width [ms] (default: from the data)")
-      ->check(CLI::Range(0.0, 10000.0));
-  cmd->add_option("--prior-weight", o.prior_weight,
-                  "With --rigid-body: weight of the robot file's values (prior std = parameter scale / sqrt(w))")
-      ->capture_default_str()
-      ->check(CLI::Range(1e-9, 1e9));
-  cmd->add_option("--friction-eps", o.friction_eps,
-                  "With --rigid-body: Coulomb tanh velocity scale [rad/s] (default: 3x the velocity noise)")
-      ->check(CLI::Range(0.0, 100.0));
-  cmd->add_option("--slow-speed", o.slow_speed,
-                  "With --rigid-body: rows slower than this [rad/s] are left out of the fit (default: 3x the tanh scale; 0: keep all)");
-  cmd->add_flag("--payload-only", o.payload_only, "With --rigid-body: only the payload (last link) + friction, arm at the prior");
-  cmd->add_flag("--asymmetric-coulomb", o.asymmetric_coulomb, "With --rigid-body: separate Coulomb levels per direction");
-}
-
-int run_identify_rigid(const io::Recording& rec, const std::string& recording, const nlohmann::json& resampling,
-                       const robot::RobotModel& prior, const std::string& model_path, const std::string& json,
-                       const RigidBodyCliOptions& o) {
+/// The identification's options from the command line's.
+dyn::RigidBodyIdOptions id_options(const io::Recording& rec, const RigidBodyCliOptions& o) {
   dyn::RigidBodyIdOptions opt;
   // The torque kind was chosen when the recording was read (--torque-kind).
   opt.joint_torque_sensor = rec.torque_kind == io::TorqueKind::tau_j;
@@ -70,23 +40,12 @@ int run_identify_rigid(const io::Recording& rec, const std::string& recording, c
   opt.prior_weight = o.prior_weight;
   opt.friction_eps = o.friction_eps;
   opt.slow_speed_rad_s = o.slow_speed;
-  dyn::RigidBodyIdResult r;
-  // The prior's arm-level plant_effects (a payload, a link's mass) are part of the arm the
-  // fit starts from, and are written back as themselves, once: never fitted as if absent and
-  // then added on top.
-  robot::RobotModel start = prior;
-  std::vector<robot::PlantEffect> folded;
-  for (const auto& n : diag::fold_arm_effects(start, &folded)) std::printf("%s\n", n.c_str());
-  if (!start.plant_effects.empty()) {
-    std::printf("note: %zu per-joint plant_effects of the robot file are not in the fit; they are written back as read\n",
-                start.plant_effects.size());
-  }
-  try {
-    r = dyn::identify_rigid_body(rec, start, opt);
-  } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "%s: %s\n", recording.c_str(), e.what());
-    return 1;
-  }
+  return opt;
+}
+
+/// The result on the console: the filter, the base parameters, per joint the held-out RMS
+/// and friction, per link the mass, the payload and the notes.
+void print_result(const io::Recording& rec, const dyn::RigidBodyIdOptions& opt, const dyn::RigidBodyIdResult& r) {
   const char* kind = opt.joint_torque_sensor ? "joint (torque sensor: no rotor inertia)" : "motor (rotor inertia identified)";
   std::printf("torque kind: %s\n", kind);
   std::printf("acceleration: zero-phase Gaussian derivative of dq, sigma = %.1f ms (velocity band %.2f Hz)\n",
@@ -113,8 +72,12 @@ int run_identify_rigid(const io::Recording& rec, const std::string& recording, c
     std::printf("payload: not claimed (%s)\n", r.payload.reason.c_str());
   }
   for (const auto& n : r.notes) std::printf("note: %s\n", n.c_str());
+}
 
-  nlohmann::json out;
+/// The JSON's "rigid_body": the inputs, the filter, the figures, per link before and after,
+/// the payload.
+nlohmann::json rigid_body_json(const std::string& recording, const nlohmann::json& resampling, const std::string& model_path,
+                               const dyn::RigidBodyIdOptions& opt, const dyn::RigidBodyIdResult& r) {
   nlohmann::json rb = {{"recording", recording},
                        {"prior_model", model_path},
                        {"torque_kind", opt.joint_torque_sensor ? "joint" : "motor"},
@@ -151,10 +114,15 @@ int run_identify_rigid(const io::Recording& rec, const std::string& recording, c
                      {"xy", p.inertia_com(0, 1)}, {"xz", p.inertia_com(0, 2)}, {"yz", p.inertia_com(1, 2)}}},
                    {"claimed", p.claimed},
                    {"reason", p.reason}};
-  out["rigid_body"] = rb;
+  return rb;
+}
+
+/// The JSON's "joints": per joint the friction and the residual figures.
+nlohmann::json joints_json(const io::Recording& rec, const dyn::RigidBodyIdResult& r) {
+  nlohmann::json joints;
   for (std::size_t j = 0; j < r.friction.size(); ++j) {
     const auto& f = r.friction[j];
-    out["joints"].push_back({{"joint", rec.joint_ids[j]},
+    joints.push_back({{"joint", rec.joint_ids[j]},
                              {"friction",
                               {{"coulomb", f.coulomb},
                                {"coulomb_pos", f.coulomb_pos},
@@ -173,6 +141,59 @@ int run_identify_rigid(const io::Recording& rec, const std::string& recording, c
                              {"slow_speed_rad_s", r.slow_speed_rad_s[j]},
                              {"noise_std", r.noise_weight[j]}});
   }
+  return joints;
+}
+}  // namespace
+
+void add_rigid_body_options(CLI::App* cmd, RigidBodyCliOptions& o) {
+  cmd->add_flag("--rigid-body", o.enabled,
+                "Identify the whole arm's rigid-body parameters (+ payload, + per-joint friction) instead of LuGre;\n"
+                "example: jointguard identify rec.csv --model models/panda.yaml --rigid-body --torque-kind joint --model-out out/panda_id.yaml --json out/rbid.json");
+  cmd->add_option("--model-out", o.model_out, "With --rigid-body: write the corrected robot file here (YAML)")->check(output_file());
+  cmd->add_option("--com-margin", o.com_margin_m,
+                  "With --rigid-body: CoM bound = max(reach, |prior CoM|) + this [m]")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 10.0));
+  cmd->add_option("--sigma-ms", o.sigma_ms, "With --rigid-body: acceleration filter width [ms] (default: from the data)")
+      ->check(CLI::Range(0.0, 10000.0));
+  cmd->add_option("--prior-weight", o.prior_weight,
+                  "With --rigid-body: weight of the robot file's values (prior std = parameter scale / sqrt(w))")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-9, 1e9));
+  cmd->add_option("--friction-eps", o.friction_eps,
+                  "With --rigid-body: Coulomb tanh velocity scale [rad/s] (default: 3x the velocity noise)")
+      ->check(CLI::Range(0.0, 100.0));
+  cmd->add_option("--slow-speed", o.slow_speed,
+                  "With --rigid-body: rows slower than this [rad/s] are left out of the fit (default: 3x the tanh scale; 0: keep all)");
+  cmd->add_flag("--payload-only", o.payload_only, "With --rigid-body: only the payload (last link) + friction, arm at the prior");
+  cmd->add_flag("--asymmetric-coulomb", o.asymmetric_coulomb, "With --rigid-body: separate Coulomb levels per direction");
+}
+
+int run_identify_rigid(const io::Recording& rec, const std::string& recording, const nlohmann::json& resampling,
+                       const robot::RobotModel& prior, const std::string& model_path, const std::string& json,
+                       const RigidBodyCliOptions& o) {
+  const dyn::RigidBodyIdOptions opt = id_options(rec, o);
+  dyn::RigidBodyIdResult r;
+  // The prior's arm-level plant_effects (a payload, a link's mass) are part of the arm the
+  // fit starts from, and are written back as themselves, once: never fitted as if absent and
+  // then added on top.
+  robot::RobotModel start = prior;
+  std::vector<robot::PlantEffect> folded;
+  for (const auto& n : diag::fold_arm_effects(start, &folded)) std::printf("%s\n", n.c_str());
+  if (!start.plant_effects.empty()) {
+    std::printf("note: %zu per-joint plant_effects of the robot file are not in the fit; they are written back as read\n",
+                start.plant_effects.size());
+  }
+  try {
+    r = dyn::identify_rigid_body(rec, start, opt);
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "%s: %s\n", recording.c_str(), e.what());
+    return 1;
+  }
+  print_result(rec, opt, r);
+  nlohmann::json out;
+  out["rigid_body"] = rigid_body_json(recording, resampling, model_path, opt, r);
+  out["joints"] = joints_json(rec, r);
   // Write only after everything is computed: model first, then the JSON, each atomically.
   if (!o.model_out.empty()) {
     robot::RobotModel m = r.model;

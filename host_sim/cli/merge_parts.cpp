@@ -122,91 +122,102 @@ std::string identity_difference(const nlohmann::json& here, const nlohmann::json
   const std::string b = there.contains(ptr) ? there.at(ptr).dump() : "absent";
   return "identity" + path + " is " + a + " here, " + b + " there";
 }
-}  // namespace
-
-EvaluateFigures merge_partials(const std::vector<std::string>& paths) {
-  if (paths.empty()) throw std::invalid_argument("merge: no partial files given");
-  EvaluateFigures out;
+/// What the parts read so far agree on: the first part's head (and its file), the shards,
+/// runs and free-run segments seen.
+struct MergeState {
   nlohmann::json first_head;
   std::string first_path;
   std::set<int> shards_seen, run_indices, segment_indices;
   int shards = 0;
   std::size_t runs_total = 0, segments_total = 0;
+};
+
+/// One part (file path) into out: its head checked against the first part's, its extra
+/// fields, runs and free-run segments (each index once over all parts).
+void merge_part(const nlohmann::json& p, const std::string& path, MergeState& m, EvaluateFigures& out) {
+  const auto& head = p.at("jointguard_partial");
+  const int shard = bounded_int(head.at("shard"), "shard", 1, kMaxShards);
+  const int n = bounded_int(head.at("shards"), "shards", 1, kMaxShards);
+  if (m.first_path.empty()) {
+    m.first_head = head;
+    m.first_path = path;
+    m.shards = n;
+    m.runs_total = static_cast<std::size_t>(bounded_int(head.at("runs_total"), "runs_total", 0, kMaxPartItems));
+    m.segments_total = static_cast<std::size_t>(bounded_int(head.at("segments_total"), "segments_total", 0, kMaxPartItems));
+    out.config = head.at("config");
+    if (head.contains("identity")) out.identity = head.at("identity");
+    out.free_run_s = head.at("free_run_s").get<double>();
+  } else {
+    for (const char* key : {"shards", "runs_total", "segments_total", "free_run_s", "identity", "config"}) {
+      if (head.at(key) != m.first_head.at(key)) {
+        if (std::string(key) == "identity") {
+          throw std::invalid_argument("made otherwise than " + m.first_path + ": " +
+                                      identity_difference(head.at(key), m.first_head.at(key)) +
+                                      ": the parts are not of one campaign (same command, other --shard)");
+        }
+        throw std::invalid_argument("field '" + std::string(key) + "' differs from " + m.first_path +
+                                    "'s: the parts are not of one campaign (same command, other --shard)");
+      }
+    }
+  }
+  if (shard < 1 || shard > n) throw std::invalid_argument("shard " + std::to_string(shard) + " outside 1.." + std::to_string(n));
+  if (!m.shards_seen.insert(shard).second) {
+    throw std::invalid_argument("shard " + std::to_string(shard) + "/" + std::to_string(n) + " given twice");
+  }
+  if (p.contains("extra")) {
+    for (const auto& [key, value] : p.at("extra").items()) {
+      if (out.extra.contains(key) && out.extra[key] != value) {
+        throw std::invalid_argument("field 'extra." + key + "' differs between the parts");
+      }
+      out.extra[key] = value;
+    }
+  }
+  for (const auto& r : p.at("runs")) {
+    bounded_int(r.at("index"), "runs[].index", 0, kMaxPartItems);
+    eval::RunResult run = run_from_json(r);
+    if (!m.run_indices.insert(run.index).second) throw std::invalid_argument("run index " + std::to_string(run.index) + " twice");
+    out.runs.push_back(std::move(run));
+  }
+  for (const auto& s : p.at("free_run")) {
+    eval::FreeRunSegment seg;
+    seg.index = bounded_int(s.at("index"), "free_run[].index", 0, kMaxPartItems);
+    seg.seconds = s.at("seconds").get<double>();
+    seg.alarm_times = s.at("alarm_times").get<std::vector<double>>();
+    if (!m.segment_indices.insert(seg.index).second) throw std::invalid_argument("free-run segment " + std::to_string(seg.index) + " twice");
+    out.free_run.push_back(std::move(seg));
+  }
+}
+}  // namespace
+
+EvaluateFigures merge_partials(const std::vector<std::string>& paths) {
+  if (paths.empty()) throw std::invalid_argument("merge: no partial files given");
+  EvaluateFigures out;
+  MergeState m;
   for (const auto& path : paths) {
     std::ifstream in(path);
     if (!in) throw std::invalid_argument(path + ": cannot open");
     nlohmann::json p;
     try {
       p = nlohmann::json::parse(in);
-      const auto& head = p.at("jointguard_partial");
-      const int shard = bounded_int(head.at("shard"), "shard", 1, kMaxShards);
-      const int n = bounded_int(head.at("shards"), "shards", 1, kMaxShards);
-      if (first_path.empty()) {
-        first_head = head;
-        first_path = path;
-        shards = n;
-        runs_total = static_cast<std::size_t>(bounded_int(head.at("runs_total"), "runs_total", 0, kMaxPartItems));
-        segments_total = static_cast<std::size_t>(bounded_int(head.at("segments_total"), "segments_total", 0, kMaxPartItems));
-        out.config = head.at("config");
-        if (head.contains("identity")) out.identity = head.at("identity");
-        out.free_run_s = head.at("free_run_s").get<double>();
-      } else {
-        for (const char* key : {"shards", "runs_total", "segments_total", "free_run_s", "identity", "config"}) {
-          if (head.at(key) != first_head.at(key)) {
-            if (std::string(key) == "identity") {
-              throw std::invalid_argument("made otherwise than " + first_path + ": " +
-                                          identity_difference(head.at(key), first_head.at(key)) +
-                                          ": the parts are not of one campaign (same command, other --shard)");
-            }
-            throw std::invalid_argument("field '" + std::string(key) + "' differs from " + first_path +
-                                        "'s: the parts are not of one campaign (same command, other --shard)");
-          }
-        }
-      }
-      if (shard < 1 || shard > n) throw std::invalid_argument("shard " + std::to_string(shard) + " outside 1.." + std::to_string(n));
-      if (!shards_seen.insert(shard).second) {
-        throw std::invalid_argument("shard " + std::to_string(shard) + "/" + std::to_string(n) + " given twice");
-      }
-      if (p.contains("extra")) {
-        for (const auto& [key, value] : p.at("extra").items()) {
-          if (out.extra.contains(key) && out.extra[key] != value) {
-            throw std::invalid_argument("field 'extra." + key + "' differs between the parts");
-          }
-          out.extra[key] = value;
-        }
-      }
-      for (const auto& r : p.at("runs")) {
-        bounded_int(r.at("index"), "runs[].index", 0, kMaxPartItems);
-        eval::RunResult run = run_from_json(r);
-        if (!run_indices.insert(run.index).second) throw std::invalid_argument("run index " + std::to_string(run.index) + " twice");
-        out.runs.push_back(std::move(run));
-      }
-      for (const auto& s : p.at("free_run")) {
-        eval::FreeRunSegment seg;
-        seg.index = bounded_int(s.at("index"), "free_run[].index", 0, kMaxPartItems);
-        seg.seconds = s.at("seconds").get<double>();
-        seg.alarm_times = s.at("alarm_times").get<std::vector<double>>();
-        if (!segment_indices.insert(seg.index).second) throw std::invalid_argument("free-run segment " + std::to_string(seg.index) + " twice");
-        out.free_run.push_back(std::move(seg));
-      }
+      merge_part(p, path, m, out);
     } catch (const nlohmann::json::exception& e) {
       throw std::invalid_argument(path + ": not a partial evaluation file (" + std::string(e.what()) + ")");
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(path + ": " + e.what());
     }
   }
-  if (static_cast<int>(shards_seen.size()) != shards) {
+  if (static_cast<int>(m.shards_seen.size()) != m.shards) {
     std::string missing;
-    for (int k = 1; k <= shards; ++k) {
-      if (shards_seen.count(k) == 0U) missing += (missing.empty() ? "" : ", ") + std::to_string(k);
+    for (int k = 1; k <= m.shards; ++k) {
+      if (m.shards_seen.count(k) == 0U) missing += (missing.empty() ? "" : ", ") + std::to_string(k);
     }
-    throw std::invalid_argument(first_path + ": shard(s) " + missing + " of " + std::to_string(shards) +
+    throw std::invalid_argument(m.first_path + ": shard(s) " + missing + " of " + std::to_string(m.shards) +
                                 " missing (merge needs every part of its campaign)");
   }
-  if (out.runs.size() != runs_total || out.free_run.size() != segments_total) {
-    throw std::invalid_argument(first_path + ": the parts hold " + std::to_string(out.runs.size()) + " runs and " +
+  if (out.runs.size() != m.runs_total || out.free_run.size() != m.segments_total) {
+    throw std::invalid_argument(m.first_path + ": the parts hold " + std::to_string(out.runs.size()) + " runs and " +
                                 std::to_string(out.free_run.size()) + " free-run segments, the campaign has " +
-                                std::to_string(runs_total) + " and " + std::to_string(segments_total));
+                                std::to_string(m.runs_total) + " and " + std::to_string(m.segments_total));
   }
   std::sort(out.runs.begin(), out.runs.end(), [](const auto& a, const auto& b) { return a.index < b.index; });
   std::sort(out.free_run.begin(), out.free_run.end(), [](const auto& a, const auto& b) { return a.index < b.index; });

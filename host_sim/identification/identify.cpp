@@ -393,15 +393,11 @@ LuGreParams<double> bound_for_firmware(const FrictionSeries& s, const GaSettings
 }
 }  // namespace
 
-IdentificationResult identify_lugre(const FrictionSeries& s_ga, const GaSettings& g, const SearchRanges& r,
-                                    const std::function<void(double)>& progress, const FrictionSeries* fine) {
-  check_series(s_ga);
-  if (fine != nullptr) check_series(*fine);
-  const FrictionSeries& s = fine != nullptr ? *fine : s_ga;
-  if (g.population < 4 || g.generations < 1 || g.runs < 1 || g.threads < 1) {
-    throw std::invalid_argument("GA settings: population >= 4, generations >= 1, runs >= 1, threads >= 1");
-  }
-  IdentificationResult out;
+namespace {
+/// g.runs independent GA runs (seeded from g.seed) on g.threads threads into
+/// out.run_results and out.run_costs; progress polled every 100 ms.
+void run_ga_runs(const FrictionSeries& s_ga, const GaSettings& g, const SearchRanges& r,
+                 const std::function<void(double)>& progress, IdentificationResult& out) {
   out.run_results.resize(static_cast<std::size_t>(g.runs));
   out.run_costs.resize(static_cast<std::size_t>(g.runs));
   std::atomic<int> next_run{0}, done{0};
@@ -430,7 +426,11 @@ IdentificationResult identify_lugre(const FrictionSeries& s_ga, const GaSettings
     worker();
     for (auto& t : pool) t.join();
   }
-  // Mean and spread over the runs.
+}
+
+/// The mean of the runs (the GA's estimate, its RMS in out.ga_rms) and their spread per
+/// parameter (out.report[].ga_mean, ga_std).
+LuGreParams<double> mean_of_runs(const FrictionSeries& s, const GaSettings& g, IdentificationResult& out) {
   std::array<double, 6> mean{}, sq{};
   for (const auto& p : out.run_results) {
     const auto v = as_array(p);
@@ -446,19 +446,14 @@ IdentificationResult identify_lugre(const FrictionSeries& s_ga, const GaSettings
     out.report[i].ga_mean = mean[i];
     out.report[i].ga_std = g.runs > 1 ? std::sqrt(sq[i] / (g.runs - 1)) : 0.0;
   }
-  out.rms = out.ga_rms;
-  if (g.refine) {
-    const LuGreParams<double> refined = refine_lm(LogFit{&s}, best);
-    const double rms = rms_of(s, lugre_predict(refined, s.velocity, s.dt, s.observer_decay()));
-    if (rms < out.rms) {
-      best = refined;
-      out.rms = rms;
-    }
-  }
-  out.rms_unbounded = out.rms;
-  if (g.firmware.enabled) best = bound_for_firmware(s, g, best, out);
-  out.params = best;
-  // Noise level from the data itself: the residual's sample-to-sample differences.
+  return best;
+}
+
+/// Whether each parameter is identifiable from these data: the noise level from the data
+/// itself (the residual's sample-to-sample differences), the sensitivity of the prediction
+/// to a 10 % change and the Fisher information in log-parameters; a warning per parameter
+/// that is not.
+void identifiability(const FrictionSeries& s, const LuGreParams<double>& best, IdentificationResult& out) {
   const std::vector<double> pred = lugre_predict(best, s.velocity, s.dt, s.observer_decay());
   double d2 = 0.0;
   for (std::size_t k = s.skip + 1; k < pred.size(); ++k) {
@@ -501,6 +496,33 @@ IdentificationResult identify_lugre(const FrictionSeries& s_ga, const GaSettings
       out.warnings.push_back(rep.note);
     }
   }
+}
+}  // namespace
+
+IdentificationResult identify_lugre(const FrictionSeries& s_ga, const GaSettings& g, const SearchRanges& r,
+                                    const std::function<void(double)>& progress, const FrictionSeries* fine) {
+  check_series(s_ga);
+  if (fine != nullptr) check_series(*fine);
+  const FrictionSeries& s = fine != nullptr ? *fine : s_ga;
+  if (g.population < 4 || g.generations < 1 || g.runs < 1 || g.threads < 1) {
+    throw std::invalid_argument("GA settings: population >= 4, generations >= 1, runs >= 1, threads >= 1");
+  }
+  IdentificationResult out;
+  run_ga_runs(s_ga, g, r, progress, out);
+  LuGreParams<double> best = mean_of_runs(s, g, out);
+  out.rms = out.ga_rms;
+  if (g.refine) {
+    const LuGreParams<double> refined = refine_lm(LogFit{&s}, best);
+    const double rms = rms_of(s, lugre_predict(refined, s.velocity, s.dt, s.observer_decay()));
+    if (rms < out.rms) {
+      best = refined;
+      out.rms = rms;
+    }
+  }
+  out.rms_unbounded = out.rms;
+  if (g.firmware.enabled) best = bound_for_firmware(s, g, best, out);
+  out.params = best;
+  identifiability(s, best, out);
   return out;
 }
 

@@ -330,18 +330,16 @@ void check_dialect(const std::string& path, const std::string& line, const std::
     }
   }
 }
-}  // namespace
 
-Recording read_recording(const std::string& path, const ReadOptions& options) {
-  std::ifstream in(path);
-  if (!in) {
-    throw FormatError(path + ": cannot open recording");
-  }
-  std::string line;
-  if (!std::getline(in, line)) {
-    fail(path, 1, "", "empty file: expected a header line");
-  }
-  const auto header = split_commas(line);
+/// The header's columns: each one's kind and joint, and which optional kinds are present.
+struct Header {
+  std::vector<Column> cols;
+  bool has_time = false, has_current = false, has_tau_m = false, has_tau_j = false, has_tau_ext = false;
+};
+
+/// The joints the header's position columns name (q1, q2, ...); none: the file is refused,
+/// naming the dialect if it is not comma-separated, unquoted CSV.
+std::set<int> position_joints(const std::string& path, const std::string& line, const std::vector<std::string>& header) {
   std::set<int> q_ids;
   for (const auto& raw : header) {
     const int j = joint_suffix(trim(raw), "q");
@@ -353,16 +351,15 @@ Recording read_recording(const std::string& path, const ReadOptions& options) {
     check_dialect(path, line, header);
     fail(path, 1, "q<j>", "no joint position column (q1, q2, ...)");
   }
-  Recording rec;
-  rec.joint_ids.assign(q_ids.begin(), q_ids.end());
-  std::map<int, std::size_t> joint_index;
-  for (std::size_t k = 0; k < rec.joint_ids.size(); ++k) {
-    joint_index[rec.joint_ids[k]] = k;
-  }
-  std::vector<Column> cols;
+  return q_ids;
+}
+
+/// Each header column's kind and joint (a column of no known kind is an extra signal).
+Header classify_columns(const std::string& path, const std::vector<std::string>& header, const ReadOptions& options,
+                        const Recording& rec, std::map<int, std::size_t>& joint_index) {
+  Header h;
   std::set<std::string> seen;
   std::map<std::pair<int, int>, std::string> per_joint;  ///< (column kind, joint) -> its column's name
-  bool has_time = false, has_current = false, has_tau_m = false, has_tau_j = false, has_tau_ext = false;
   for (const auto& raw : header) {
     Column c;
     c.name = trim(raw);
@@ -386,37 +383,42 @@ Recording read_recording(const std::string& path, const ReadOptions& options) {
     };
     if (c.name == options.time_column) {
       c.kind = Kind::time;
-      has_time = true;
+      h.has_time = true;
     } else if (c.name == "collision") {
       c.kind = Kind::collision;
     } else if (match("tau_ext", Kind::tau_ext)) {
-      has_tau_ext = true;
+      h.has_tau_ext = true;
     } else if (match("tau_m", Kind::tau_m)) {
-      has_tau_m = true;
+      h.has_tau_m = true;
     } else if (match("tau_j", Kind::tau_j)) {
-      has_tau_j = true;
+      h.has_tau_j = true;
     } else if (match("dq", Kind::dq) || match("q", Kind::q)) {
     } else if (match("i", Kind::current)) {
-      has_current = true;
+      h.has_current = true;
     } else {
       for (const int j : rec.joint_ids) {
         if (!options.torque_column_pattern.empty() && c.name == replace_j(options.torque_column_pattern, j)) {
           c.kind = Kind::tau_m;
           c.joint = joint_index[j];
-          has_tau_m = true;
+          h.has_tau_m = true;
         }
       }
     }
-    cols.push_back(c);
+    h.cols.push_back(c);
   }
-  if (!has_time) {
+  if (!h.has_time) {
     fail(path, 1, options.time_column, "missing required time column");
   }
-  // Every joint needs dq and a torque source.
+  return h;
+}
+
+/// Every joint needs dq and a torque source, and a kind given for one joint for all.
+void check_joint_columns(const std::string& path, const Header& h, const Recording& rec,
+                         std::map<int, std::size_t>& joint_index) {
   for (const int j : rec.joint_ids) {
     const std::size_t k = joint_index[j];
     auto has = [&](Kind kind) {
-      for (const auto& c : cols) {
+      for (const auto& c : h.cols) {
         if (c.kind == kind && c.joint == k) {
           return true;
         }
@@ -426,33 +428,57 @@ Recording read_recording(const std::string& path, const ReadOptions& options) {
     if (!has(Kind::dq)) {
       fail(path, 1, "dq" + std::to_string(j), "missing required velocity column");
     }
-    if (has_current && !has(Kind::current)) {
+    if (h.has_current && !has(Kind::current)) {
       fail(path, 1, "i" + std::to_string(j), "current given for some joints but not this one");
     }
-    if (has_tau_m && !has(Kind::tau_m)) {
+    if (h.has_tau_m && !has(Kind::tau_m)) {
       fail(path, 1, "tau_m" + std::to_string(j), "motor torque given for some joints but not this one");
     }
-    if (has_tau_j && !has(Kind::tau_j)) {
+    if (h.has_tau_j && !has(Kind::tau_j)) {
       fail(path, 1, "tau_j" + std::to_string(j), "joint torque given for some joints but not this one");
     }
     // Without this, a recording with tau_ext1 but not tau_ext2 had an empty tau_ext column
     // for joint 2 beside full ones, and regularize read past its end (found by fuzzing).
-    if (has_tau_ext && !has(Kind::tau_ext)) {
+    if (h.has_tau_ext && !has(Kind::tau_ext)) {
       fail(path, 1, "tau_ext" + std::to_string(j), "external torque given for some joints but not this one");
     }
-    if (!has_current && !has_tau_m && !has_tau_j) {
+    if (!h.has_current && !h.has_tau_m && !h.has_tau_j) {
       fail(path, 1, "i" + std::to_string(j) + "/tau_m" + std::to_string(j) + "/tau_j" + std::to_string(j),
            "need motor current i<j>, motor torque tau_m<j> or joint torque tau_j<j>");
     }
   }
-  const std::size_t n = rec.joint_ids.size();
-  rec.q.assign(n, {});
-  rec.dq.assign(n, {});
-  if (has_current) rec.current.assign(n, {});
-  if (has_tau_m) rec.tau_m.assign(n, {});
-  if (has_tau_j) rec.tau_j.assign(n, {});
-  if (has_tau_ext) rec.tau_ext.assign(n, {});
+}
 
+/// One parsed value into its column's signal (time strictly increasing, a collision column
+/// a link number).
+void store(const std::string& path, std::size_t line_no, const Column& col, const std::string& field, double v,
+           Recording& rec) {
+  switch (col.kind) {
+    case Kind::time:
+      if (!rec.t.empty() && !(v > rec.t.back())) {
+        fail(path, line_no, col.name, "time " + quote(trim(field)) + " is not after the previous sample");
+      }
+      rec.t.push_back(v);
+      break;
+    case Kind::q: rec.q[col.joint].push_back(v); break;
+    case Kind::dq: rec.dq[col.joint].push_back(v); break;
+    case Kind::current: rec.current[col.joint].push_back(v); break;
+    case Kind::tau_m: rec.tau_m[col.joint].push_back(v); break;
+    case Kind::tau_j: rec.tau_j[col.joint].push_back(v); break;
+    case Kind::tau_ext: rec.tau_ext[col.joint].push_back(v); break;
+    case Kind::collision:
+      if (v < 0.0 || v > 1e6 || v != std::floor(v)) {
+        fail(path, line_no, col.name, quote(trim(field)) + " is not a link number (0 = no contact)");
+      }
+      rec.collision.push_back(static_cast<int>(v));
+      break;
+    case Kind::extra: rec.extra[col.name].push_back(v); break;
+  }
+}
+
+/// The data rows after the header into rec; returns the last line's number.
+std::size_t read_rows(std::ifstream& in, const std::string& path, const std::vector<Column>& cols, Recording& rec) {
+  std::string line;
   std::size_t line_no = 1;
   std::string previous_row;
   std::set<std::size_t> text_columns;  ///< extra columns found to hold text
@@ -493,29 +519,41 @@ Recording read_recording(const std::string& path, const ReadOptions& options) {
         fail(path, line_no, col.name, quote(trim(fields[c])) + " is not a finite number (column " +
                                           std::to_string(c + 1) + ")");
       }
-      switch (col.kind) {
-        case Kind::time:
-          if (!rec.t.empty() && !(v > rec.t.back())) {
-            fail(path, line_no, col.name, "time " + quote(trim(fields[c])) + " is not after the previous sample");
-          }
-          rec.t.push_back(v);
-          break;
-        case Kind::q: rec.q[col.joint].push_back(v); break;
-        case Kind::dq: rec.dq[col.joint].push_back(v); break;
-        case Kind::current: rec.current[col.joint].push_back(v); break;
-        case Kind::tau_m: rec.tau_m[col.joint].push_back(v); break;
-        case Kind::tau_j: rec.tau_j[col.joint].push_back(v); break;
-        case Kind::tau_ext: rec.tau_ext[col.joint].push_back(v); break;
-        case Kind::collision:
-          if (v < 0.0 || v > 1e6 || v != std::floor(v)) {
-            fail(path, line_no, col.name, quote(trim(fields[c])) + " is not a link number (0 = no contact)");
-          }
-          rec.collision.push_back(static_cast<int>(v));
-          break;
-        case Kind::extra: rec.extra[col.name].push_back(v); break;
-      }
+      store(path, line_no, col, fields[c], v, rec);
     }
   }
+  return line_no;
+}
+}  // namespace
+
+Recording read_recording(const std::string& path, const ReadOptions& options) {
+  std::ifstream in(path);
+  if (!in) {
+    throw FormatError(path + ": cannot open recording");
+  }
+  std::string line;
+  if (!std::getline(in, line)) {
+    fail(path, 1, "", "empty file: expected a header line");
+  }
+  const auto header = split_commas(line);
+  const std::set<int> q_ids = position_joints(path, line, header);
+  Recording rec;
+  rec.joint_ids.assign(q_ids.begin(), q_ids.end());
+  std::map<int, std::size_t> joint_index;
+  for (std::size_t k = 0; k < rec.joint_ids.size(); ++k) {
+    joint_index[rec.joint_ids[k]] = k;
+  }
+  const Header h = classify_columns(path, header, options, rec, joint_index);
+  check_joint_columns(path, h, rec, joint_index);
+  const std::size_t n = rec.joint_ids.size();
+  rec.q.assign(n, {});
+  rec.dq.assign(n, {});
+  if (h.has_current) rec.current.assign(n, {});
+  if (h.has_tau_m) rec.tau_m.assign(n, {});
+  if (h.has_tau_j) rec.tau_j.assign(n, {});
+  if (h.has_tau_ext) rec.tau_ext.assign(n, {});
+
+  const std::size_t line_no = read_rows(in, path, h.cols, rec);
   if (rec.t.empty()) {
     fail(path, line_no, "", "no data rows after the header");
   }

@@ -139,28 +139,23 @@ std::size_t RegularizeReport::longest() const {
   return best;
 }
 
-Regularized regularize(const Recording& rec, const RegularizeOptions& o, const std::string& source) {
-  Regularized out;
-  RegularizeReport& rep = out.report;
-  rep.source = source;
-  rep.rows_in = rec.samples() + rec.duplicate_rows_dropped;
-  rep.repeats_dropped = rec.duplicate_rows_dropped;
-  rep.rate_given = o.rate_hz > 0.0;
+namespace {
+/// The rows that carry a new state (keep), and whether the clock is uniform. On a uniform
+/// clock every row is its own sample (a state at rest repeats honestly); only a jittering
+/// logger stamps the same state twice: a run of repeats is dropped, but for its last row
+/// when the state was held for longer than hold_steps. Fills the report's step figures.
+struct Rows {
+  std::vector<bool> keep;
+  bool uniform_clock = false;
+};
+
+Rows rows_to_keep(const Recording& rec, const RegularizeOptions& o, RegularizeReport& rep) {
   const std::size_t m = rec.samples();
-  auto refuse = [&](const std::string& why) {
-    throw FormatError(source + ": field 't': " + why);
-  };
-  if (m < 2) {
-    refuse(std::to_string(m) + " distinct row(s): at least " + std::to_string(std::max<std::size_t>(2, o.min_segment_samples)) +
-           " samples are needed; record for longer");
-  }
   std::vector<double> all_steps;
   for (std::size_t k = 1; k < m; ++k) all_steps.push_back(rec.t[k] - rec.t[k - 1]);
   rep.min_step_in_s = *std::min_element(all_steps.begin(), all_steps.end());
   rep.max_step_in_s = *std::max_element(all_steps.begin(), all_steps.end());
   const double median_all = median(all_steps);
-  // On a uniform clock every row is its own sample (a state at rest repeats honestly);
-  // only a jittering logger stamps the same state twice.
   const bool uniform_clock = rep.min_step_in_s > 0.99 * median_all && rep.max_step_in_s < 1.01 * median_all;
   // Which rows carry a new state.
   std::vector<bool> repeat(m, false);
@@ -183,29 +178,15 @@ Regularized regularize(const Recording& rec, const RegularizeOptions& o, const s
     k = end - 1;
   }
   for (std::size_t k = 0; k < m; ++k) rep.repeats_dropped += keep[k] ? 0 : 1;
+  return {keep, uniform_clock};
+}
 
-  const double data_rate = 1.0 / med;
-  rep.rate_hz = rep.rate_given ? o.rate_hz : round_rate(data_rate);
-  rep.step_s = 1.0 / rep.rate_hz;
-
-  const bool uniform = uniform_clock && rec.duplicate_rows_dropped == 0;
-  const double mean_step = (rec.t.back() - rec.t.front()) / static_cast<double>(m - 1);
-  if (uniform && (!rep.rate_given || std::fabs(mean_step * o.rate_hz - 1.0) < 1e-3) && m >= o.min_segment_samples) {
-    rep.method = "none (uniform)";
-    rep.rate_hz = 1.0 / mean_step;
-    rep.step_s = mean_step;
-    rep.rows_out = m;
-    rep.segments.push_back({rec.t.front(), rec.t.back(), m, m});
-    out.segments.push_back(rec);
-    return out;
-  }
-  rep.method = "linear by time stamp";
-  const double expected = (rec.t.back() - rec.t.front()) * rep.rate_hz;
-  if (!(expected < static_cast<double>(o.max_samples))) {
-    refuse("resampling " + fmt("%.6g", rec.t.back() - rec.t.front()) + " s at " + fmt("%.6g", rep.rate_hz) +
-           " Hz would make more than " + std::to_string(o.max_samples) + " samples; give a lower --rate");
-  }
-  // Segments: split at steps longer than the threshold.
+/// The kept rows resampled segment by segment (split at steps longer than the split gap);
+/// a segment shorter than min_segment_samples is dropped (rep.dropped).
+void resample_segments(const Recording& rec, const RegularizeOptions& o, const std::vector<bool>& keep, Regularized& out) {
+  RegularizeReport& rep = out.report;
+  const std::size_t m = rec.samples();
+  const double med = rep.median_step_in_s;
   std::size_t begin = 0;
   for (std::size_t k = 1; k <= m; ++k) {
     const bool split = k < m && rec.t[k] - rec.t[k - 1] > rep.split_gap_s;
@@ -237,6 +218,49 @@ Regularized regularize(const Recording& rec, const RegularizeOptions& o, const s
     rep.dropped.push_back(span);
     begin = k;
   }
+}
+}  // namespace
+
+Regularized regularize(const Recording& rec, const RegularizeOptions& o, const std::string& source) {
+  Regularized out;
+  RegularizeReport& rep = out.report;
+  rep.source = source;
+  rep.rows_in = rec.samples() + rec.duplicate_rows_dropped;
+  rep.repeats_dropped = rec.duplicate_rows_dropped;
+  rep.rate_given = o.rate_hz > 0.0;
+  const std::size_t m = rec.samples();
+  auto refuse = [&](const std::string& why) {
+    throw FormatError(source + ": field 't': " + why);
+  };
+  if (m < 2) {
+    refuse(std::to_string(m) + " distinct row(s): at least " + std::to_string(std::max<std::size_t>(2, o.min_segment_samples)) +
+           " samples are needed; record for longer");
+  }
+  const Rows rows = rows_to_keep(rec, o, rep);
+  const double med = rep.median_step_in_s;
+  const bool uniform_clock = rows.uniform_clock;
+  const double data_rate = 1.0 / med;
+  rep.rate_hz = rep.rate_given ? o.rate_hz : round_rate(data_rate);
+  rep.step_s = 1.0 / rep.rate_hz;
+
+  const bool uniform = uniform_clock && rec.duplicate_rows_dropped == 0;
+  const double mean_step = (rec.t.back() - rec.t.front()) / static_cast<double>(m - 1);
+  if (uniform && (!rep.rate_given || std::fabs(mean_step * o.rate_hz - 1.0) < 1e-3) && m >= o.min_segment_samples) {
+    rep.method = "none (uniform)";
+    rep.rate_hz = 1.0 / mean_step;
+    rep.step_s = mean_step;
+    rep.rows_out = m;
+    rep.segments.push_back({rec.t.front(), rec.t.back(), m, m});
+    out.segments.push_back(rec);
+    return out;
+  }
+  rep.method = "linear by time stamp";
+  const double expected = (rec.t.back() - rec.t.front()) * rep.rate_hz;
+  if (!(expected < static_cast<double>(o.max_samples))) {
+    refuse("resampling " + fmt("%.6g", rec.t.back() - rec.t.front()) + " s at " + fmt("%.6g", rep.rate_hz) +
+           " Hz would make more than " + std::to_string(o.max_samples) + " samples; give a lower --rate");
+  }
+  resample_segments(rec, o, rows.keep, out);
   if (out.segments.empty()) {
     std::string why = "no segment of at least " + std::to_string(o.min_segment_samples) + " samples at " +
                       fmt("%.4g", rep.rate_hz) + " Hz";

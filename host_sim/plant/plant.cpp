@@ -141,8 +141,10 @@ void Plant::apply_payload_if_due() {
   payload_applied_ = true;
 }
 
-void Plant::step(double h, const JointVector& motor_torque, const ContactModel& contact) {
-  apply_payload_if_due();
+// Plant::step's parts: the contact's torque, the friction, and the integration of the rigid
+// arm (RK4 on plain arrays) or of the elastic one (link and rotor).
+
+void Plant::contact_torque(const ContactModel& contact) {
   const Eigen::Index n = state_.q.size();
   // Contact: external joint torque J^T F, held over the step.
   external_ = JointVector::Zero(n);
@@ -157,6 +159,10 @@ void Plant::step(double h, const JointVector& motor_torque, const ContactModel& 
       }
     }
   }
+}
+
+void Plant::friction_torque(double h, const JointVector& motor_torque) {
+  const Eigen::Index n = state_.q.size();
   // Friction on the side that slides (motor side when elastic), held over the step.
   const JointVector& w = elastic() ? state_.theta_dot : state_.qd;
   // The gear carries the motor torque less the friction: that load drives load-dependent
@@ -173,6 +179,79 @@ void Plant::step(double h, const JointVector& motor_torque, const ContactModel& 
                                                                   state_.q(i), transmitted, state_.time, h);
   }
   if (implicit_friction_) implicit_friction_correction(h, motor_torque, bristles_before, w);
+}
+
+void Plant::rk4_rigid(double h, const JointVector& motor_torque) {
+  const Eigen::Index n = state_.q.size();
+  // Classical RK4 on plain arrays (four forward dynamics per step, the plant's hot path):
+  // element for element the operations of the vector form
+  //   a1 = f(q0, v0), v1 = v0 + h/2 a1, a2 = f(q0 + h/2 v0, v1), v2 = v0 + h/2 a2,
+  //   a3 = f(q0 + h/2 v1, v2), v3 = v0 + h a3, a4 = f(q0 + h v2, v3),
+  //   q = q0 + h/6 (v0 + 2 v1 + 2 v2 + v3), qd = v0 + h/6 (a1 + 2 a2 + 2 a3 + a4)
+  // in the same order, so the same doubles, without temporaries of run-time size.
+  constexpr int kMax = kPlantMaxJoints;
+  double drive[kMax], q0[kMax], v0[kMax], qs[kMax];
+  double a1[kMax], a2[kMax], a3[kMax], a4[kMax], v1[kMax], v2[kMax], v3[kMax];
+  for (Eigen::Index i = 0; i < n; ++i) {
+    drive[i] = motor_torque(i) - friction_(i) + external_(i);
+    q0[i] = state_.q(i);
+    v0[i] = state_.qd(i);
+  }
+  arm_.forward_dynamics(q0, v0, drive, a1);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    v1[i] = v0[i] + 0.5 * h * a1[i];
+    qs[i] = q0[i] + 0.5 * h * v0[i];
+  }
+  arm_.forward_dynamics(qs, v1, drive, a2);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    v2[i] = v0[i] + 0.5 * h * a2[i];
+    qs[i] = q0[i] + 0.5 * h * v1[i];
+  }
+  arm_.forward_dynamics(qs, v2, drive, a3);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    v3[i] = v0[i] + h * a3[i];
+    qs[i] = q0[i] + h * v2[i];
+  }
+  arm_.forward_dynamics(qs, v3, drive, a4);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    state_.q(i) = q0[i] + h / 6.0 * (v0[i] + 2.0 * v1[i] + 2.0 * v2[i] + v3[i]);
+    state_.qd(i) = v0[i] + h / 6.0 * (a1[i] + 2.0 * a2[i] + 2.0 * a3[i] + a4[i]);
+  }
+  state_.theta = state_.q;
+  state_.theta_dot = state_.qd;
+}
+
+void Plant::rk4_elastic(double h, const JointVector& motor_torque) {
+  const Eigen::Index n = state_.q.size();
+  JointVector rotor(n);
+  for (Eigen::Index i = 0; i < n; ++i) rotor(i) = config_.links[static_cast<std::size_t>(i)].rotor_inertia;
+  struct D { JointVector dq, ddq, dth, ddth; };
+  auto f = [&](const JointVector& q, const JointVector& qd, const JointVector& th, const JointVector& thd) {
+    const JointVector spring = spring_torque(q, qd, th, thd);
+    D d;
+    d.dq = qd;
+    d.ddq = arm_.forward_dynamics(q, qd, spring + external_);
+    d.dth = thd;
+    d.ddth = (motor_torque - spring - friction_).cwiseQuotient(rotor);
+    return d;
+  };
+  const PlantState s0 = state_;
+  const D k1 = f(s0.q, s0.qd, s0.theta, s0.theta_dot);
+  const D k2 = f(s0.q + 0.5 * h * k1.dq, s0.qd + 0.5 * h * k1.ddq, s0.theta + 0.5 * h * k1.dth,
+                 s0.theta_dot + 0.5 * h * k1.ddth);
+  const D k3 = f(s0.q + 0.5 * h * k2.dq, s0.qd + 0.5 * h * k2.ddq, s0.theta + 0.5 * h * k2.dth,
+                 s0.theta_dot + 0.5 * h * k2.ddth);
+  const D k4 = f(s0.q + h * k3.dq, s0.qd + h * k3.ddq, s0.theta + h * k3.dth, s0.theta_dot + h * k3.ddth);
+  state_.q += h / 6.0 * (k1.dq + 2.0 * k2.dq + 2.0 * k3.dq + k4.dq);
+  state_.qd += h / 6.0 * (k1.ddq + 2.0 * k2.ddq + 2.0 * k3.ddq + k4.ddq);
+  state_.theta += h / 6.0 * (k1.dth + 2.0 * k2.dth + 2.0 * k3.dth + k4.dth);
+  state_.theta_dot += h / 6.0 * (k1.ddth + 2.0 * k2.ddth + 2.0 * k3.ddth + k4.ddth);
+}
+
+void Plant::step(double h, const JointVector& motor_torque, const ContactModel& contact) {
+  apply_payload_if_due();
+  contact_torque(contact);
+  friction_torque(h, motor_torque);
   if (!elastic() && config_.integrator == Integrator::semi_implicit_euler) {
     // Semi-implicit (symplectic) Euler: the velocity first, then the position with it.
     const JointVector a = arm_.forward_dynamics(state_.q, state_.qd, motor_torque - friction_ + external_);
@@ -181,66 +260,9 @@ void Plant::step(double h, const JointVector& motor_torque, const ContactModel& 
     state_.theta = state_.q;
     state_.theta_dot = state_.qd;
   } else if (!elastic()) {
-    // Classical RK4 on plain arrays (four forward dynamics per step, the plant's hot path):
-    // element for element the operations of the vector form
-    //   a1 = f(q0, v0), v1 = v0 + h/2 a1, a2 = f(q0 + h/2 v0, v1), v2 = v0 + h/2 a2,
-    //   a3 = f(q0 + h/2 v1, v2), v3 = v0 + h a3, a4 = f(q0 + h v2, v3),
-    //   q = q0 + h/6 (v0 + 2 v1 + 2 v2 + v3), qd = v0 + h/6 (a1 + 2 a2 + 2 a3 + a4)
-    // in the same order, so the same doubles, without temporaries of run-time size.
-    constexpr int kMax = kPlantMaxJoints;
-    double drive[kMax], q0[kMax], v0[kMax], qs[kMax];
-    double a1[kMax], a2[kMax], a3[kMax], a4[kMax], v1[kMax], v2[kMax], v3[kMax];
-    for (Eigen::Index i = 0; i < n; ++i) {
-      drive[i] = motor_torque(i) - friction_(i) + external_(i);
-      q0[i] = state_.q(i);
-      v0[i] = state_.qd(i);
-    }
-    arm_.forward_dynamics(q0, v0, drive, a1);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      v1[i] = v0[i] + 0.5 * h * a1[i];
-      qs[i] = q0[i] + 0.5 * h * v0[i];
-    }
-    arm_.forward_dynamics(qs, v1, drive, a2);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      v2[i] = v0[i] + 0.5 * h * a2[i];
-      qs[i] = q0[i] + 0.5 * h * v1[i];
-    }
-    arm_.forward_dynamics(qs, v2, drive, a3);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      v3[i] = v0[i] + h * a3[i];
-      qs[i] = q0[i] + h * v2[i];
-    }
-    arm_.forward_dynamics(qs, v3, drive, a4);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      state_.q(i) = q0[i] + h / 6.0 * (v0[i] + 2.0 * v1[i] + 2.0 * v2[i] + v3[i]);
-      state_.qd(i) = v0[i] + h / 6.0 * (a1[i] + 2.0 * a2[i] + 2.0 * a3[i] + a4[i]);
-    }
-    state_.theta = state_.q;
-    state_.theta_dot = state_.qd;
+    rk4_rigid(h, motor_torque);
   } else {
-    JointVector rotor(n);
-    for (Eigen::Index i = 0; i < n; ++i) rotor(i) = config_.links[static_cast<std::size_t>(i)].rotor_inertia;
-    struct D { JointVector dq, ddq, dth, ddth; };
-    auto f = [&](const JointVector& q, const JointVector& qd, const JointVector& th, const JointVector& thd) {
-      const JointVector spring = spring_torque(q, qd, th, thd);
-      D d;
-      d.dq = qd;
-      d.ddq = arm_.forward_dynamics(q, qd, spring + external_);
-      d.dth = thd;
-      d.ddth = (motor_torque - spring - friction_).cwiseQuotient(rotor);
-      return d;
-    };
-    const PlantState s0 = state_;
-    const D k1 = f(s0.q, s0.qd, s0.theta, s0.theta_dot);
-    const D k2 = f(s0.q + 0.5 * h * k1.dq, s0.qd + 0.5 * h * k1.ddq, s0.theta + 0.5 * h * k1.dth,
-                   s0.theta_dot + 0.5 * h * k1.ddth);
-    const D k3 = f(s0.q + 0.5 * h * k2.dq, s0.qd + 0.5 * h * k2.ddq, s0.theta + 0.5 * h * k2.dth,
-                   s0.theta_dot + 0.5 * h * k2.ddth);
-    const D k4 = f(s0.q + h * k3.dq, s0.qd + h * k3.ddq, s0.theta + h * k3.dth, s0.theta_dot + h * k3.ddth);
-    state_.q += h / 6.0 * (k1.dq + 2.0 * k2.dq + 2.0 * k3.dq + k4.dq);
-    state_.qd += h / 6.0 * (k1.ddq + 2.0 * k2.ddq + 2.0 * k3.ddq + k4.ddq);
-    state_.theta += h / 6.0 * (k1.dth + 2.0 * k2.dth + 2.0 * k3.dth + k4.dth);
-    state_.theta_dot += h / 6.0 * (k1.ddth + 2.0 * k2.ddth + 2.0 * k3.ddth + k4.ddth);
+    rk4_elastic(h, motor_torque);
   }
   state_.time += h;
 }

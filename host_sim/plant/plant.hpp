@@ -103,6 +103,12 @@ class Plant {
 
  private:
   void step(double h, const JointVector& motor_torque, const ContactModel& contact);
+  /// step's parts: external_ (J^T F of the contact, held over the step), friction_ (held
+  /// over the step), the state integrated over h with the rigid or the elastic arm.
+  void contact_torque(const ContactModel& contact);
+  void friction_torque(double h, const JointVector& motor_torque);
+  void rk4_rigid(double h, const JointVector& motor_torque);
+  void rk4_elastic(double h, const JointVector& motor_torque);
   /// The friction held over the step made linearly implicit in the joint velocities:
   /// F0 + D dv with (M + h D) dv = h (M a0), a0 the acceleration under F0 (rigid joints).
   void implicit_friction_correction(double h, const JointVector& motor_torque,

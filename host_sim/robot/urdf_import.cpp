@@ -128,6 +128,16 @@ void carried_links(const urdf::ModelInterface& m, const urdf::Link& start, const
   }
 }
 
+/// The chain's joints: revolute or continuous, each with a non-zero axis.
+void check_chain_joints(const std::string& path, const std::vector<urdf::JointConstSharedPtr>& chain) {
+  for (const auto& j : chain) {
+    if (j->type != urdf::Joint::REVOLUTE && j->type != urdf::Joint::CONTINUOUS) {
+      refuse(path, "joint '" + j->name + "' is " + type_name(j->type) + ": only revolute and continuous joints are supported on the chain (choose another with --base/--tip)");
+    }
+    if (std::hypot(j->axis.x, j->axis.y, j->axis.z) < 1e-9) refuse(path, "joint '" + j->name + "': <axis xyz> is zero");
+  }
+}
+
 }  // namespace
 
 RobotModel import_urdf(const std::string& path, const std::string& base_link, const std::string& tip_link) {
@@ -146,12 +156,7 @@ RobotModel import_urdf(const std::string& path, const std::string& base_link, co
     refuse(path, std::to_string(chain.size()) + " moving joints between '" + base + "' and '" + tip + "': at most " +
                      std::to_string(kMaxJoints) + " (choose --base/--tip)");
   }
-  for (const auto& j : chain) {
-    if (j->type != urdf::Joint::REVOLUTE && j->type != urdf::Joint::CONTINUOUS) {
-      refuse(path, "joint '" + j->name + "' is " + type_name(j->type) + ": only revolute and continuous joints are supported on the chain (choose another with --base/--tip)");
-    }
-    if (std::hypot(j->axis.x, j->axis.y, j->axis.z) < 1e-9) refuse(path, "joint '" + j->name + "': <axis xyz> is zero");
-  }
+  check_chain_joints(path, chain);
 
   std::map<std::string, Eigen::Isometry3d> pose;
   zero_poses(*model, *root, Eigen::Isometry3d::Identity(), pose);

@@ -34,21 +34,12 @@ void apply_one_sided(const robot::PlantEffect& e, JointFrictionTruth& f, std::os
      << b[0] << " N·m, static level " << b[1] << " N·m off";
 }
 
-/// One torque-channel effect of joint j (0-based) into the setup.
-void apply_effect(const robot::PlantEffect& e, std::size_t j, int joint, SimulationSetup& s, std::vector<double>& delays,
-                  EffectsReport& r) {
-  auto& f = s.plant.friction[j];
+/// A friction effect of joint j into its friction truth f (what was set, into os); false:
+/// not a friction effect.
+bool apply_friction_effect(const robot::PlantEffect& e, JointFrictionTruth& f, std::ostringstream& os) {
   auto& lugre = f.lugre;
-  auto& drive = s.sensors.drives[j];
   const auto& b = e.coefficients;
   const bool model_curve = e.setting.count("model_curve") != 0U;
-  // Effects made in memory (the diagnosis's) are checked as the file reader checks them.
-  if (const robot::EffectProblem problem = robot::simulation_problem(e); !problem.field.empty()) {
-    r.not_modelled.push_back(joint_text(joint, problem.what));
-    return;
-  }
-  std::ostringstream os;
-  os.precision(4);
   if (e.effect == robot::Effect::coulomb) {
     // The model's Coulomb level alone, or (the generic sign shape) the whole level curve.
     os << "coulomb: tau_c " << lugre.tau_c;
@@ -106,7 +97,18 @@ void apply_effect(const robot::PlantEffect& e, std::size_t j, int joint, Simulat
     if (e.setting.count("power_flow") != 0U) f.effects.load_coefficient_backdriven = std::max(0.0, backdriven + b[1]);
     os << "load_dependent_friction: " << f.effects.load_coefficient << " N·m per N·m";
     if (e.setting.count("power_flow") != 0U) os << " (back-driven " << f.effects.load_coefficient_backdriven << ")";
-  } else if (e.effect == robot::Effect::inertia_error) {
+  } else {
+    return false;
+  }
+  return true;
+}
+
+/// A rotor or drive effect of joint j (0-based) into the setup (what was set, into os);
+/// false: not one.
+bool apply_drive_effect(const robot::PlantEffect& e, std::size_t j, SimulationSetup& s, std::ostringstream& os) {
+  auto& drive = s.sensors.drives[j];
+  const auto& b = e.coefficients;
+  if (e.effect == robot::Effect::inertia_error) {
     auto& link = s.plant.links[j];
     os << "inertia_error: rotor inertia " << link.rotor_inertia;
     link.rotor_inertia = std::max(0.0, link.rotor_inertia + b[0]);
@@ -126,11 +128,30 @@ void apply_effect(const robot::PlantEffect& e, std::size_t j, int joint, Simulat
   } else if (e.effect == robot::Effect::current_offset) {
     drive.current_offset_a += b[0] / drive.torque_constant_nominal;
     os << "current_offset: " << drive.current_offset_a << " A";
-  } else if (e.effect == robot::Effect::time_delay) {
-    delays.push_back(-b[0]);
-    return;  // one delay for all drives' current channels, set below
   } else {
-    r.not_modelled.push_back(joint_text(joint, robot::effect_word(e.effect) + ": the plant has no setting for it"));
+    return false;
+  }
+  return true;
+}
+
+/// One torque-channel effect of joint j (0-based) into the setup.
+void apply_effect(const robot::PlantEffect& e, std::size_t j, int joint, SimulationSetup& s, std::vector<double>& delays,
+                  EffectsReport& r) {
+  auto& f = s.plant.friction[j];
+  const auto& b = e.coefficients;
+  // Effects made in memory (the diagnosis's) are checked as the file reader checks them.
+  if (const robot::EffectProblem problem = robot::simulation_problem(e); !problem.field.empty()) {
+    r.not_modelled.push_back(joint_text(joint, problem.what));
+    return;
+  }
+  std::ostringstream os;
+  os.precision(4);
+  if (!apply_friction_effect(e, f, os) && !apply_drive_effect(e, j, s, os)) {
+    if (e.effect == robot::Effect::time_delay) {
+      delays.push_back(-b[0]);
+      return;  // one delay for all drives' current channels, set below
+    }
+    r.not_modelled.push_back(joint_text(joint, e.effect + ": the plant has no setting for it"));
     return;
   }
   r.applied.push_back(joint_text(joint, os.str()));
@@ -194,7 +215,7 @@ void apply_arm_effect(const robot::PlantEffect& e, SimulationSetup& s, EffectsRe
     s.plant.payload = PayloadChange{t_s, m, Eigen::Vector3d(e.coefficients[1], e.coefficients[2], e.coefficients[3]) / m};
     os << "arm: payload " << m << " kg from t = " << t_s << " s";
   } else {
-    r.not_modelled.push_back("arm: " + robot::effect_word(e.effect) + ": the plant has no setting for it");
+    r.not_modelled.push_back("arm: " + e.effect + ": the plant has no setting for it");
     return;
   }
   r.applied.push_back(os.str());
@@ -214,7 +235,7 @@ EffectsReport apply_plant_effects(const std::vector<robot::PlantEffect>& effects
     }
     const auto j = static_cast<std::size_t>(e.joint - 1);
     if (j >= s.plant.links.size() || j >= s.plant.friction.size() || j >= s.sensors.drives.size()) {
-      r.not_modelled.push_back(joint_text(e.joint, robot::effect_word(e.effect) + ": no such joint (or no friction model) in the simulation"));
+      r.not_modelled.push_back(joint_text(e.joint, e.effect + ": no such joint (or no friction model) in the simulation"));
       continue;
     }
     if (e.effect == robot::Effect::joint_elasticity || e.effect == robot::Effect::backlash) {

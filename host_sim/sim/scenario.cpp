@@ -193,16 +193,13 @@ CollisionEvent parse_collision(const YamlFields& c, std::size_t n) {
   e.damping_n_s_per_m = c.number("damping_n_s_per_m", e.damping_n_s_per_m);
   return e;
 }
-}  // namespace
 
-Scenario load_scenario(const std::string& path, unsigned long long seed_override, bool has_seed_override,
-                       const std::string& model_override, const robot::LoadOptions& model_options) {
-  const YamlFields root = YamlFields::load_file(path);
-  root.allow_only({"name", "model", "duration_s", "control_rate_hz", "plant_rate_hz", "seed", "trajectory",
-                   "friction", "friction_enabled", "sensors", "controller", "collisions", "campaign", "elasticity",
-                   "payload", "plant"});
-  Scenario s;
-  s.file = path;
+// load_scenario's parts, in its order (a file's errors are found in the same order as
+// before): each reads its keys into the setup.
+
+/// The robot file: the scenario's `model` (relative to it) or the override.
+void load_model(const YamlFields& root, const std::string& path, const std::string& model_override,
+                const robot::LoadOptions& model_options, Scenario& s) {
   const std::filesystem::path model_path =
       model_override.empty() ? std::filesystem::path(path).parent_path() / std::filesystem::path(root.text("model"))
                              : std::filesystem::path(model_override);
@@ -221,7 +218,11 @@ Scenario load_scenario(const std::string& path, unsigned long long seed_override
   } catch (const std::exception& e) {
     root.fail("model", e.what());
   }
-  const std::size_t n = s.model.links.size();
+}
+
+/// Seed, name, rates and duration into the setup; returns the seed used (the override's if given).
+unsigned long long load_timing(const YamlFields& root, const std::string& path, unsigned long long seed_override,
+                               bool has_seed_override, Scenario& s) {
   SimulationSetup& st = s.setup;
   const long seed = root.integer("seed", 1);
   if (seed < 0) root.fail("seed", "expected >= 0");
@@ -241,9 +242,10 @@ Scenario load_scenario(const std::string& path, unsigned long long seed_override
   if (st.duration_s * st.control_rate_hz > 2e8) {
     root.fail("duration_s", "the recording would have more than 2e8 rows at control_rate_hz; shorten it or lower the rate");
   }
-  st.plant.links = s.model.links;
-  st.trajectory = parse_trajectory(root.child("trajectory"), n, seed_used);
+  return seed_used;
+}
 
+void load_true_friction(const YamlFields& root, std::size_t n, SimulationSetup& st) {
   // True friction: the paper's Table 1 for the first three joints by default.
   std::vector<JointFrictionTruth> friction(n);
   for (std::size_t j = 0; j < n; ++j) friction[j].lugre = kPaperTable1[std::min<std::size_t>(j, 2)];
@@ -255,8 +257,12 @@ Scenario load_scenario(const std::string& path, unsigned long long seed_override
     }
   }
   if (root.boolean("friction_enabled", true)) st.plant.friction = friction;
+}
 
-  st.sensors.drives = s.model.drives;
+/// The drives' sensors: the model's, with the scenario's `sensors` on top.
+void load_sensors(const YamlFields& root, const std::vector<JointDriveConfig>& drives, unsigned long long seed_used,
+                  SimulationSetup& st) {
+  st.sensors.drives = drives;
   st.sensors.seed = seed_used;
   if (root.has("sensors")) {
     const YamlFields se = root.child("sensors");
@@ -274,10 +280,13 @@ Scenario load_scenario(const std::string& path, unsigned long long seed_override
     st.sensors.link_encoder_bits = static_cast<int>(se.integer("link_encoder_bits", 19));
     st.sensors.motor_encoder_counts_per_rev = static_cast<int>(se.integer("motor_encoder_counts_per_rev", 10000));
   }
+}
+
+void load_controller(const YamlFields& root, const std::vector<PlantLink>& links, std::size_t n, SimulationSetup& st) {
   // Controller: defaults scaled by the reflected inertia of each joint.
   st.controller.kp.assign(n, 0.0);
   st.controller.kd.assign(n, 0.0);
-  const ArmDynamics arm(s.model.links);
+  const ArmDynamics arm(links);
   const auto M = arm.mass_matrix(st.trajectory->at(0.0).q);
   for (std::size_t j = 0; j < n; ++j) {
     const double inertia = M(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(j));
@@ -292,63 +301,93 @@ Scenario load_scenario(const std::string& path, unsigned long long seed_override
     if (c.has("kd")) st.controller.kd = c.numbers("kd", n);
     st.controller.inertia_feedforward = c.boolean("inertia_feedforward", true);
   }
-  if (root.has("elasticity")) {
-    const YamlFields e = root.child("elasticity");
-    e.allow_only({"stiffness_nm_per_rad", "damping_nm_s_per_rad", "backlash_rad"});
-    const auto k = e.numbers("stiffness_nm_per_rad", n);
-    const auto d = e.has("damping_nm_s_per_rad") ? e.numbers("damping_nm_s_per_rad", n) : std::vector<double>(n, 0.0);
-    const auto b = e.has("backlash_rad") ? e.numbers("backlash_rad", n) : std::vector<double>(n, 0.0);
-    for (std::size_t j = 0; j < n; ++j) {
-      if (!(k[j] > 0.0)) e.fail("stiffness_nm_per_rad", "expected > 0 for every joint");
-      st.plant.elasticity.push_back({k[j], d[j], b[j]});
+}
+
+void load_elasticity(const YamlFields& root, std::size_t n, SimulationSetup& st) {
+  const YamlFields e = root.child("elasticity");
+  e.allow_only({"stiffness_nm_per_rad", "damping_nm_s_per_rad", "backlash_rad"});
+  const auto k = e.numbers("stiffness_nm_per_rad", n);
+  const auto d = e.has("damping_nm_s_per_rad") ? e.numbers("damping_nm_s_per_rad", n) : std::vector<double>(n, 0.0);
+  const auto b = e.has("backlash_rad") ? e.numbers("backlash_rad", n) : std::vector<double>(n, 0.0);
+  for (std::size_t j = 0; j < n; ++j) {
+    if (!(k[j] > 0.0)) e.fail("stiffness_nm_per_rad", "expected > 0 for every joint");
+    st.plant.elasticity.push_back({k[j], d[j], b[j]});
+  }
+}
+
+void load_payload(const YamlFields& root, SimulationSetup& st) {
+  const YamlFields p = root.child("payload");
+  p.allow_only({"t_s", "mass_kg", "com_m"});
+  const auto c = p.numbers("com_m", 3);
+  st.plant.payload = PayloadChange{p.number("t_s"), p.number("mass_kg"), {c[0], c[1], c[2]}};
+  if (!(st.plant.payload->mass > 0.0)) p.fail("mass_kg", "expected > 0");
+}
+
+/// A random campaign's collisions, drawn from the seed.
+void load_campaign(const YamlFields& root, unsigned long long seed_used, const std::vector<double>& link_lengths,
+                   std::size_t n, SimulationSetup& st) {
+  const YamlFields c = root.child("campaign");
+  c.allow_only({"count", "links", "t_min_s", "t_max_s", "spacing_s", "force_min_n", "force_max_n", "profiles"});
+  CampaignSpec spec;
+  spec.seed = seed_used;
+  spec.count = static_cast<int>(c.integer("count", 50));
+  if (c.has("links")) {
+    spec.links.clear();
+    for (const double l : c.numbers("links")) {
+      if (l < 1 || l > static_cast<double>(n)) c.fail("links", "link numbers are 1.." + std::to_string(n));
+      spec.links.push_back(static_cast<int>(l));
     }
   }
-  if (root.has("payload")) {
-    const YamlFields p = root.child("payload");
-    p.allow_only({"t_s", "mass_kg", "com_m"});
-    const auto c = p.numbers("com_m", 3);
-    st.plant.payload = PayloadChange{p.number("t_s"), p.number("mass_kg"), {c[0], c[1], c[2]}};
-    if (!(st.plant.payload->mass > 0.0)) p.fail("mass_kg", "expected > 0");
+  spec.t_min = c.number("t_min_s", spec.t_min);
+  spec.t_max = c.number("t_max_s", st.duration_s > 0.0 ? st.duration_s - 2.0 : st.trajectory->duration() - 2.0);
+  spec.spacing_s = c.number("spacing_s", spec.spacing_s);
+  spec.force_min_n = c.number("force_min_n", spec.force_min_n);
+  spec.force_max_n = c.number("force_max_n", spec.force_max_n);
+  if (!(spec.t_max > spec.t_min)) c.fail("t_max_s", "must be after t_min_s");
+  const auto drawn = draw_campaign(spec, link_lengths);
+  st.collisions.insert(st.collisions.end(), drawn.begin(), drawn.end());
+}
+
+/// The simulated arm's friction, sensors, controller and integration from a plant file
+/// (relative to the scenario), which then owns them: the scenario may not set them too.
+void load_plant_file(const YamlFields& root, const std::string& path, std::size_t n, SimulationSetup& st) {
+  for (const char* key : {"friction", "sensors", "controller", "plant_rate_hz"}) {
+    if (root.has(key)) root.fail(key, "set by the plant file ('plant'); give it there");
   }
+  const std::filesystem::path plant_path = std::filesystem::path(path).parent_path() / root.text("plant");
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(plant_path, ec)) root.fail("plant", "'" + plant_path.string() + "' is not a file");
+  const PlantSpec spec = load_plant_spec(plant_path.string(), n);
+  apply_plant_spec(spec, st);
+  if (!root.boolean("friction_enabled", true)) st.plant.friction.clear();
+  if (!(st.plant.plant_rate_hz >= st.control_rate_hz)) root.fail("plant", "the plant file's plant_rate_hz must be >= control_rate_hz");
+}
+}  // namespace
+
+Scenario load_scenario(const std::string& path, unsigned long long seed_override, bool has_seed_override,
+                       const std::string& model_override, const robot::LoadOptions& model_options) {
+  const YamlFields root = YamlFields::load_file(path);
+  root.allow_only({"name", "model", "duration_s", "control_rate_hz", "plant_rate_hz", "seed", "trajectory",
+                   "friction", "friction_enabled", "sensors", "controller", "collisions", "campaign", "elasticity",
+                   "payload", "plant"});
+  Scenario s;
+  s.file = path;
+  load_model(root, path, model_override, model_options, s);
+  const std::size_t n = s.model.links.size();
+  SimulationSetup& st = s.setup;
+  const unsigned long long seed_used = load_timing(root, path, seed_override, has_seed_override, s);
+  st.plant.links = s.model.links;
+  st.trajectory = parse_trajectory(root.child("trajectory"), n, seed_used);
+  load_true_friction(root, n, st);
+  load_sensors(root, s.model.drives, seed_used, st);
+  load_controller(root, s.model.links, n, st);
+  if (root.has("elasticity")) load_elasticity(root, n, st);
+  if (root.has("payload")) load_payload(root, st);
   if (root.has("collisions")) {
     for (const auto& c : root.sequence("collisions")) st.collisions.push_back(parse_collision(c, n));
   }
-  if (root.has("campaign")) {
-    const YamlFields c = root.child("campaign");
-    c.allow_only({"count", "links", "t_min_s", "t_max_s", "spacing_s", "force_min_n", "force_max_n", "profiles"});
-    CampaignSpec spec;
-    spec.seed = seed_used;
-    spec.count = static_cast<int>(c.integer("count", 50));
-    if (c.has("links")) {
-      spec.links.clear();
-      for (const double l : c.numbers("links")) {
-        if (l < 1 || l > static_cast<double>(n)) c.fail("links", "link numbers are 1.." + std::to_string(n));
-        spec.links.push_back(static_cast<int>(l));
-      }
-    }
-    spec.t_min = c.number("t_min_s", spec.t_min);
-    spec.t_max = c.number("t_max_s", st.duration_s > 0.0 ? st.duration_s - 2.0 : st.trajectory->duration() - 2.0);
-    spec.spacing_s = c.number("spacing_s", spec.spacing_s);
-    spec.force_min_n = c.number("force_min_n", spec.force_min_n);
-    spec.force_max_n = c.number("force_max_n", spec.force_max_n);
-    if (!(spec.t_max > spec.t_min)) c.fail("t_max_s", "must be after t_min_s");
-    const auto drawn = draw_campaign(spec, s.model.link_lengths);
-    st.collisions.insert(st.collisions.end(), drawn.begin(), drawn.end());
-  }
-  if (root.has("plant")) {
-    // The simulated arm's friction, sensors, controller and integration from a plant file
-    // (relative to the scenario), which then owns them: the scenario may not set them too.
-    for (const char* key : {"friction", "sensors", "controller", "plant_rate_hz"}) {
-      if (root.has(key)) root.fail(key, "set by the plant file ('plant'); give it there");
-    }
-    const std::filesystem::path plant_path = std::filesystem::path(path).parent_path() / root.text("plant");
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(plant_path, ec)) root.fail("plant", "'" + plant_path.string() + "' is not a file");
-    const PlantSpec spec = load_plant_spec(plant_path.string(), n);
-    apply_plant_spec(spec, st);
-    if (!root.boolean("friction_enabled", true)) st.plant.friction.clear();
-    if (!(st.plant.plant_rate_hz >= st.control_rate_hz)) root.fail("plant", "the plant file's plant_rate_hz must be >= control_rate_hz");
-  }
+  if (root.has("campaign")) load_campaign(root, seed_used, s.model.link_lengths, n, st);
+  if (root.has("plant")) load_plant_file(root, path, n, st);
   if (!s.model.plant_effects.empty()) {
     // What `diagnose --model-out` found in the real arm, on top of the scenario's setting.
     s.effects = apply_plant_effects(s.model.plant_effects, 1.0 / st.control_rate_hz, st);

@@ -40,18 +40,10 @@ std::string stiffest_mode(const PlantConfig& config, const Plant& plant, const J
   }
   return text;
 }
-}  // namespace
 
-SimulationResult run_simulation(const SimulationSetup& setup, const ControlOverride& override,
-                                const std::function<void(double)>& progress) {
-  if (!setup.trajectory) {
-    throw std::invalid_argument("simulation: no trajectory");
-  }
-  if (!(setup.control_rate_hz > 0.0)) {
-    throw std::invalid_argument("simulation: control rate must be > 0 Hz");
-  }
-  Plant plant(setup.plant);
-  const int n = plant.arm().joints();
+/// The setup's checks against the plant's n joints: the trajectory's joints, controller
+/// gains for every joint.
+void check_setup(const SimulationSetup& setup, int n) {
   if (setup.trajectory->joints() != n) {
     throw std::invalid_argument("simulation: trajectory has " + std::to_string(setup.trajectory->joints()) +
                                 " joints, the model " + std::to_string(n));
@@ -65,6 +57,90 @@ SimulationResult run_simulation(const SimulationSetup& setup, const ControlOverr
                     setup.controller.integral_limit_nm.size() != static_cast<std::size_t>(n)))) {
     throw std::invalid_argument("simulation: integral gains (and limits) needed for every joint");
   }
+}
+
+/// The plant at the trajectory's start; an elastic gear pre-wound by gravity so the run
+/// does not start with a swing.
+void reset_at_start(Plant& plant, const SimulationSetup& setup, const TrajectorySample& start, int n) {
+  if (plant.elastic()) {
+    JointVector theta0 = start.q;
+    const JointVector g = plant.arm().gravity_torque(start.q);
+    for (int j = 0; j < n; ++j) theta0(j) += g(j) / setup.plant.elasticity[static_cast<std::size_t>(j)].stiffness;
+    plant.reset(start.q, theta0);
+  } else {
+    plant.reset(start.q);
+  }
+}
+
+/// The controller's torque demand from one cycle's measurement: gravity (and, with
+/// inertia feedforward, M ddq_ref) of the nominal model, PD, and the integral term (clamped
+/// to its limit). mass: a workspace kept across cycles.
+JointVector control_demand(const SimulationSetup& setup, const ArmDynamics& nominal, const Measurement& m,
+                           const TrajectorySample& ref, double dt, std::vector<double>& integral_term, JointMatrix& mass) {
+  const int n = static_cast<int>(integral_term.size());
+  const bool integral = !setup.controller.ki.empty();
+  JointVector demand;
+  if (setup.controller.inertia_feedforward) {
+    nominal.gravity_and_mass_matrix(m.q, demand, mass);  // one set of link transforms for both
+    demand += mass * ref.ddq;
+  } else {
+    demand = nominal.gravity_torque(m.q);
+  }
+  for (int j = 0; j < n; ++j) {
+    const auto u = static_cast<std::size_t>(j);
+    demand(j) += setup.controller.kp[u] * (ref.q(j) - m.q(j)) + setup.controller.kd[u] * (ref.dq(j) - m.dq(j));
+    if (integral) {
+      double& acc = integral_term[u];
+      acc += setup.controller.ki[u] * (ref.q(j) - m.q(j)) * dt;
+      if (!setup.controller.integral_limit_nm.empty()) {
+        const double lim = setup.controller.integral_limit_nm[u];
+        acc = std::clamp(acc, -lim, lim);
+      }
+      demand(j) += acc;
+    }
+  }
+  return demand;
+}
+
+/// Cycle k's measurement, the external torque and the link in contact, into the recording.
+void record_cycle(io::Recording& rec, long k, double t, const Measurement& m, const JointVector& external, int contact_link,
+                  int n) {
+  const auto uk = static_cast<std::size_t>(k);
+  rec.t[uk] = t;
+  for (int j = 0; j < n; ++j) {
+    const auto u = static_cast<std::size_t>(j);
+    rec.q[u][uk] = m.q(j);
+    rec.dq[u][uk] = m.dq(j);
+    rec.current[u][uk] = m.current(j);
+    rec.tau_m[u][uk] = m.tau_m(j);
+    rec.tau_ext[u][uk] = external(j);
+  }
+  rec.collision[uk] = contact_link;
+}
+
+/// A run that diverges (a gear stiffer than the plant rate resolves, an unphysical model)
+/// must not write NaN rows and report success: stop with the reason.
+void check_finite(const Plant& plant, const SimulationSetup& setup, const TrajectorySample& start, double t_next) {
+  const auto& st = plant.state();
+  if (!st.q.allFinite() || !st.qd.allFinite() || !st.theta.allFinite() || !st.theta_dot.allFinite()) {
+    throw std::runtime_error("the simulation diverged at t = " + std::to_string(t_next) +
+                             " s (the plant's state is not finite): " + stiffest_mode(setup.plant, plant, start.q) +
+                             "; raise plant_rate_hz or check the robot file");
+  }
+}
+}  // namespace
+
+SimulationResult run_simulation(const SimulationSetup& setup, const ControlOverride& override,
+                                const std::function<void(double)>& progress) {
+  if (!setup.trajectory) {
+    throw std::invalid_argument("simulation: no trajectory");
+  }
+  if (!(setup.control_rate_hz > 0.0)) {
+    throw std::invalid_argument("simulation: control rate must be > 0 Hz");
+  }
+  Plant plant(setup.plant);
+  const int n = plant.arm().joints();
+  check_setup(setup, n);
   std::vector<double> integral_term(static_cast<std::size_t>(n), 0.0);
   const ArmDynamics nominal(setup.nominal_links.empty() ? setup.plant.links : setup.nominal_links,
                             setup.plant.gravity);
@@ -84,14 +160,7 @@ SimulationResult run_simulation(const SimulationSetup& setup, const ControlOverr
   const long cycles = static_cast<long>(std::floor(duration * setup.control_rate_hz + 1e-9)) + 1;
 
   const TrajectorySample start = setup.trajectory->at(0.0);
-  if (plant.elastic()) {
-    JointVector theta0 = start.q;
-    const JointVector g = plant.arm().gravity_torque(start.q);
-    for (int j = 0; j < n; ++j) theta0(j) += g(j) / setup.plant.elasticity[static_cast<std::size_t>(j)].stiffness;
-    plant.reset(start.q, theta0);
-  } else {
-    plant.reset(start.q);
-  }
+  reset_at_start(plant, setup, start, n);
 
   SimulationResult result;
   io::Recording& rec = result.recording;
@@ -110,26 +179,7 @@ SimulationResult run_simulation(const SimulationSetup& setup, const ControlOverr
     const auto& s = plant.state();
     const Measurement m = sensors.sample(s.q, s.theta, current_cmd, dt);
     const TrajectorySample ref = setup.trajectory->at(t);
-    JointVector demand;
-    if (setup.controller.inertia_feedforward) {
-      nominal.gravity_and_mass_matrix(m.q, demand, mass);  // one set of link transforms for both
-      demand += mass * ref.ddq;
-    } else {
-      demand = nominal.gravity_torque(m.q);
-    }
-    for (int j = 0; j < n; ++j) {
-      const auto u = static_cast<std::size_t>(j);
-      demand(j) += setup.controller.kp[u] * (ref.q(j) - m.q(j)) + setup.controller.kd[u] * (ref.dq(j) - m.dq(j));
-      if (integral) {
-        double& acc = integral_term[u];
-        acc += setup.controller.ki[u] * (ref.q(j) - m.q(j)) * dt;
-        if (!setup.controller.integral_limit_nm.empty()) {
-          const double lim = setup.controller.integral_limit_nm[u];
-          acc = std::clamp(acc, -lim, lim);
-        }
-        demand(j) += acc;
-      }
-    }
+    JointVector demand = control_demand(setup, nominal, m, ref, dt, integral_term, mass);
     if (override) {
       const CycleContext ctx{t, &m, &ref, &demand};
       if (const auto replaced = override(ctx)) {
@@ -137,30 +187,9 @@ SimulationResult run_simulation(const SimulationSetup& setup, const ControlOverr
       }
     }
     current_cmd = sensors.current_command(demand);
-    if (setup.record) {
-      const auto uk = static_cast<std::size_t>(k);
-      rec.t[uk] = t;
-      for (int j = 0; j < n; ++j) {
-        const auto u = static_cast<std::size_t>(j);
-        rec.q[u][uk] = m.q(j);
-        rec.dq[u][uk] = m.dq(j);
-        rec.current[u][uk] = m.current(j);
-        rec.tau_m[u][uk] = m.tau_m(j);
-        rec.tau_ext[u][uk] = external(j);
-      }
-      rec.collision[uk] = contact_link;
-    }
+    if (setup.record) record_cycle(rec, k, t, m, external, contact_link, n);
     plant.advance(dt, sensors.produced_torque(current_cmd), contact);
-    {
-      // A run that diverges (a gear stiffer than the plant rate resolves, an unphysical
-      // model) must not write NaN rows and report success: stop with the reason.
-      const auto& st = plant.state();
-      if (!st.q.allFinite() || !st.qd.allFinite() || !st.theta.allFinite() || !st.theta_dot.allFinite()) {
-        throw std::runtime_error("the simulation diverged at t = " + std::to_string(t + dt) +
-                                 " s (the plant's state is not finite): " + stiffest_mode(setup.plant, plant, start.q) +
-                                 "; raise plant_rate_hz or check the robot file");
-      }
-    }
+    check_finite(plant, setup, start, t + dt);
     external = plant.external_torque();
     contact_link = plant.contact_link();
     result.peak_contact_force_n = std::max(result.peak_contact_force_n, plant.peak_contact_force());
