@@ -7,7 +7,7 @@ SRC="$2"
 W=$(mktemp -d)
 trap 'rm -rf "$W"' EXIT
 cd "$SRC"
-for c in simulate identify calibrate evaluate replay diagnose inject bench demo node plant decode pipeline; do
+for c in simulate identify calibrate evaluate replay diagnose inject bench demo node plant decode pipeline effects; do
   "$J" "$c" --help > /dev/null
 done
 "$J" simulate scenarios/paper_excitation.yaml --out "$W/excitation.csv"
