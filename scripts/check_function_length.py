@@ -53,8 +53,6 @@ EXCEPTIONS = {
     # compares when adding or checking an effect; split per effect they would scatter.
     ("host_sim/diagnosis/effects.cpp", "raw_candidate"): "one short branch per catalogue effect (its regressor)",
     ("host_sim/diagnosis/effects.cpp", "describe"): "one short branch per catalogue effect (its parameters in words)",
-    # Not split yet: to be split into stages as diagnose_joint was (not done in this round).
-    ("host_sim/diagnosis/diagnose.cpp", "deflection_channel"): "not split yet (next, as diagnose_joint)",
     # host_sim/eval/ is being changed on other branches (holding, the standstill allowance);
     # split there, not here.
     ("host_sim/eval/evaluate.cpp", "run_detection"): BEING_CHANGED,

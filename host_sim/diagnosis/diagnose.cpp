@@ -181,33 +181,21 @@ Location locate(const JointSignals& s, double noise) {
   return loc;
 }
 
-/// The gear-deflection channel (JointSignals::deflection): joint elasticity makes the
-/// deflection follow the torque the gear transmits (1 / stiffness); backlash adds a jump of
-/// the gap width where that torque changes sign. A constant and a slow drift (of the
-/// integrated motor position) are always allowed for. Forward selection by BIC with the
-/// held-out confirmation of the torque channel; an effect must also move the deflection by
-/// more than its noise level (below it, the gear is as stiff as the encoders can tell).
-void deflection_channel(const JointSignals& s, const Split& split, const DiagnoseOptions& o, JointDiagnosis& d) {
-  const std::size_t n = s.size();
-  if (s.deflection.size() != n) return;
-  const std::vector<double>& torque = s.load.size() == n ? s.load : s.tau_real;
-  const double span = std::max(s.t.back() - s.t.front(), 1e-9);
-  std::vector<double> ones(n, 1.0), trend(n);
-  for (std::size_t k = 0; k < n; ++k) trend[k] = (s.t[k] - s.t.front()) / span;
-  double tau_ms = 0.0;
-  for (const double v : torque) tau_ms += v * v;
-  const double tau_rms = std::sqrt(tau_ms / static_cast<double>(n));
-  if (!(tau_rms > 0.0)) return;
-  struct Group {
-    robot::Effect effect = robot::Effect::none;
-    std::vector<std::pair<double, std::vector<double>>> instances;  // (setting, column)
-  };
-  std::vector<Group> groups(2);
+/// One effect of the gear-deflection channel and its instances (setting, column).
+struct DeflectionGroup {
+  robot::Effect effect = robot::Effect::none;
+  std::vector<std::pair<double, std::vector<double>>> instances;
+};
+
+/// Joint elasticity (the deflection follows the gear torque) and backlash (a jump where the
+/// torque changes sign, at three widths of the change; only observable where both signs
+/// are held for a fair share of the recording).
+std::vector<DeflectionGroup> deflection_groups(const std::vector<double>& torque, double tau_rms) {
+  const std::size_t n = torque.size();
+  std::vector<DeflectionGroup> groups(2);
   groups[0].effect = robot::Effect::joint_elasticity;
   groups[0].instances.push_back({0.0, torque});
   groups[1].effect = robot::Effect::backlash;
-  // Backlash is only observable where the gear torque changes sign: both signs must be
-  // held for a fair share of the recording.
   std::size_t positive = 0;
   for (const double v : torque) positive += v > 0.0 ? 1U : 0U;
   const bool reverses = positive > n / 20 && n - positive > n / 20;
@@ -217,27 +205,45 @@ void deflection_channel(const JointSignals& s, const Split& split, const Diagnos
     for (std::size_t k = 0; k < n; ++k) col[k] = std::tanh(torque[k] / (band * tau_rms));
     groups[1].instances.push_back({band, std::move(col)});
   }
-  const VectorXd y_train = vec_of(s.deflection, split.train), y_test = vec_of(s.deflection, split.test);
-  // Noise: the MAD estimate fails on a deflection that moves by whole encoder counts (most
-  // second differences exactly zero); the RMS of the second differences without their
-  // largest 5 % (jumps) covers that case.
+  return groups;
+}
+
+/// The deflection's noise. The MAD estimate fails on a deflection that moves by whole
+/// encoder counts (most second differences exactly zero); the RMS of the second differences
+/// without their largest 5 % (jumps) covers that case.
+double deflection_noise(const std::vector<double>& deflection) {
+  const std::size_t n = deflection.size();
   std::vector<double> d2;
-  for (std::size_t k = 1; k + 1 < n; ++k) d2.push_back(std::fabs(s.deflection[k + 1] - 2.0 * s.deflection[k] + s.deflection[k - 1]));
+  for (std::size_t k = 1; k + 1 < n; ++k) d2.push_back(std::fabs(deflection[k + 1] - 2.0 * deflection[k] + deflection[k - 1]));
   std::sort(d2.begin(), d2.end());
   double d2_ms = 0.0;
   const std::size_t keep = d2.size() * 95 / 100;
   for (std::size_t k = 0; k < keep; ++k) d2_ms += d2[k] * d2[k];
-  const double noise = std::max({noise_level(s.deflection), std::sqrt(d2_ms / static_cast<double>(std::max<std::size_t>(keep, 1)) / 6.0), 1e-12});
-  std::vector<const std::vector<double>*> cols{&ones, &trend};
+  return std::max({noise_level(deflection), std::sqrt(d2_ms / static_cast<double>(std::max<std::size_t>(keep, 1)) / 6.0), 1e-12});
+}
+
+/// The deflection channel's selection: a constant and a slow drift always in `cols`; up to
+/// two effects added by BIC, each confirmed on the held-out blocks.
+struct DeflectionSelection {
+  std::vector<const std::vector<double>*> cols;
   std::vector<std::pair<std::size_t, std::size_t>> chosen;  // (group, instance)
+  double held_before = 0.0, held = 0.0;
+};
+
+DeflectionSelection select_deflection(const JointSignals& s, const Split& split, const DiagnoseOptions& o,
+                                      const std::vector<DeflectionGroup>& groups,
+                                      const std::vector<const std::vector<double>*>& base) {
+  const VectorXd y_train = vec_of(s.deflection, split.train), y_test = vec_of(s.deflection, split.test);
+  DeflectionSelection sel;
+  sel.cols = base;
   auto fit = [&](const std::vector<const std::vector<double>*>& c) {
     const MatrixXd X = rows_of(c, split.train);
     const VectorXd b = solve(X, y_train);
     return std::make_pair((y_train - X * b).squaredNorm(), rms(y_test - rows_of(c, split.test) * b));
   };
-  auto [rss, held] = fit(cols);
-  const double held_before = held;
-  double cur_bic = bic(rss, split.train.size(), static_cast<int>(cols.size()));
+  auto [rss, held] = fit(sel.cols);
+  sel.held_before = held;
+  double cur_bic = bic(rss, split.train.size(), static_cast<int>(sel.cols.size()));
   std::vector<bool> used(groups.size(), false);
   for (int round = 0; round < 2; ++round) {
     double best = 0.0;
@@ -246,7 +252,7 @@ void deflection_channel(const JointSignals& s, const Split& split, const Diagnos
     for (std::size_t g = 0; g < groups.size(); ++g) {
       if (used[g]) continue;
       for (std::size_t i = 0; i < groups[g].instances.size(); ++i) {
-        auto c = cols;
+        auto c = sel.cols;
         c.push_back(&groups[g].instances[i].second);
         const auto [r2, h2] = fit(c);
         const int k = static_cast<int>(c.size()) + (groups[g].instances.size() > 1 ? 1 : 0);
@@ -260,22 +266,29 @@ void deflection_channel(const JointSignals& s, const Split& split, const Diagnos
     }
     if (pick.first == groups.size() || best > -o.min_delta_bic || pick_held > held * (1.0 - o.min_heldout_gain)) break;
     used[pick.first] = true;
-    chosen.push_back(pick);
-    cols.push_back(&groups[pick.first].instances[pick.second].second);
-    std::tie(rss, held) = fit(cols);
-    cur_bic = bic(rss, split.train.size(), static_cast<int>(cols.size()));
+    sel.chosen.push_back(pick);
+    sel.cols.push_back(&groups[pick.first].instances[pick.second].second);
+    std::tie(rss, held) = fit(sel.cols);
+    cur_bic = bic(rss, split.train.size(), static_cast<int>(sel.cols.size()));
   }
-  if (chosen.empty()) return;
-  // Final fit on all samples; each effect's contribution and evidence.
+  sel.held = held;
+  return sel;
+}
+
+/// Final fit on all samples; each chosen effect's contribution and evidence, claimed when it
+/// moves the deflection by more than its noise in the physical direction.
+void deflection_findings(const JointSignals& s, const DiagnoseOptions& o, const std::vector<DeflectionGroup>& groups,
+                         const DeflectionSelection& sel, double noise, JointDiagnosis& d) {
+  const std::size_t n = s.size();
   std::vector<std::size_t> all_rows(n);
   std::iota(all_rows.begin(), all_rows.end(), 0U);
   const VectorXd y = vec_of(s.deflection, all_rows);
-  const MatrixXd X = rows_of(cols, all_rows);
+  const MatrixXd X = rows_of(sel.cols, all_rows);
   const VectorXd b = solve(X, y);
-  const double full_bic = bic((y - X * b).squaredNorm(), n, static_cast<int>(cols.size()));
-  for (std::size_t c = 0; c < chosen.size(); ++c) {
-    const auto& g = groups[chosen[c].first];
-    const auto& inst = g.instances[chosen[c].second];
+  const double full_bic = bic((y - X * b).squaredNorm(), n, static_cast<int>(sel.cols.size()));
+  for (std::size_t c = 0; c < sel.chosen.size(); ++c) {
+    const auto& g = groups[sel.chosen[c].first];
+    const auto& inst = g.instances[sel.chosen[c].second];
     const double coef = b(static_cast<Eigen::Index>(2 + c));
     double contrib = 0.0;
     for (std::size_t k = 0; k < n; ++k) contrib += coef * inst.second[k] * coef * inst.second[k];
@@ -286,7 +299,7 @@ void deflection_channel(const JointSignals& s, const Split& split, const Diagnos
     }
     if (g.effect == robot::Effect::joint_elasticity && coef <= 0.0) continue;  // a spring deflects with the load
     if (g.effect == robot::Effect::backlash && coef <= 0.0) continue;
-    auto without = cols;
+    auto without = sel.cols;
     without.erase(without.begin() + static_cast<std::ptrdiff_t>(2 + c));
     const MatrixXd Xw = rows_of(without, all_rows);
     Finding f;
@@ -305,11 +318,35 @@ void deflection_channel(const JointSignals& s, const Split& split, const Diagnos
     }
     f.params["deflection_effect_rms_rad"] = contrib;
     f.params["deflection_noise_rad"] = noise;
-    f.params["deflection_heldout_rms_before"] = held_before;
-    f.params["deflection_heldout_rms_after"] = held;
+    f.params["deflection_heldout_rms_before"] = sel.held_before;
+    f.params["deflection_heldout_rms_after"] = sel.held;
     f.text = os.str();
     d.findings.push_back(f);
   }
+}
+
+/// The gear-deflection channel (JointSignals::deflection): joint elasticity makes the
+/// deflection follow the torque the gear transmits (1 / stiffness); backlash adds a jump of
+/// the gap width where that torque changes sign. A constant and a slow drift (of the
+/// integrated motor position) are always allowed for. Forward selection by BIC with the
+/// held-out confirmation of the torque channel; an effect must also move the deflection by
+/// more than its noise level (below it, the gear is as stiff as the encoders can tell).
+void deflection_channel(const JointSignals& s, const Split& split, const DiagnoseOptions& o, JointDiagnosis& d) {
+  const std::size_t n = s.size();
+  if (s.deflection.size() != n) return;
+  const std::vector<double>& torque = s.load.size() == n ? s.load : s.tau_real;
+  const double span = std::max(s.t.back() - s.t.front(), 1e-9);
+  std::vector<double> ones(n, 1.0), trend(n);
+  for (std::size_t k = 0; k < n; ++k) trend[k] = (s.t[k] - s.t.front()) / span;
+  double tau_ms = 0.0;
+  for (const double v : torque) tau_ms += v * v;
+  const double tau_rms = std::sqrt(tau_ms / static_cast<double>(n));
+  if (!(tau_rms > 0.0)) return;
+  const std::vector<DeflectionGroup> groups = deflection_groups(torque, tau_rms);
+  const double noise = deflection_noise(s.deflection);
+  const DeflectionSelection sel = select_deflection(s, split, o, groups, {&ones, &trend});
+  if (sel.chosen.empty()) return;
+  deflection_findings(s, o, groups, sel, noise, d);
 }
 /// The recording's own block-to-block variation, the null every claim must beat: the chosen
 /// effects refitted with one contiguous block of the recording left out at a time
