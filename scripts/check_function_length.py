@@ -35,10 +35,10 @@ import argparse
 import json
 import os
 import re
-import shutil
-import subprocess
 import sys
-import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from fake_tree_selftest import run_cases  # noqa: E402  (beside this script)
 
 LIMIT = 80
 SCAN = "host_sim"
@@ -268,14 +268,6 @@ def self_test():
     script = os.path.abspath(__file__)
     failures = 0
 
-    def tree(files):
-        root = tempfile.mkdtemp(prefix="jg_fnlen_")
-        for path, text in files.items():
-            full = os.path.join(root, path)
-            os.makedirs(os.path.dirname(full), exist_ok=True)
-            with open(full, "w", encoding="utf-8") as f:
-                f.write(text)
-        return root
 
     def body(n, inner="  x += 1;\n"):
         """A `{` ... `}` of exactly n lines."""
@@ -317,18 +309,7 @@ def self_test():
     # The check runs with a table of its own: one exception, for a function the
     # `excepted` cases plant (or leave out: then the entry is stale).
     table = json.dumps([["host_sim/eval/evaluate.cpp", "run_detection", "a reason"]])
-    for name, files, want_rc, want_lines in cases:
-        root = tree(files)
-        try:
-            run = subprocess.run([sys.executable, script, "--root", root, "--exceptions-json", table],
-                                 capture_output=True, text=True)
-        finally:
-            shutil.rmtree(root)
-        ok = run.returncode == want_rc and all(w in run.stdout for w in want_lines)
-        print(f"self-test {name}: {'ok' if ok else 'FAILED'} (exit {run.returncode}, expected {want_rc})")
-        if not ok:
-            print(run.stdout + run.stderr)
-            failures += 1
+    failures += run_cases(lambda root: [sys.executable, script, "--root", root, "--exceptions-json", table], cases, "jg_fnlen_")
     return 1 if failures else 0
 
 

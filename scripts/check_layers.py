@@ -30,10 +30,10 @@ The exit code is 1 if anything was found, 0 otherwise.
 import argparse
 import os
 import re
-import shutil
-import subprocess
 import sys
-import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from fake_tree_selftest import run_cases  # noqa: E402  (beside this script)
 
 TABLE = os.path.join("host_sim", "layers.txt")
 DOC = os.path.join("docs", "architecture.md")
@@ -238,14 +238,6 @@ def self_test():
     script = os.path.abspath(__file__)
     failures = 0
 
-    def tree(files):
-        root = tempfile.mkdtemp(prefix="jg_layers_")
-        for path, text in files.items():
-            full = os.path.join(root, path)
-            os.makedirs(os.path.dirname(full), exist_ok=True)
-            with open(full, "w", encoding="utf-8") as f:
-                f.write(text)
-        return root
 
     table = "# fake\nio:\nmodels: firmware\nsafety:\ndynamics: io\neval: dynamics io\ncli: eval firmware\n"
     clean = {
@@ -287,17 +279,7 @@ def self_test():
         ("stale diagram", dict(clean, **{DOC: f"{DOC_BEGIN}\n```mermaid\ngraph BT\n```\n{DOC_END}\n"}), 1,
          ["docs/architecture.md: the layer diagram differs"]),
     ]
-    for name, files, want_rc, want_lines in cases:
-        root = tree(files)
-        try:
-            run = subprocess.run([sys.executable, script, "--root", root], capture_output=True, text=True)
-        finally:
-            shutil.rmtree(root)
-        ok = run.returncode == want_rc and all(w in run.stdout for w in want_lines)
-        print(f"self-test {name}: {'ok' if ok else 'FAILED'} (exit {run.returncode}, expected {want_rc})")
-        if not ok:
-            print(run.stdout + run.stderr)
-            failures += 1
+    failures += run_cases(lambda root: [sys.executable, script, "--root", root], cases, "jg_layers_")
     return 1 if failures else 0
 
 
