@@ -166,6 +166,16 @@ std::vector<std::vector<double>> recording_torque(const io::Recording& rec, cons
   return tau;
 }
 
+/// RigidBodyIdOptions::known_torque taken off the measured torque (shapes checked).
+void subtract_known_torque(const std::vector<std::vector<double>>& known, std::vector<std::vector<double>>& measured) {
+  if (known.empty()) return;
+  if (known.size() != measured.size()) throw std::invalid_argument("known_torque has " + std::to_string(known.size()) + " joints, the recording " + std::to_string(measured.size()));
+  for (std::size_t j = 0; j < known.size(); ++j) {
+    if (known[j].size() != measured[j].size()) throw std::invalid_argument("known_torque of joint " + std::to_string(j + 1) + " has " + std::to_string(known[j].size()) + " samples, the recording " + std::to_string(measured[j].size()));
+    for (std::size_t k = 0; k < known[j].size(); ++k) measured[j][k] -= known[j][k];
+  }
+}
+
 std::vector<std::vector<double>> predict_torque(const robot::RobotModel& model, const std::vector<FrictionFit>& friction,
                                                 const std::vector<std::vector<double>>& q,
                                                 const std::vector<std::vector<double>>& dq,
@@ -656,6 +666,7 @@ RigidBodyIdResult identify_rigid_body(const io::Recording& rec, const robot::Rob
   const double dt = checked_step(rec, prior);
   bool tau_j_columns = false;
   res.measured = recording_torque(rec, prior, &tau_j_columns);
+  subtract_known_torque(opt.known_torque, res.measured);
   const bool sensor = opt.joint_torque_sensor || tau_j_columns;
   if (tau_j_columns && !opt.joint_torque_sensor) res.notes.push_back("tau_j<j> columns: joint-torque-sensor data, no rotor inertia");
   Signals sig = accelerations(rec, opt, dt, res);

@@ -64,6 +64,11 @@ struct RigidBodyIdOptions {
   /// slow rows go back in when they fit within 2x of its moving rows (it does not stick); 0: keep all.
   double slow_speed_rad_s = -1.0;
   double prior_weight = 10.0;        ///< prior std = parameter scale / sqrt(prior_weight) (~30 %), rows in noise units
+  /// Torque of causes already known per joint (a robot file's per-joint plant_effects) [N·m],
+  /// [joint][sample]; taken off the measured torque before anything is fitted, so that the
+  /// links and the friction are identified on top of those causes, never absorbing them a
+  /// second time. Empty: none.
+  std::vector<std::vector<double>> known_torque;
 };
 
 struct RigidBodyIdResult {

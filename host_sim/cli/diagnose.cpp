@@ -277,6 +277,14 @@ void refit_rigid_body(DiagnoseRun& run) {
   dyn::RigidBodyIdOptions ro;
   ro.joint_torque_sensor = real.torque == io::TorqueKind::tau_j;
   ro.friction_offset = false;  // a constant is `current_offset`'s to name, per joint, against its null
+  if (!run.used.plant_effects.empty()) {
+    // The file's per-joint effects are part of the model (the loop's second round): the
+    // friction and links are identified on top of them, as the diagnosis will predict with
+    // them, so the baseline does not take them a second time.
+    const sim::ArmDynamics arm = run.used.dynamics();
+    const diag::ModelContext ctx = model_context(arm, run.used, run.nominal, std::string(), real);
+    ro.known_torque = diag::joint_effects_torque(run.used.plant_effects, diag::signals_from_model(real.longest(), ctx), nullptr);
+  }
   try {
     run.rb = dyn::identify_rigid_body(real.longest(), run.used, ro);
   } catch (const std::invalid_argument& e) {

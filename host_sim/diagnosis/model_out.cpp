@@ -169,9 +169,47 @@ std::vector<robot::PlantEffect> merge_plant_effects(std::vector<robot::PlantEffe
   return existing;
 }
 
-std::vector<std::string> add_joint_effects(const std::vector<robot::PlantEffect>& effects, std::vector<JointSignals>& signals) {
-  std::vector<std::string> notes;
-  for (auto& s : signals) {
+namespace {
+double param_or(const robot::PlantEffect& e, const char* name, double fallback) {
+  const auto it = e.params.find(name);
+  return it == e.params.end() ? fallback : it->second;
+}
+
+/// A gear effect's deflection (the deflection channel's own shapes, diagnose.cpp) taken off
+/// the joint's measured deflection: an elastic gear deflects by the gear torque over its
+/// stiffness; backlash jumps by its gap where that torque changes sign. Without this, the
+/// file's gear would be found again in every round of the loop.
+void remove_gear_deflection(const robot::PlantEffect& e, JointSignals& s, std::vector<std::string>& notes) {
+  const std::size_t n = s.size();
+  if (s.deflection.size() != n || n == 0U) return;
+  const std::vector<double>& torque = s.load.size() == n ? s.load : s.tau_real;
+  double tau_ms = 0.0;
+  for (const double v : torque) tau_ms += v * v;
+  const double tau_rms = std::sqrt(tau_ms / static_cast<double>(n));
+  const double stiffness = param_or(e, "stiffness_nm_per_rad", 0.0);
+  const double gap = param_or(e, "gap_rad", 0.0), share = param_or(e, "transition_share_of_torque_rms", 0.0);
+  const std::string joint = "joint " + std::to_string(s.joint) + ": ";
+  if (e.effect == robot::Effect::joint_elasticity) {
+    if (!(stiffness > 0.0)) {
+      notes.push_back(joint + "joint_elasticity without a positive stiffness_nm_per_rad: not in the deflection's prediction");
+      return;
+    }
+    for (std::size_t k = 0; k < n; ++k) s.deflection[k] -= torque[k] / stiffness;
+  } else if (e.effect == robot::Effect::backlash) {
+    if (!(gap > 0.0) || !(share > 0.0) || !(tau_rms > 0.0)) {
+      notes.push_back(joint + "backlash without gap_rad and transition_share_of_torque_rms: not in the deflection's prediction");
+      return;
+    }
+    for (std::size_t k = 0; k < n; ++k) s.deflection[k] -= 0.5 * gap * std::tanh(torque[k] / (share * tau_rms));
+  }
+}
+}  // namespace
+
+std::vector<std::vector<double>> joint_effects_torque(const std::vector<robot::PlantEffect>& effects,
+                                                      const std::vector<JointSignals>& signals, std::vector<std::string>* notes) {
+  std::vector<std::vector<double>> out;
+  for (const auto& s : signals) {
+    out.emplace_back(s.size(), 0.0);
     std::vector<FittedEffect> model;
     for (const auto& e : effects) {
       // Gear effects live in the deflection channel, with no torque coefficients.
@@ -179,16 +217,27 @@ std::vector<std::string> add_joint_effects(const std::vector<robot::PlantEffect>
       model.push_back({e.effect, e.setting, e.coefficients});
     }
     if (model.empty()) continue;
-    std::vector<double> extra;
     try {
-      extra = predict_effects(model, s);
+      out.back() = predict_effects(model, s);
     } catch (const std::invalid_argument& err) {
-      notes.push_back("joint " + std::to_string(s.joint) + ": " + err.what());
-      continue;
+      if (notes != nullptr) notes->push_back("joint " + std::to_string(s.joint) + ": " + err.what());
+    }
+  }
+  return out;
+}
+
+std::vector<std::string> add_joint_effects(const std::vector<robot::PlantEffect>& effects, std::vector<JointSignals>& signals) {
+  std::vector<std::string> notes;
+  const auto extra = joint_effects_torque(effects, signals, &notes);
+  for (std::size_t j = 0; j < signals.size(); ++j) {
+    auto& s = signals[j];
+    for (const auto& e : effects) {
+      const bool gear_deflection = e.effect == robot::Effect::joint_elasticity || (e.effect == robot::Effect::backlash && e.coefficients.empty());
+      if (e.joint == s.joint && gear_deflection) remove_gear_deflection(e, s, notes);
     }
     for (std::size_t k = 0; k < s.size(); ++k) {
-      s.tau_model[k] += extra[k];
-      s.residual[k] -= extra[k];
+      s.tau_model[k] += extra[j][k];
+      s.residual[k] -= extra[j][k];
     }
   }
   return notes;

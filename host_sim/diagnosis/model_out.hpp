@@ -46,8 +46,15 @@ void fold_drive_effects(robot::RobotModel& model, std::vector<robot::PlantEffect
 /// second entry (the loop converges in the file).
 std::vector<robot::PlantEffect> merge_plant_effects(std::vector<robot::PlantEffect> existing, const std::vector<robot::PlantEffect>& found);
 
+/// The per-joint plant_effects' torque on each joint's signals, [joint][sample] (zeros where
+/// a joint has none); effects that cannot be predicted on these signals leave zeros and a note.
+std::vector<std::vector<double>> joint_effects_torque(const std::vector<robot::PlantEffect>& effects,
+                                                      const std::vector<JointSignals>& signals, std::vector<std::string>* notes);
+
 /// The per-joint plant_effects' torque added to each joint's predicted torque (and taken off
-/// its residual); returns notes on effects that cannot be predicted on these signals.
+/// its residual), and the gear effects' deflection (joint_elasticity, backlash found in the
+/// deflection channel) taken off the measured deflection; returns notes on effects that
+/// cannot be predicted on these signals.
 std::vector<std::string> add_joint_effects(const std::vector<robot::PlantEffect>& effects, std::vector<JointSignals>& signals);
 
 }  // namespace jg::diag

@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# The loop on a real arm (../shared/data/real, skipped when absent): `diagnose --model-out`
+# on the UR10e's vendor URDF + drive.yaml, then `diagnose --model` with the written file on
+# the same recording claims nothing new, and a third round writes the same plant_effects.
+# What the first round found in the gear-deflection channel (an elastic gear, backlash) is
+# taken off the measured deflection in the second; the rigid-body refit's friction baseline
+# is identified on top of the file's per-joint effects (never absorbing them twice).
+# Usage: real_loop.sh <jointguard> <source dir>
+set -euo pipefail
+J="$1"
+SRC="$2"
+U="$SRC/../shared/data/real/ur10e-static"
+if [ ! -d "$U" ]; then
+  echo "skipped: real recordings not found in $U"
+  exit 77
+fi
+W=$(mktemp -d)
+trap 'rm -rf "$W"' EXIT
+PY=/usr/bin/python3
+for f in motion_free static_pushes; do
+  "$J" diagnose --model "$U/ur10e.urdf" --drive "$U/drive.yaml" --real "$U/$f.csv" --model-out "$W/${f}_1.yaml" --json "$W/${f}_1.json" > /dev/null
+  "$J" diagnose --model "$W/${f}_1.yaml" --real "$U/$f.csv" --model-out "$W/${f}_2.yaml" --json "$W/${f}_2.json" > /dev/null
+  "$J" diagnose --model "$W/${f}_2.yaml" --real "$U/$f.csv" --model-out "$W/${f}_3.yaml" --json "$W/${f}_3.json" > /dev/null
+  "$PY" - "$f" "$W/${f}_1.json" "$W/${f}_2.json" "$W/${f}_2.yaml" "$W/${f}_3.yaml" <<'PYEOF'
+import json, sys
+name, first, second = sys.argv[1], json.load(open(sys.argv[2])), json.load(open(sys.argv[3]))
+def claims(d):
+    out = [("arm", f["effect"]) for f in d["arm"]["findings"]]
+    for j in d["joints"]:
+        out += [(j["joint"], f["effect"]) for f in j["findings"] if f["effect"] != "none"]
+    return out
+def effects(path):
+    lines = open(path).read().split("\n")
+    start = lines.index(next(l for l in lines if l.startswith("plant_effects:")))
+    return sorted(l.split(", params:")[0] for l in lines[start + 1:] if l.startswith("  - "))
+c1, c2 = claims(first), claims(second)
+print(f"{name}: round 1 claims {c1}; round 2 claims {c2}")
+assert c1, f"{name}: the first round claims nothing (the test needs something to close the loop on)"
+assert not c2, f"{name}: the second round claims {c2} with the first round's file"
+e2, e3 = effects(sys.argv[4]), effects(sys.argv[5])
+assert e2 == e3, f"{name}: the third round's file differs:\n{e2}\n{e3}"
+PYEOF
+done
+echo "real loop: ok"
