@@ -7,7 +7,9 @@
 #    no claim on a zero-size case beyond the untouched recording's;
 #  - UR10e motion_free (16 payloads, 0.5-12 kg, + 2 zero-size): the figures of the last
 #    measured run as a floor (named >= 10, payload claims off by more than 20 % <= 2), no
-#    claim on a zero-size case beyond the untouched recording's.
+#    claim on a zero-size case beyond the untouched recording's; the per-joint vocabulary
+#    (--vocabulary): no size beyond the range the diagnosis accepts claimed, and the named
+#    count of the last measured run as a floor (31/104, docs/results.md).
 # Usage: injection_bench.sh <jointguard> <source dir>
 set -euo pipefail
 J="$1"
@@ -22,7 +24,7 @@ trap 'rm -rf "$W"' EXIT
 cd "$SRC"
 PY=/usr/bin/python3
 "$PY" scripts/injection_bench.py "$J" "$DATA" panda --cases 2 --json "$W/panda.json" > /dev/null
-"$PY" scripts/injection_bench.py "$J" "$DATA" ur10e --json "$W/ur10e.json" > /dev/null
+"$PY" scripts/injection_bench.py "$J" "$DATA" ur10e --vocabulary --json "$W/ur10e.json" > /dev/null
 "$PY" - "$W/panda.json" "$W/ur10e.json" <<'PYEOF'
 import json, sys
 p, u = (json.load(open(f))["summary"] for f in sys.argv[1:3])
@@ -30,6 +32,8 @@ print("panda:", p)
 print("ur10e:", u)
 assert p["named_within_20pct"] >= 1 and p["wrong_claims"] == 0, p  # 0.3 kg (below the floor) and 1.5 kg
 assert u["named_within_20pct"] >= 10 and u["wrong_claims"] <= 2, u  # measured 10/16 (docs/results.md)
+assert u["implausible_cases"] >= 1 and u["implausible_claimed"] == [], u  # beyond the range: never claimed
+assert u["joint_effects_named"] >= 31, u  # measured 31/104
 for s in (p, u):
     assert s["zero_size_cases"] == 2 and s["zero_size_with_extra_claims"] == 0, s
 PYEOF
