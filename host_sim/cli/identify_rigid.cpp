@@ -8,6 +8,7 @@
 #include "arm_identification/rigid_body_identification.hpp"
 #include "cli/common.hpp"
 #include "diagnosis/model_out.hpp"
+#include "diagnosis/pairing.hpp"
 #include "dynamics/uniform_grid.hpp"
 #include "io/atomic_write.hpp"
 #include "io/recording.hpp"
@@ -29,6 +30,25 @@ nlohmann::json link_json(const dyn::LinkParams& p) {
 }
 
 /// The identification's options from the command line's.
+/// The robot file's per-joint plant_effects (a friction change, an offset, a delay) predicted
+/// on the recording's motion: the links and the friction are then identified on top of them,
+/// and the file written keeps them as read, once (dyn::RigidBodyIdOptions::known_torque).
+std::vector<std::vector<double>> per_joint_effects_torque(const io::Recording& rec, const robot::RobotModel& start) {
+  const sim::ArmDynamics arm = start.dynamics();
+  diag::ModelContext ctx;
+  ctx.arm = &arm;
+  for (const auto& jd : start.joints) {
+    ctx.torque_constant.push_back(jd.link.torque_constant);
+    ctx.rotor_inertia.push_back(jd.link.rotor_inertia);
+  }
+  std::vector<std::string> notes;
+  auto known = diag::joint_effects_torque(start.plant_effects, diag::signals_from_model(rec, ctx), &notes);
+  for (const auto& n : notes) std::printf("note: %s (not in the fit's prediction)\n", n.c_str());
+  std::printf("%zu per-joint plant_effects of the robot file are in the fit's prediction: the links and friction are identified on top of them\n",
+              start.plant_effects.size());
+  return known;
+}
+
 dyn::RigidBodyIdOptions id_options(const io::Recording& rec, const RigidBodyCliOptions& o) {
   dyn::RigidBodyIdOptions opt;
   // The torque kind was chosen when the recording was read (--torque-kind).
@@ -172,7 +192,7 @@ void add_rigid_body_options(CLI::App* cmd, RigidBodyCliOptions& o) {
 int run_identify_rigid(const io::Recording& rec, const std::string& recording, const nlohmann::json& resampling,
                        const robot::RobotModel& prior, const std::string& model_path, const std::string& json,
                        const RigidBodyCliOptions& o) {
-  const dyn::RigidBodyIdOptions opt = id_options(rec, o);
+  dyn::RigidBodyIdOptions opt = id_options(rec, o);
   dyn::RigidBodyIdResult r;
   // The prior's arm-level plant_effects (a payload, a link's mass) are part of the arm the
   // fit starts from, and are written back as themselves, once: never fitted as if absent and
@@ -180,11 +200,8 @@ int run_identify_rigid(const io::Recording& rec, const std::string& recording, c
   robot::RobotModel start = prior;
   std::vector<robot::PlantEffect> folded;
   for (const auto& n : diag::fold_arm_effects(start, &folded)) std::printf("%s\n", n.c_str());
-  if (!start.plant_effects.empty()) {
-    std::printf("note: %zu per-joint plant_effects of the robot file are not in the fit; they are written back as read\n",
-                start.plant_effects.size());
-  }
   try {
+    if (!start.plant_effects.empty()) opt.known_torque = per_joint_effects_torque(rec, start);
     r = dyn::identify_rigid_body(rec, start, opt);
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "%s: %s\n", recording.c_str(), e.what());

@@ -58,6 +58,21 @@ masses = [float(m) for m in re.findall(r"mass_kg: ([-0-9.e+]+)", text)]
 assert abs(masses[2] - 2.0) < 0.4, f"link 3 written at {masses[2]} kg beside the payload (robot file 2.0 kg)"
 print(f"identify --rigid-body on top of the payload: link 3 {masses[2]:.3f} kg, payload written once")
 PYEOF
+# The same for per-joint effects: a viscous change on joint 2 and an offset on joint 3 in the
+# robot file and in the arm; identify fits the friction on top of them (without them in the
+# file, the identified friction takes them: viscous +0.8, offset +0.5).
+cp models/ref3.yaml "$W/joint_truth.yaml"
+printf 'plant_effects:\n  - {effect: viscous, joint: 2, setting: {}, coefficients: [0.8]}\n  - {effect: current_offset, joint: 3, setting: {}, coefficients: [0.5]}\n' >> "$W/joint_truth.yaml"
+"$J" simulate scenarios/paper_excitation.yaml --model "$W/joint_truth.yaml" --out "$W/joint_real.csv" --seed 3 > /dev/null
+"$J" identify "$W/joint_real.csv" --model "$W/joint_truth.yaml" --rigid-body --json "$W/id_on_top.json" > /dev/null
+"$J" identify "$W/joint_real.csv" --model models/ref3.yaml --rigid-body --json "$W/id_absent.json" > /dev/null
+"$PY" - "$W/id_on_top.json" "$W/id_absent.json" <<'PYEOF'
+import json, sys
+top, absent = ([j["friction"] for j in json.load(open(f))["joints"]] for f in sys.argv[1:3])
+dv, do = absent[1]["viscous"] - top[1]["viscous"], absent[2]["offset"] - top[2]["offset"]
+print(f"identify on top of the file's per-joint effects: joint 2 viscous {top[1]['viscous']:.3f} (without them {absent[1]['viscous']:.3f}), joint 3 offset {top[2]['offset']:.3f} ({absent[2]['offset']:.3f})")
+assert abs(dv - 0.8) < 0.1 and abs(do - 0.5) < 0.1, f"the file's effects were fitted again: viscous {dv:.3f}, offset {do:.3f} apart"
+PYEOF
 
 # Rated below the payload: reported as unexplained, not claimed.
 sed 's/^name: \(.*\)$/name: \1\nrated_payload_kg: 0.5/' models/ref3.yaml > "$W/rated.yaml"
