@@ -549,8 +549,25 @@ Addition best_addition(const JointProblem& p, const Chosen& chosen, const std::v
   return best;
 }
 
+/// The first effect of `cs` whose coefficients, fitted jointly on the training blocks, are
+/// not physically plausible, with the reason (empty: all plausible).
+std::string jointly_implausible(const JointProblem& p, const Chosen& cs) {
+  const VectorXd b = solve(rows_of(columns_of(cs), p.split.train), p.y_train);
+  Eigen::Index at = 0;
+  for (const auto* c : cs) {
+    const auto m = static_cast<Eigen::Index>(c->columns.size());
+    const std::string why = implausible(*c, std::vector<double>(b.data() + at, b.data() + at + m), p.s);
+    at += m;
+    if (!why.empty()) return c->effect + " " + why;
+  }
+  return {};
+}
+
 /// One forward selection (groups in `excluded` not offered): effects added one at a time
-/// by the information criterion, each confirmed on the held-out blocks.
+/// by the information criterion, each confirmed on the held-out blocks. An addition that
+/// makes an effect already chosen implausible when fitted with it (a drift imitating a scale
+/// and an offset together) is not an addition: checked at each step, not only at the end,
+/// where dropping the implausible effect would leave the others fitted for its company.
 Selection forward_selection(const JointProblem& p, const std::vector<bool>& excluded) {
   const DiagnoseOptions& o = p.o;
   Selection sel;
@@ -570,6 +587,12 @@ Selection forward_selection(const JointProblem& p, const std::vector<bool>& excl
     if (best.candidate == nullptr || best.delta > -o.min_delta_bic) break;
     Chosen trial = chosen;
     trial.push_back(best.candidate);
+    if (const std::string why = jointly_implausible(p, trial); !why.empty()) {
+      rejected[best.group] = true;
+      sel.notes.push_back(best.candidate->effect + " would make the model implausible (" + why + "): not claimed");
+      if (o.trace) std::fprintf(stderr, "  j%d -> %s rejected: %s\n", p.s.joint, robot::effect_cstr(best.candidate->effect), why.c_str());
+      continue;
+    }
     const double h = heldout_rms(p, trial);
     if (o.trace) std::fprintf(stderr, "  j%d -> %s dBIC %.1f held-out %.4f -> %.4f\n", p.s.joint, robot::effect_cstr(best.candidate->effect), best.delta, sel.heldout, h);
     if (h > sel.heldout * (1.0 - o.min_heldout_gain)) {
