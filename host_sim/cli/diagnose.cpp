@@ -2,7 +2,7 @@
 // missing, its fitted parameters, and the held-out improvement. JSON per the contract,
 // a human summary, and SVG plots. A shell: reads the files the command line names, runs
 // diag::run_diagnosis (diagnosis/run_diagnosis.hpp) and hands its result to
-// write_diagnosis (cli/diagnose_output.hpp).
+// a DiagnosisWriter (cli/diagnose_output.hpp), stage by stage as it goes.
 #include <cstdio>
 #include <memory>
 
@@ -64,8 +64,9 @@ int run_diagnose(const DiagnoseCliOptions& o) {
   settings.identify_rigid_body = !o.no_rigid_body;
   settings.trace = o.trace;
   settings.model_out = !o.model_out.empty();
-  const diag::DiagnosisResult result = diag::run_diagnosis(in, settings);
-  write_diagnosis(in, result, {o.json, o.out, o.model_out, model_out_header(o)});
+  DiagnosisWriter writer(in, {o.json, o.out, o.model_out, model_out_header(o)});
+  settings.on_stage = [&writer](diag::DiagnosisStage stage, const diag::DiagnosisResult& r) { writer.stage(stage, r); };
+  writer.finish(diag::run_diagnosis(in, settings));
   return 0;
 }
 

@@ -2,7 +2,7 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <nlohmann/json.hpp>
+#include <utility>
 
 #include "cli/common.hpp"
 #include "io/atomic_write.hpp"
@@ -202,15 +202,13 @@ void plot_joint(const std::string& out, const diag::JointSignals& s, const diag:
                         report::render_svg(v));
 }
 
-/// Each joint: its JSON, its console line and (with a plot folder) its plots.
-void report_joints(const diag::DiagnosisResult& r, const std::string& plots, nlohmann::json& j) {
-  j["joints"] = nlohmann::json::array();
-  if (!plots.empty()) std::filesystem::create_directories(plots);
-  for (std::size_t k = 0; k < r.joints.size(); ++k) {
-    j["joints"].push_back(joint_json(r.joints[k]));
-    print_joint(r.joints[k]);
-    if (!plots.empty()) plot_joint(plots, r.signals[k], r.joints[k]);
-  }
+/// The joint just diagnosed (the last of r.joints): its JSON, its console line and (with a
+/// plot folder) its plots.
+void report_joint(const diag::DiagnosisResult& r, const std::string& plots, nlohmann::json& j) {
+  const std::size_t k = r.joints.size() - 1;
+  j["joints"].push_back(joint_json(r.joints[k]));
+  print_joint(r.joints[k]);
+  if (!plots.empty()) plot_joint(plots, r.signals[k], r.joints[k]);
 }
 
 /// The robot file written back, and what could not be taken back out of a link.
@@ -224,21 +222,33 @@ void write_model_out(const diag::ModelOut& m, const DiagnoseOutputs& out, nlohma
 
 }  // namespace
 
-void write_diagnosis(const diag::DiagnosisInputs& in, const diag::DiagnosisResult& r, const DiagnoseOutputs& out) {
-  nlohmann::json j;
-  j["arm"] = {{"findings", nlohmann::json::array()}, {"notes", nlohmann::json::array()}};
-  // In the order the stages ran: the console reads as the diagnosis went.
-  report_refit(r, in.nominal, j["arm"]);
-  if (r.named_folds) j["cross_motion_named"] = named_folds_json(*r.named_folds, in.reals);
-  report_signals(in, r, j);
-  if (r.folds) report_cross_motion(*r.folds, in.reals, j);
-  report_arm(r.arm, j);
-  report_recordings(in, r, j);
-  report_joints(r, out.plots, j);
-  if (!out.model_out.empty() && r.model_out) write_model_out(*r.model_out, out, j);
-  if (!out.json.empty()) {
-    write_json_file(out.json, j);
-    std::printf("wrote %s\n", out.json.c_str());
+DiagnosisWriter::DiagnosisWriter(const diag::DiagnosisInputs& in, DiagnoseOutputs out) : in_(in), out_(std::move(out)) {
+  j_["arm"] = {{"findings", nlohmann::json::array()}, {"notes", nlohmann::json::array()}};
+}
+
+void DiagnosisWriter::stage(diag::DiagnosisStage stage, const diag::DiagnosisResult& r) {
+  switch (stage) {
+    case diag::DiagnosisStage::rigid_body:
+      report_refit(r, in_.nominal, j_["arm"]);
+      if (r.named_folds) j_["cross_motion_named"] = named_folds_json(*r.named_folds, in_.reals);
+      break;
+    case diag::DiagnosisStage::signals: report_signals(in_, r, j_); break;
+    case diag::DiagnosisStage::arm:
+      if (r.folds) report_cross_motion(*r.folds, in_.reals, j_);
+      report_arm(r.arm, j_);
+      report_recordings(in_, r, j_);
+      j_["joints"] = nlohmann::json::array();
+      if (!out_.plots.empty()) std::filesystem::create_directories(out_.plots);
+      break;
+    case diag::DiagnosisStage::joint: report_joint(r, out_.plots, j_); break;
+  }
+}
+
+void DiagnosisWriter::finish(const diag::DiagnosisResult& r) {
+  if (!out_.model_out.empty() && r.model_out) write_model_out(*r.model_out, out_, j_);
+  if (!out_.json.empty()) {
+    write_json_file(out_.json, j_);
+    std::printf("wrote %s\n", out_.json.c_str());
   }
 }
 

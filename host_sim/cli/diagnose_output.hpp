@@ -3,6 +3,7 @@
 // file written back (--model-out).
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "diagnosis/run_diagnosis.hpp"
@@ -17,8 +18,20 @@ struct DiagnoseOutputs {
   std::string model_out_header;  ///< the comment on top of that file (how it was written)
 };
 
-/// Prints the summary and writes the outputs asked for (the robot file needs
+/// Prints the summary as the run goes (stage() as diag::DiagnosisSettings::on_stage) and
+/// writes the outputs asked for at its end (finish(); the robot file needs
 /// DiagnosisResult::model_out).
-void write_diagnosis(const diag::DiagnosisInputs& in, const diag::DiagnosisResult& r, const DiagnoseOutputs& out);
+class DiagnosisWriter {
+ public:
+  /// `in` must outlive the writer.
+  DiagnosisWriter(const diag::DiagnosisInputs& in, DiagnoseOutputs out);
+  void stage(diag::DiagnosisStage stage, const diag::DiagnosisResult& r);
+  void finish(const diag::DiagnosisResult& r);
+
+ private:
+  const diag::DiagnosisInputs& in_;
+  DiagnoseOutputs out_;
+  nlohmann::json j_;  ///< the contract JSON, filled stage by stage
+};
 
 }  // namespace jg::cli

@@ -260,19 +260,23 @@ DiagnoseOptions joint_options(int joint, const std::vector<NotTransferring>& not
   return jo;
 }
 
-/// Stage 5: each joint's diagnosis on the signals the arm-level causes left.
-std::vector<JointDiagnosis> diagnose_joints(const std::vector<JointSignals>& signals,
-                                            const std::vector<NotTransferring>& not_transferring, const std::string& path,
-                                            bool trace) {
-  std::vector<JointDiagnosis> diagnoses;
-  for (const auto& s : signals) {
+/// Tells the caller that `stage` ended.
+void stage_done(const DiagnosisSettings& settings, DiagnosisStage stage, const DiagnosisResult& out) {
+  if (settings.on_stage) settings.on_stage(stage, out);
+}
+
+/// Stage 5: each joint's diagnosis on the signals the arm-level causes left (out.signals),
+/// into out.joints.
+void diagnose_joints(const std::vector<NotTransferring>& not_transferring, const std::string& path,
+                     const DiagnosisSettings& settings, DiagnosisResult& out) {
+  for (const auto& s : out.signals) {
     std::vector<std::string> notes;
-    const DiagnoseOptions jo = joint_options(s.joint, not_transferring, trace, notes);
+    const DiagnoseOptions jo = joint_options(s.joint, not_transferring, settings.trace, notes);
     JointDiagnosis d = io::about_recording(path, [&] { return diagnose_joint(s, jo); });
     d.notes.insert(d.notes.end(), notes.begin(), notes.end());
-    diagnoses.push_back(d);
+    out.joints.push_back(d);
+    stage_done(settings, DiagnosisStage::joint, out);
   }
-  return diagnoses;
 }
 
 /// Stage 6: the named physics written back where the simulation lives (robot file +
@@ -326,14 +330,17 @@ DiagnosisResult run_diagnosis(const DiagnosisInputs& in, const DiagnosisSettings
     name_causes_against_file(in, st, out);
     refit_rigid_body(in, st, out);
   }
+  stage_done(settings, DiagnosisStage::rigid_body, out);
   const sim::ArmDynamics arm = st.used.dynamics();
   const std::vector<JointSignals> signals = diagnosis_signals(in, arm, st, out);
+  stage_done(settings, DiagnosisStage::signals, out);
   // Causes that are one thing in the world (a payload, a link's mass) next, once for the
   // arm, then each joint on what they leave.
   const auto not_transferring = diagnose_arm_level(in, arm, st, signals, out);
   out.signals = without_arm_causes(signals, out.arm);
   merge_named(st.named, out.arm);
-  out.joints = diagnose_joints(out.signals, not_transferring, primary(in.reals).path, settings.trace);
+  stage_done(settings, DiagnosisStage::arm, out);
+  diagnose_joints(not_transferring, primary(in.reals).path, settings, out);
   if (settings.model_out) out.model_out = model_out_of(st, out);
   return out;
 }

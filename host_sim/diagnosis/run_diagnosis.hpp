@@ -10,10 +10,13 @@
 //      between them (leave-one-recording-out);
 //   5. each joint's diagnosis;
 //   6. on request, the robot file to write back (the named physics as plant_effects).
-// Prints nothing: everything the command reports is in DiagnosisResult.
+// Prints nothing: everything the command reports is in DiagnosisResult, handed to
+// DiagnosisSettings::on_stage as each stage ends (a run that stops on an error has been
+// reported up to there).
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -40,12 +43,24 @@ struct DiagnosisInputs {
   std::vector<LuGreParams<double>> friction;  ///< nominal friction per joint of the prediction; empty: none
 };
 
+/// A stage just ended (DiagnosisSettings::on_stage): what DiagnosisResult holds from it.
+enum class DiagnosisStage {
+  rigid_body,  ///< rigid_body, rigid_body_refused, named_folds (also when not tried: all empty)
+  signals,     ///< segments, file_effects, spans
+  arm,         ///< folds, arm, signals
+  joint,       ///< joints.back() (one call per joint, in order)
+};
+
+struct DiagnosisResult;
+
 struct DiagnosisSettings {
   /// Without sims: name causes against the robot file and identify the arm's rigid body
   /// before the per-joint diagnosis (off: `--no-rigid-body`, the file's rigid body is kept).
   bool identify_rigid_body = true;
   bool trace = false;      ///< each selection step to stderr
   bool model_out = false;  ///< compute the robot file to write back (DiagnosisResult::model_out)
+  /// Called as each stage ends, with the result so far (may be empty).
+  std::function<void(DiagnosisStage, const DiagnosisResult&)> on_stage;
 };
 
 /// The robot file with what was found: identified links and the named effects.
