@@ -44,8 +44,6 @@ LIMIT = 80
 SCAN = "host_sim"
 SOURCE_EXT = (".cpp", ".hpp")
 
-BEING_CHANGED = "being changed on another branch; split next"
-
 # (file relative to the root, function name) -> why it may be longer than LIMIT lines.
 EXCEPTIONS = {
     # One branch per effect of the catalogue (robot/effect_catalogue.hpp), each a few lines:
@@ -53,10 +51,6 @@ EXCEPTIONS = {
     # compares when adding or checking an effect; split per effect they would scatter.
     ("host_sim/diagnosis/effects.cpp", "raw_candidate"): "one short branch per catalogue effect (its regressor)",
     ("host_sim/diagnosis/effects.cpp", "describe"): "one short branch per catalogue effect (its parameters in words)",
-    # host_sim/eval/ is being changed on other branches (holding, the standstill allowance);
-    # split there, not here.
-    ("host_sim/eval/evaluate.cpp", "run_detection"): BEING_CHANGED,
-    ("host_sim/eval/pipeline.cpp", "replay_recording"): BEING_CHANGED,
 }
 
 KEYWORDS_NOT_NAMES = {"if", "for", "while", "switch", "catch", "return", "sizeof", "decltype",

@@ -412,29 +412,59 @@ std::optional<HoldViolation> first_move(const io::Recording& rec, const ReplayOp
   return std::nullopt;
 }
 
-ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel& model,
-                              const std::vector<LuGreParams<double>>& friction, const Thresholds& thresholds_in,
-                              const ObserverGains& gains, const std::string& scalar, int debounce_cycles,
-                              const ReplayOptions& opt) {
-  const std::size_t n = rec.joints();
-  const auto bands = threshold_bands(thresholds_in);
-  const std::vector<double>& thresholds = thresholds_in.threshold;
-  if (thresholds.size() != n) throw std::invalid_argument("one threshold per joint needed");
+namespace {
+/// What a replay reads and never changes: the threshold file's bands and holding detector at
+/// the recording's sample time, and the stop allowance's and re-arming's constants.
+struct ReplayParams {
+  const Thresholds& thresholds;
+  const ReplayOptions& opt;
+  std::vector<JointThreshold<double>> bands;
+  std::vector<HoldChangeParams<double>> hold;  ///< per joint, with use_hold
+  bool use_hold = false;
+  bool region = false;  ///< the file has the calibrated region (stop allowance, outside counts)
+  DebounceSettings debounce;
+  double dt = 0.0;          ///< sample time [s]
+  double stop_decay = 0.0;  ///< per sample
+  std::size_t accel_m = 0;  ///< samples of the acceleration baseline
+  double ema_gain = 0.0;    ///< per sample, of the estimate's 0.1 s average
+  std::size_t rearm_cycles = 0;
+};
+
+/// What a replay carries from one sample to the next.
+struct ReplayState {
+  std::vector<HoldChangeState<double>> hold;
+  std::vector<JointDetectorState> detector;
+  std::vector<double> stop_extra;  ///< per joint, the stop allowance's extra band [N·m]
+  double gate_until = -1e300;      ///< [s]
+  std::vector<double> ema;         ///< per joint, the estimate's 0.1 s average [N·m]
+  std::vector<std::size_t> steady; ///< per joint, samples steady around `ema` in a row
+  JointMask previous = 0;
+  double quiet_since = -1.0;  ///< [s]; < 0: not quiet
+  sim::JointVector q_now, contact_tau, contact_threshold;
+};
+
+/// One sample's detector outcome: the joints over (debounced) and those over their band.
+struct SampleFlags {
+  JointMask mask = 0, by_band = 0;
+};
+
+/// Refuses a threshold or friction file that does not fit the recording's joints, and a
+/// holding-aware replay without the file's change thresholds.
+void check_replay_inputs(std::size_t n, const std::vector<LuGreParams<double>>& friction, const Thresholds& t,
+                         const ReplayOptions& opt) {
+  if (t.threshold.size() != n) throw std::invalid_argument("one threshold per joint needed");
   if (friction.size() != n) throw std::invalid_argument("one friction parameter set per joint needed");
-  const bool use_hold = opt.holding != HoldingSource::none;
-  if (use_hold && thresholds_in.hold_change.size() != n) {
+  if (opt.holding != HoldingSource::none && t.hold_change.size() != n) {
     throw std::invalid_argument("holding-aware replay needs the threshold file's hold_change_threshold "
                                 "(calibrate again: it writes one by default)");
   }
-  const auto held = holding_flags(rec, opt);
-  const auto d = observer_disturbance(rec, model, gains, true, friction, scalar, held, opt.held_deadband_steps);
-  const double dt = sample_time(rec);
+}
+
+ReplayParams replay_params(const Thresholds& t, const ReplayOptions& opt, std::size_t n, double dt, int debounce_cycles) {
+  const bool use_hold = opt.holding != HoldingSource::none;
   std::vector<HoldChangeParams<double>> hold(n);
-  std::vector<HoldChangeState<double>> hold_state(n);
-  for (std::size_t j = 0; j < n && use_hold; ++j) {
-    hold[j] = hold_params(thresholds_in.hold_change[j], thresholds_in.hold_settle_s, thresholds_in.hold_reference_s, dt);
-  }
-  const bool region = thresholds_in.q_min.size() == n && thresholds_in.ddq_max.size() == n && thresholds_in.stop_gain.size() == n;
+  for (std::size_t j = 0; j < n && use_hold; ++j) hold[j] = hold_params(t.hold_change[j], t.hold_settle_s, t.hold_reference_s, dt);
+  const bool region = t.q_min.size() == n && t.ddq_max.size() == n && t.stop_gain.size() == n;
   // Stop allowance: when the arm accelerates harder than anything in the calibration
   // (an abrupt stop), each joint's band grows to s times what the model left there,
   // s = the arm's largest |ddq_i| / ddq_max_i (difference of the measured velocity over
@@ -443,16 +473,31 @@ ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel&
   // while the waist itself decelerates less than in the calibration). The extra decays with kStopDecayS (the drive's braking
   // current and the stiction it takes up last a few samples after the velocity has dropped).
   constexpr double kStopDecayS = 0.1;
-  const double stop_decay = std::exp(-dt / kStopDecayS);
-  std::vector<double> stop_extra(n, 0.0);
-  double gate_until = -1e300;
-  const std::size_t accel_m = accel_baseline(dt);
   // Re-arming the holding detector after an event: each joint's estimate steady around
   // its own 0.1 s average for rearm_s.
   const double ema_gain = std::min(1.0, dt / 0.1);
   const auto rearm_cycles = static_cast<std::size_t>(std::ceil(opt.rearm_s / dt - 1e-9));
-  std::vector<double> ema(n, 0.0);
-  std::vector<std::size_t> steady(n, 0);
+  return ReplayParams{t,      opt, threshold_bands(t), std::move(hold), use_hold, region,
+                      DebounceSettings{static_cast<std::uint8_t>(debounce_cycles)},
+                      dt,     std::exp(-dt / kStopDecayS), accel_baseline(dt), ema_gain, rearm_cycles};
+}
+
+ReplayState replay_state(std::size_t n) {
+  ReplayState s;
+  s.hold.resize(n);
+  s.detector.resize(n);
+  s.stop_extra.assign(n, 0.0);
+  s.ema.assign(n, 0.0);
+  s.steady.assign(n, 0);
+  const auto size = static_cast<Eigen::Index>(n);
+  s.q_now.resize(size);
+  s.contact_tau.resize(size);
+  s.contact_threshold.resize(size);
+  return s;
+}
+
+ReplayResult empty_result(const io::Recording& rec) {
+  const std::size_t n = rec.joints();
   ReplayResult r;
   r.t = rec.t;
   r.external_torque_max.assign(n, 0.0);
@@ -460,113 +505,140 @@ ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel&
   r.outside_dq.assign(n, 0);
   r.stop_widened.assign(n, 0);
   r.mu.assign(n, std::vector<double>(rec.samples()));
-  std::vector<JointDetectorState> st(n);
-  JointMask previous = 0;
-  double quiet_since = -1.0;
-  ReplayContact contact(model, gains, dt);
-  sim::JointVector q_now(static_cast<Eigen::Index>(n)), contact_tau(static_cast<Eigen::Index>(n)),
-      contact_threshold(static_cast<Eigen::Index>(n));
-  for (std::size_t k = 0; k < rec.samples(); ++k) {
-    JointMask mask = 0, by_band = 0;
-    r.held_samples += held[k] ? 1 : 0;
-    double stop_ratio = 0.0;  // s above
-    for (std::size_t j = 0; j < n && region && k >= accel_m; ++j) {
-      if (thresholds_in.ddq_max[j] > 0.0) {
-        stop_ratio = std::max(stop_ratio, accel_at(rec, j, k, accel_m, dt) / thresholds_in.ddq_max[j]);
-      }
+  return r;
+}
+
+/// s of the stop allowance at sample k: the arm's largest |ddq_i| / ddq_max_i (0 without the
+/// calibrated region, or before the acceleration baseline is filled).
+double stop_ratio_at(const ReplayParams& p, const io::Recording& rec, std::size_t k) {
+  double stop_ratio = 0.0;
+  for (std::size_t j = 0; j < rec.joints() && p.region && k >= p.accel_m; ++j) {
+    if (p.thresholds.ddq_max[j] > 0.0) {
+      stop_ratio = std::max(stop_ratio, accel_at(rec, j, k, p.accel_m, p.dt) / p.thresholds.ddq_max[j]);
     }
-    if (opt.stop_gate_s > 0.0 && stop_ratio > 1.0) gate_until = rec.t[k] + opt.stop_gate_s;
-    const bool gated = rec.t[k] < gate_until;
-    r.gated_samples += gated ? 1 : 0;
-    for (std::size_t j = 0; j < n; ++j) {
-      const double mu = -d[j][k];
-      const double w = rec.dq[j][k];
-      r.mu[j][k] = mu;
-      r.external_torque_max[j] = std::max(r.external_torque_max[j], std::fabs(mu));
-      JointThreshold<double> band = bands[j];
-      if (region) {
-        const double q = rec.q[j][k];
-        if (q < thresholds_in.q_min[j] || q > thresholds_in.q_max[j]) ++r.outside_q[j];
-        if (std::fabs(w) > thresholds_in.dq_max[j]) ++r.outside_dq[j];
-        stop_extra[j] *= stop_decay;
-        if (opt.stop_allowance && opt.stop_gate_s <= 0.0 && stop_ratio > 1.0) {
-          stop_extra[j] = std::max(stop_extra[j], thresholds_in.stop_gain[j] * thresholds_in.ddq_max[j] * stop_ratio);
-        }
-        if (stop_extra[j] > 0.01 * band.base) ++r.stop_widened[j];
-        // Faster than the calibration: the moving band grows in proportion to the speed
-        // ratio (the model's errors grow at least linearly with speed: viscous friction's
-        // error with w, the Coriolis terms' with w^2; linear is the cautious lower bound).
-        if (opt.stop_allowance && thresholds_in.dq_max[j] > 0.0 && std::fabs(w) > thresholds_in.dq_max[j]) {
-          band.base *= std::fabs(w) / thresholds_in.dq_max[j];
-        }
-        band.base += stop_extra[j];
-      }
-      if (gated) band.base += 1e12;  // nothing is over while the gate is open
-      const bool changed = use_hold && hold_change_step(hold[j], hold_state[j], held[k] && !gated, mu);
-      const double band_now = threshold_at(band, w);
-      if (band_now < std::fabs(mu)) by_band |= static_cast<JointMask>(1U << j);
-      // As in run_detection: a held joint's change since arrival is what the contact adds
-      // (its estimate there is mostly the friction it holds).
-      const auto i = static_cast<Eigen::Index>(j);
-      q_now(i) = rec.q[j][k];
-      contact_tau(i) = use_hold && hold_state[j].armed ? mu - hold_state[j].reference : mu;
-      contact_threshold(i) = use_hold && hold_state[j].armed ? std::min(band_now, hold[j].change_threshold) : band_now;
-      if (detector_step(band, DebounceSettings{static_cast<std::uint8_t>(debounce_cycles)}, st[j], mu, w, changed)) {
-        mask |= static_cast<JointMask>(1U << j);
-      }
-      ema[j] = k == 0 ? mu : ema[j] + ema_gain * (mu - ema[j]);
-      const double still_within = use_hold ? std::max(hold[j].change_threshold, 1e-9) : thresholds[j];
-      steady[j] = std::fabs(mu - ema[j]) <= still_within ? steady[j] + 1 : 0;
-    }
-    if (mask != 0 && previous == 0) {
-      ReplayEvent e;
-      e.t = rec.t[k];
-      e.by_hold = by_band == 0;
-      JointMask signature = mask;  // as in run_detection: joints above 30 % of their threshold
-      for (std::size_t j = 0; j < n; ++j) {
-        const bool part = use_hold && hold_state[j].armed
-                              ? hold_deviation(hold_state[j], r.mu[j][k]) > 0.6 * hold[j].change_threshold
-                              : std::fabs(r.mu[j][k]) > 0.3 * thresholds[j];
-        if (part) signature |= static_cast<JointMask>(1U << j);
-      }
-      const int isolated = isolate_link(signature);
-      e.link = rec.joint_ids[static_cast<std::size_t>(isolated - 1)];
-      contact.event(r.events.size(), e.t, isolated);
-      for (std::size_t j = 0; j < n; ++j) {
-        if ((mask & (1U << j)) != 0U) e.joints_over.push_back(rec.joint_ids[j]);
-      }
-      r.events.push_back(e);
-      std::fill(steady.begin(), steady.end(), std::size_t{0});  // re-arm only after steady from here
-    }
-    const bool held_rearm = use_hold && held[k];
-    if (mask != 0 && held_rearm) {
-      // Holding-aware: the push has ended when every estimate is steady again, at whatever
-      // level the static friction now holds, and no joint is over its band: new reference.
-      bool rearm = by_band == 0;
-      for (std::size_t j = 0; j < n; ++j) rearm = rearm && steady[j] >= rearm_cycles;
-      if (rearm) {
-        for (auto& s : st) reset_detector(s);
-        for (auto& h : hold_state) h = HoldChangeState<double>{};
-        mask = 0;
-        ++r.rearms;
-      }
-    }
-    // Re-arm once every joint is back under its threshold for 0.2 s (a new event can follow).
-    bool all_quiet = true;
-    for (std::size_t j = 0; j < n; ++j) all_quiet = all_quiet && std::fabs(r.mu[j][k]) < thresholds[j];
-    if (mask != 0 && all_quiet && !held_rearm) {
-      if (quiet_since < 0.0) quiet_since = rec.t[k];
-      if (rec.t[k] - quiet_since > 0.2) {
-        for (auto& s : st) reset_detector(s);
-        for (auto& h : hold_state) h = HoldChangeState<double>{};
-        mask = 0;
-        quiet_since = -1.0;
-      }
-    }
-    if (mask == 0 && previous != 0) contact.end();  // re-armed: the contact is over
-    previous = mask;
-    contact.add(rec.t[k], q_now, contact_tau, contact_threshold);
   }
+  return stop_ratio;
+}
+
+/// Joint j's band at sample k within the calibrated region's allowances: widened after a stop
+/// and beyond the calibrated speed; counts the samples outside the region.
+JointThreshold<double> band_in_region(const ReplayParams& p, ReplayState& s, const io::Recording& rec, std::size_t j,
+                                      std::size_t k, double stop_ratio, ReplayResult& r) {
+  const Thresholds& t = p.thresholds;
+  JointThreshold<double> band = p.bands[j];
+  const double w = rec.dq[j][k];
+  const double q = rec.q[j][k];
+  if (q < t.q_min[j] || q > t.q_max[j]) ++r.outside_q[j];
+  if (std::fabs(w) > t.dq_max[j]) ++r.outside_dq[j];
+  s.stop_extra[j] *= p.stop_decay;
+  if (p.opt.stop_allowance && p.opt.stop_gate_s <= 0.0 && stop_ratio > 1.0) {
+    s.stop_extra[j] = std::max(s.stop_extra[j], t.stop_gain[j] * t.ddq_max[j] * stop_ratio);
+  }
+  if (s.stop_extra[j] > 0.01 * band.base) ++r.stop_widened[j];
+  // Faster than the calibration: the moving band grows in proportion to the speed
+  // ratio (the model's errors grow at least linearly with speed: viscous friction's
+  // error with w, the Coriolis terms' with w^2; linear is the cautious lower bound).
+  if (p.opt.stop_allowance && t.dq_max[j] > 0.0 && std::fabs(w) > t.dq_max[j]) {
+    band.base *= std::fabs(w) / t.dq_max[j];
+  }
+  band.base += s.stop_extra[j];
+  return band;
+}
+
+/// Every joint's detector at sample k on the estimate `d` (its negative), with the holding
+/// flags `held`; fills the contact estimate's inputs and the re-arming's steadiness.
+SampleFlags detect_sample(const ReplayParams& p, ReplayState& s, const io::Recording& rec,
+                          const std::vector<std::vector<double>>& d, const std::vector<bool>& held, std::size_t k,
+                          double stop_ratio, ReplayResult& r) {
+  SampleFlags f;
+  if (p.opt.stop_gate_s > 0.0 && stop_ratio > 1.0) s.gate_until = rec.t[k] + p.opt.stop_gate_s;
+  const bool gated = rec.t[k] < s.gate_until;
+  r.gated_samples += gated ? 1 : 0;
+  for (std::size_t j = 0; j < rec.joints(); ++j) {
+    const double mu = -d[j][k];
+    const double w = rec.dq[j][k];
+    r.mu[j][k] = mu;
+    r.external_torque_max[j] = std::max(r.external_torque_max[j], std::fabs(mu));
+    JointThreshold<double> band = p.region ? band_in_region(p, s, rec, j, k, stop_ratio, r) : p.bands[j];
+    if (gated) band.base += 1e12;  // nothing is over while the gate is open
+    const bool changed = p.use_hold && hold_change_step(p.hold[j], s.hold[j], held[k] && !gated, mu);
+    const double band_now = threshold_at(band, w);
+    if (band_now < std::fabs(mu)) f.by_band |= static_cast<JointMask>(1U << j);
+    // As in run_detection: a held joint's change since arrival is what the contact adds
+    // (its estimate there is mostly the friction it holds).
+    const auto i = static_cast<Eigen::Index>(j);
+    s.q_now(i) = rec.q[j][k];
+    s.contact_tau(i) = p.use_hold && s.hold[j].armed ? mu - s.hold[j].reference : mu;
+    s.contact_threshold(i) = p.use_hold && s.hold[j].armed ? std::min(band_now, p.hold[j].change_threshold) : band_now;
+    if (detector_step(band, p.debounce, s.detector[j], mu, w, changed)) f.mask |= static_cast<JointMask>(1U << j);
+    s.ema[j] = k == 0 ? mu : s.ema[j] + p.ema_gain * (mu - s.ema[j]);
+    const double still_within = p.use_hold ? std::max(p.hold[j].change_threshold, 1e-9) : p.thresholds.threshold[j];
+    s.steady[j] = std::fabs(mu - s.ema[j]) <= still_within ? s.steady[j] + 1 : 0;
+  }
+  return f;
+}
+
+/// A new event at sample k (the detector's rising edge): its link isolated from the joints
+/// above 30 % of their threshold, as in run_detection.
+void open_event(const ReplayParams& p, ReplayState& s, const io::Recording& rec, std::size_t k, const SampleFlags& f,
+                ReplayContact& contact, ReplayResult& r) {
+  ReplayEvent e;
+  e.t = rec.t[k];
+  e.by_hold = f.by_band == 0;
+  JointMask signature = f.mask;
+  for (std::size_t j = 0; j < rec.joints(); ++j) {
+    const bool part = p.use_hold && s.hold[j].armed
+                          ? hold_deviation(s.hold[j], r.mu[j][k]) > 0.6 * p.hold[j].change_threshold
+                          : std::fabs(r.mu[j][k]) > 0.3 * p.thresholds.threshold[j];
+    if (part) signature |= static_cast<JointMask>(1U << j);
+  }
+  const int isolated = isolate_link(signature);
+  e.link = rec.joint_ids[static_cast<std::size_t>(isolated - 1)];
+  contact.event(r.events.size(), e.t, isolated);
+  for (std::size_t j = 0; j < rec.joints(); ++j) {
+    if ((f.mask & (1U << j)) != 0U) e.joints_over.push_back(rec.joint_ids[j]);
+  }
+  r.events.push_back(e);
+  std::fill(s.steady.begin(), s.steady.end(), std::size_t{0});  // re-arm only after steady from here
+}
+
+void reset_detectors(ReplayState& s) {
+  for (auto& d : s.detector) reset_detector(d);
+  for (auto& h : s.hold) h = HoldChangeState<double>{};
+}
+
+/// Re-arms the detectors once an event is over; returns the mask left (0 when re-armed).
+JointMask rearm(const ReplayParams& p, ReplayState& s, const io::Recording& rec, std::size_t k, bool held,
+                const SampleFlags& f, ReplayResult& r) {
+  JointMask mask = f.mask;
+  const bool held_rearm = p.use_hold && held;
+  if (mask != 0 && held_rearm) {
+    // Holding-aware: the push has ended when every estimate is steady again, at whatever
+    // level the static friction now holds, and no joint is over its band: new reference.
+    bool steady = f.by_band == 0;
+    for (std::size_t j = 0; j < rec.joints(); ++j) steady = steady && s.steady[j] >= p.rearm_cycles;
+    if (steady) {
+      reset_detectors(s);
+      mask = 0;
+      ++r.rearms;
+    }
+  }
+  // Re-arm once every joint is back under its threshold for 0.2 s (a new event can follow).
+  bool all_quiet = true;
+  for (std::size_t j = 0; j < rec.joints(); ++j) all_quiet = all_quiet && std::fabs(r.mu[j][k]) < p.thresholds.threshold[j];
+  if (mask != 0 && all_quiet && !held_rearm) {
+    if (s.quiet_since < 0.0) s.quiet_since = rec.t[k];
+    if (rec.t[k] - s.quiet_since > 0.2) {
+      reset_detectors(s);
+      mask = 0;
+      s.quiet_since = -1.0;
+    }
+  }
+  return mask;
+}
+
+/// Each event's contact estimate, once the replay is through.
+void attach_contacts(const ReplayContact& contact, ReplayResult& r) {
   for (std::size_t i = 0; i < r.events.size(); ++i) {
     if (const auto& o = contact.outcome(i)) {
       r.events[i].contact = o->estimate;
@@ -575,6 +647,32 @@ ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel&
       r.events[i].contact_t_peak = o->t_peak;
     }
   }
+}
+}  // namespace
+
+ReplayResult replay_recording(const io::Recording& rec, const robot::RobotModel& model,
+                              const std::vector<LuGreParams<double>>& friction, const Thresholds& thresholds_in,
+                              const ObserverGains& gains, const std::string& scalar, int debounce_cycles,
+                              const ReplayOptions& opt) {
+  const std::size_t n = rec.joints();
+  check_replay_inputs(n, friction, thresholds_in, opt);
+  const auto held = holding_flags(rec, opt);
+  const auto d = observer_disturbance(rec, model, gains, true, friction, scalar, held, opt.held_deadband_steps);
+  const double dt = sample_time(rec);
+  const ReplayParams p = replay_params(thresholds_in, opt, n, dt, debounce_cycles);
+  ReplayState s = replay_state(n);
+  ReplayResult r = empty_result(rec);
+  ReplayContact contact(model, gains, dt);
+  for (std::size_t k = 0; k < rec.samples(); ++k) {
+    r.held_samples += held[k] ? 1 : 0;
+    const SampleFlags f = detect_sample(p, s, rec, d, held, k, stop_ratio_at(p, rec, k), r);
+    if (f.mask != 0 && s.previous == 0) open_event(p, s, rec, k, f, contact, r);
+    const JointMask mask = rearm(p, s, rec, k, held[k], f, r);
+    if (mask == 0 && s.previous != 0) contact.end();  // re-armed: the contact is over
+    s.previous = mask;
+    contact.add(rec.t[k], s.q_now, s.contact_tau, s.contact_threshold);
+  }
+  attach_contacts(contact, r);
   return r;
 }
 

@@ -12,6 +12,7 @@
 
 #include "eval/pipeline.hpp"
 #include "identification/identify.hpp"
+#include "io/loaded_recording.hpp"
 #include "io/recording.hpp"
 #include "io/regularize.hpp"
 #include "jointguard/observer/momentum_observer.hpp"
@@ -19,13 +20,8 @@
 
 namespace jg::workflow {
 
-/// A recording read and regularized by time stamp (io/regularize.hpp).
-struct LoadedRecording {
-  std::string path;
-  io::Regularized data;  ///< uniform segments and what was done
-  io::TorqueKind torque = io::TorqueKind::tau_m;
-  [[nodiscard]] const io::Recording& longest() const { return data.segments[data.report.longest()]; }
-};
+/// A recording read and regularized by time stamp (io/loaded_recording.hpp).
+using io::LoadedRecording;
 /// Reads and regularizes; prints nothing (the resampling line: data.report.summary()).
 LoadedRecording load_recording(const std::string& path, const io::ReadOptions& read, const io::RegularizeOptions& regularize);
 
@@ -34,16 +30,8 @@ nlohmann::json resampling_json(const io::RegularizeReport& r);
 /// The "resampling" and "torque" fields every workflow JSON carries.
 nlohmann::json input_json(const LoadedRecording& in);
 
-/// Runs `work`; an std::invalid_argument it throws (the data cannot give what is asked:
-/// too short, never moving, ...) is re-thrown with the recording's file name in front.
-template <class Work>
-auto about_recording(const std::string& path, Work&& work) -> decltype(work()) {
-  try {
-    return work();
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(path + ": " + e.what());
-  }
-}
+/// The recording's file name in front of an std::invalid_argument (io/loaded_recording.hpp).
+using io::about_recording;
 
 // ---- identify ------------------------------------------------------------------------
 struct IdentifySettings {
