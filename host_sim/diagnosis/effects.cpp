@@ -41,6 +41,20 @@ std::vector<double> lugre_change(const JointSignals& s, const std::function<void
   return d;
 }
 
+/// The model's torque without a recording's noise, for the saturating torque constant's
+/// columns: with a rigid-body model and the nominal friction, their prediction over the real
+/// motion (what signals_from_model calls the model's torque); otherwise the model's torque as
+/// given. A simulated recording's torque carries that recording's own noise (its current
+/// noise; and the correction for the two runs' motions evaluates the friction model on the
+/// simulated run's velocity too); in tau |tau| the noise is multiplied by the torque itself,
+/// and on the waist (10 N·m of mostly friction) the noisy column lost to a viscous change.
+std::vector<double> noise_free_model_torque(const JointSignals& s) {
+  if (s.load.size() != s.size() || !s.friction) return s.tau_model;
+  auto tau = ident::lugre_predict(*s.friction, s.dq, s.dt);
+  for (std::size_t k = 0; k < tau.size(); ++k) tau[k] += s.load[k];
+  return tau;
+}
+
 JointSignals at_rest_at_start(const JointSignals& s) {
   // Long enough for every filter window (slow_derivative's +/-30 ms) to see a constant.
   constexpr std::size_t kRest = 256;
@@ -212,13 +226,16 @@ Candidate raw_candidate(robot::Effect effect, const std::map<std::string, double
     // A scale error of current to torque scales the whole modelled torque. The model's
     // torque, not the measured one, is the regressor: the prediction must never use the
     // signal it predicts.
-    col = s.tau_model;
-    if (setting.count("saturation") != 0U) {
+    // The plain scale keeps the model's torque as given: its noise enters linearly.
+    const bool saturating = setting.count("saturation") != 0U;
+    const std::vector<double> tau_model = saturating ? noise_free_model_torque(s) : s.tau_model;
+    col = tau_model;
+    if (saturating) {
       // A constant that falls with the current (magnetic saturation): K (1 + e - c' |i|).
       // Measured over true torque 1 + e + c |tau|, c per N·m: the second column.
       c.nonlinear_params = 0;
       auto sat = column(n);
-      for (std::size_t k = 0; k < n; ++k) sat[k] = s.tau_model[k] * std::fabs(s.tau_model[k]);
+      for (std::size_t k = 0; k < n; ++k) sat[k] = tau_model[k] * std::fabs(tau_model[k]);
       c.columns = {std::move(col), std::move(sat)};
       return c;
     }

@@ -65,6 +65,8 @@ int main(int argc, char** argv) {
     for (const auto& f : o.arm.findings) found += "arm:" + f.effect + " ";
     if (std::getenv("JG_DIAG_TRACE")) {
       for (const auto& note : o.arm.notes) std::fprintf(stderr, "  arm note: %s\n", note.c_str());
+      for (const auto& j : o.joints)
+        for (const auto& note : j.notes) std::fprintf(stderr, "  joint %d note: %s\n", j.joint, note.c_str());
       for (const auto& a : o.resim_applied) std::fprintf(stderr, "  model-out: %s\n", a.c_str());
       for (const auto& a : o.resim_not_modelled) std::fprintf(stderr, "  model-out, not modelled: %s\n", a.c_str());
     }
