@@ -8,7 +8,6 @@
 #include "arm_identification/rigid_body_identification.hpp"
 #include "cli/common.hpp"
 #include "diagnosis/model_out.hpp"
-#include "diagnosis/pairing.hpp"
 #include "dynamics/uniform_grid.hpp"
 #include "io/atomic_write.hpp"
 #include "io/recording.hpp"
@@ -29,26 +28,19 @@ nlohmann::json link_json(const dyn::LinkParams& p) {
           {"inertia_origin_kg_m2", {{"xx", p(4)}, {"yy", p(5)}, {"zz", p(6)}, {"xy", p(7)}, {"xz", p(8)}, {"yz", p(9)}}}};
 }
 
-/// The identification's options from the command line's.
 /// The robot file's per-joint plant_effects (a friction change, an offset, a delay) predicted
 /// on the recording's motion: the links and the friction are then identified on top of them,
 /// and the file written keeps them as read, once (dyn::RigidBodyIdOptions::known_torque).
 std::vector<std::vector<double>> per_joint_effects_torque(const io::Recording& rec, const robot::RobotModel& start) {
-  const sim::ArmDynamics arm = start.dynamics();
-  diag::ModelContext ctx;
-  ctx.arm = &arm;
-  for (const auto& jd : start.joints) {
-    ctx.torque_constant.push_back(jd.link.torque_constant);
-    ctx.rotor_inertia.push_back(jd.link.rotor_inertia);
-  }
   std::vector<std::string> notes;
-  auto known = diag::joint_effects_torque(start.plant_effects, diag::signals_from_model(rec, ctx), &notes);
+  auto known = diag::known_joint_torque(start, start, rec, &notes);
   for (const auto& n : notes) std::printf("note: %s (not in the fit's prediction)\n", n.c_str());
   std::printf("%zu per-joint plant_effects of the robot file are in the fit's prediction: the links and friction are identified on top of them\n",
               start.plant_effects.size());
   return known;
 }
 
+/// The identification's options from the command line's.
 dyn::RigidBodyIdOptions id_options(const io::Recording& rec, const RigidBodyCliOptions& o) {
   dyn::RigidBodyIdOptions opt;
   // The torque kind was chosen when the recording was read (--torque-kind).

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "diagnosis/pairing.hpp"
 #include "dynamics/sensitivity.hpp"
 
 namespace jg::diag {
@@ -224,6 +225,16 @@ std::vector<std::vector<double>> joint_effects_torque(const std::vector<robot::P
     }
   }
   return out;
+}
+
+std::vector<std::vector<double>> known_joint_torque(const robot::RobotModel& model, const robot::RobotModel& nominal,
+                                                    const io::Recording& rec, std::vector<std::string>* notes) {
+  const sim::ArmDynamics arm = model.dynamics();
+  ModelContext ctx;
+  ctx.arm = &arm;
+  for (const auto& jd : model.joints) ctx.torque_constant.push_back(jd.link.torque_constant);
+  for (const auto& jd : nominal.joints) ctx.rotor_inertia.push_back(jd.link.rotor_inertia);
+  return joint_effects_torque(model.plant_effects, signals_from_model(rec, ctx), notes);
 }
 
 std::vector<std::string> add_joint_effects(const std::vector<robot::PlantEffect>& effects, std::vector<JointSignals>& signals) {

@@ -9,6 +9,7 @@
 
 #include "diagnosis/arm.hpp"
 #include "diagnosis/diagnose.hpp"
+#include "io/recording.hpp"
 #include "robot/plant_effects.hpp"
 #include "robot/robot_model.hpp"
 #include "sim/apply_effects.hpp"
@@ -50,6 +51,12 @@ std::vector<robot::PlantEffect> merge_plant_effects(std::vector<robot::PlantEffe
 /// a joint has none); effects that cannot be predicted on these signals leave zeros and a note.
 std::vector<std::vector<double>> joint_effects_torque(const std::vector<robot::PlantEffect>& effects,
                                                       const std::vector<JointSignals>& signals, std::vector<std::string>* notes);
+
+/// `model`'s own per-joint plant_effects predicted on `rec`'s motion ([joint][sample]): what a
+/// fit on top of them takes off the measured torque first (dyn::RigidBodyIdOptions::
+/// known_torque). Rotor inertias from `nominal`; notes as joint_effects_torque's.
+std::vector<std::vector<double>> known_joint_torque(const robot::RobotModel& model, const robot::RobotModel& nominal,
+                                                    const io::Recording& rec, std::vector<std::string>* notes);
 
 /// The per-joint plant_effects' torque added to each joint's predicted torque (and taken off
 /// its residual), and the gear effects' deflection (joint_elasticity, backlash found in the

@@ -192,9 +192,7 @@ void refit_rigid_body(const DiagnosisInputs& in, RunState& st, DiagnosisResult& 
     // The file's per-joint effects are part of the model (the loop's second round): the
     // friction and links are identified on top of them, as the diagnosis will predict with
     // them, so the baseline does not take them a second time.
-    const sim::ArmDynamics arm = st.used.dynamics();
-    const ModelContext ctx = model_context(arm, st.used, in.nominal, {});
-    ro.known_torque = joint_effects_torque(st.used.plant_effects, signals_from_model(real.longest(), ctx), nullptr);
+    ro.known_torque = known_joint_torque(st.used, in.nominal, real.longest(), nullptr);
   }
   try {
     out.rigid_body = dyn::identify_rigid_body(real.longest(), st.used, ro);
