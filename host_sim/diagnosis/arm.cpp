@@ -388,26 +388,30 @@ void fit_subset(const ArmProblem& p, Subset& sub) {
 
 VectorXd heldout_error(const ArmProblem& p, const Subset& sub) { return p.y_test - p.design(sub.cs, p.test) * sub.b; }
 
+/// Adds to `out` every subset that extends `base` by one instance of each of up to `left`
+/// further groups after `from` (at most one instance per group), each fitted.
+void extend_subsets(const std::vector<std::vector<ArmCandidate>>& groups, const Subset& base, std::size_t from, int left,
+                    const ArmProblem& p, std::vector<Subset>& out) {
+  if (left <= 0) return;
+  for (std::size_t g = from; g < groups.size(); ++g) {
+    for (const auto& c : groups[g]) {
+      Subset more = base;
+      more.cs.push_back(&c);
+      more.groups.push_back(g);
+      fit_subset(p, more);
+      out.push_back(more);
+      extend_subsets(groups, more, g + 1, left - 1, p, out);
+    }
+  }
+}
+
 /// Every subset of at most max_causes causes, best BIC first: a greedy choice would let one
 /// cause imitating two (a payload at the next joint's axis for a link's mass) lock out the
 /// right pair. The subsets point into `groups`.
 std::vector<Subset> scored_subsets(const std::vector<std::vector<ArmCandidate>>& groups, int max_causes, const ArmProblem& p) {
   std::vector<Subset> subsets;
-  for (std::size_t g = 0; g < groups.size(); ++g) {
-    for (const auto& c : groups[g]) {
-      Subset one{{&c}, {g}, 0.0, {}};
-      fit_subset(p, one);
-      subsets.push_back(one);
-      for (std::size_t g2 = g + 1; g2 < groups.size() && max_causes >= 2; ++g2) {
-        for (const auto& c2 : groups[g2]) {
-          Subset two{{&c, &c2}, {g, g2}, 0.0, {}};
-          fit_subset(p, two);
-          subsets.push_back(two);
-        }
-      }
-    }
-  }
-  std::sort(subsets.begin(), subsets.end(), [](const Subset& a, const Subset& b) { return a.bic < b.bic; });
+  extend_subsets(groups, Subset{}, 0, max_causes, p, subsets);
+  std::stable_sort(subsets.begin(), subsets.end(), [](const Subset& a, const Subset& b) { return a.bic < b.bic; });
   return subsets;
 }
 

@@ -4,35 +4,39 @@
 #include <cstdio>
 
 #include "io/yaml_fields.hpp"
+#include "robot/effect_catalogue.hpp"
 
 namespace jg::inject {
 namespace {
 
-/// What an entry of an effect may hold. Exact coefficient counts: predict_effects needs as
-/// many as the effect has columns, and an extra number is a typo, not something to ignore.
+/// What inject adds to the catalogue's row of an effect: the channel of the recording it
+/// writes into, the coefficients its richer shape may add to the catalogue's count, and the
+/// setting keys it takes. The scope (arm or joint) and the coefficient count are the
+/// catalogue's (robot/effect_catalogue.hpp): exact counts, as predict_effects needs as many as
+/// the effect has columns, and an extra number is a typo, not something to ignore.
 struct Rule {
   robot::Effect effect;
   Channel channel;
-  std::size_t min_coefficients, max_coefficients;
+  std::size_t optional_coefficients;
   std::vector<const char*> settings;  ///< allowed setting keys (a typo such as picked_up_at would act silently)
 };
 
 const std::vector<Rule>& rules() {
   static const std::vector<Rule> r = {
-      {robot::Effect::payload, Channel::arm, 4, 4, {"link", "picked_up_at_s"}},
-      {robot::Effect::link_inertial_error, Channel::arm, 4, 4, {"link"}},
-      {robot::Effect::coulomb, Channel::joint, 1, 1, {"model_curve"}},
-      {robot::Effect::viscous, Channel::joint, 1, 1, {}},
-      {robot::Effect::stribeck, Channel::joint, 1, 1, {"w_s", "model_curve"}},
-      {robot::Effect::presliding, Channel::joint, 1, 1, {"displacement_rad", "sigma0_ratio"}},
-      {robot::Effect::asymmetric_friction, Channel::joint, 1, 2, {}},  // level, and optionally the viscous slope
-      {robot::Effect::position_ripple, Channel::joint, 2, 2, {"periods_per_rev"}},
-      {robot::Effect::temperature_drift, Channel::joint, 1, 1, {"time_constant_s"}},
-      {robot::Effect::load_dependent_friction, Channel::joint, 1, 1, {}},
-      {robot::Effect::inertia_error, Channel::joint, 1, 1, {}},
-      {robot::Effect::torque_constant, Channel::scale, 1, 1, {}},
-      {robot::Effect::current_offset, Channel::offset, 1, 1, {}},
-      {robot::Effect::time_delay, Channel::delay, 1, 1, {}},
+      {robot::Effect::payload, Channel::arm, 0, {"link", "picked_up_at_s"}},
+      {robot::Effect::link_inertial_error, Channel::arm, 0, {"link"}},
+      {robot::Effect::coulomb, Channel::joint, 0, {"model_curve"}},
+      {robot::Effect::viscous, Channel::joint, 0, {}},
+      {robot::Effect::stribeck, Channel::joint, 0, {"w_s", "model_curve"}},
+      {robot::Effect::presliding, Channel::joint, 0, {"displacement_rad", "sigma0_ratio"}},
+      {robot::Effect::asymmetric_friction, Channel::joint, 1, {}},  // level, and optionally the viscous slope
+      {robot::Effect::position_ripple, Channel::joint, 0, {"periods_per_rev"}},
+      {robot::Effect::temperature_drift, Channel::joint, 0, {"time_constant_s"}},
+      {robot::Effect::load_dependent_friction, Channel::joint, 0, {}},
+      {robot::Effect::inertia_error, Channel::joint, 0, {}},
+      {robot::Effect::torque_constant, Channel::scale, 0, {}},
+      {robot::Effect::current_offset, Channel::offset, 0, {}},
+      {robot::Effect::time_delay, Channel::delay, 0, {}},
   };
   return r;
 }
@@ -97,21 +101,22 @@ robot::EffectProblem arm_problem(const robot::PlantEffect& e, const InjectTarget
 }  // namespace
 
 robot::EffectProblem injection_problem(const robot::PlantEffect& e, const InjectTarget& t, Channel* channel) {
-  if (e.effect == robot::Effect::joint_elasticity || e.effect == robot::Effect::backlash) {
+  const robot::EffectInfo& info = robot::effect_info(e.effect);
+  if (info.channel == robot::EffectChannel::deflection) {
     return {"effect", "'" + e.effect + "' changes the gear's deflection, i.e. the motion itself (the motor-side dq against "
                       "the link-side q), which the recording fixes: a torque column cannot carry it"};
   }
   const Rule* r = rule_of(e.effect);
   if (r == nullptr) return {"effect", "'" + e.effect + "' is not an effect inject knows"};
-  if ((r->channel == Channel::arm) != (e.joint == 0)) {
+  if ((info.scope == robot::EffectScope::arm) != (e.joint == 0)) {
     return {"joint", "'" + e.effect + "' belongs to " + (e.joint == 0 ? "a joint (1..n)" : "the arm (joint 0)")};
   }
   if (e.joint < 0 || static_cast<std::size_t>(e.joint) > t.joints) {
     return {"joint", "joint " + std::to_string(e.joint) + " is outside the arm (1.." + std::to_string(t.joints) + ")"};
   }
-  if (e.coefficients.size() < r->min_coefficients || e.coefficients.size() > r->max_coefficients) {
-    return {"coefficients", "'" + e.effect + "' takes " + std::to_string(r->min_coefficients) +
-                                (r->max_coefficients > r->min_coefficients ? " or " + std::to_string(r->max_coefficients) : "") +
+  const std::size_t least = info.coefficients, most = info.coefficients + r->optional_coefficients;
+  if (e.coefficients.size() < least || e.coefficients.size() > most) {
+    return {"coefficients", "'" + e.effect + "' takes " + std::to_string(least) + (most > least ? " or " + std::to_string(most) : "") +
                                 " coefficient(s), got " + std::to_string(e.coefficients.size())};
   }
   if (auto p = setting_problem(e, *r); !p.field.empty()) return p;

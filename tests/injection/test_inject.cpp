@@ -13,6 +13,7 @@
 #include "injection/inject.hpp"
 #include "io/regularize.hpp"
 #include "io/sha256.hpp"
+#include "robot/effect_catalogue.hpp"
 #include "robot/robot_model.hpp"
 
 namespace {
@@ -115,6 +116,23 @@ TEST(InjectEffects, WhatATorqueColumnCannotCarry) {
   EXPECT_EQ(field({jg::robot::Effect::inertia_error, 1, {}, {0.01}, {}}, sensor), "effect");
   EXPECT_EQ(field({jg::robot::Effect::time_delay, 1, {}, {-0.002}, {}}, sensor), "");
   EXPECT_EQ(field({jg::robot::Effect::none, 1, {}, {}, {}}, motor), "effect");
+}
+
+/// Inject takes each effect's scope and coefficient count from the catalogue: every effect
+/// a torque column can carry (not the gear's deflection, not "none") is known to inject, at
+/// its scope's joint, with the catalogue's count and setting; one coefficient fewer is refused.
+TEST(InjectEffects, EveryTorqueEffectOfTheCatalogue) {
+  jg::inject::InjectTarget motor{3, jg::io::TorqueKind::tau_m, false, {4.0, 3.5, 2.0}};
+  for (const auto& row : jg::robot::effect_catalogue()) {
+    if (row.channel == jg::robot::EffectChannel::deflection || row.channel == jg::robot::EffectChannel::none) continue;
+    PlantEffect e{row.effect, row.scope == jg::robot::EffectScope::arm ? 0 : 2, {}, std::vector<double>(row.coefficients, 0.1), {}};
+    if (row.effect == jg::robot::Effect::payload) e.setting["link"] = 3;
+    if (!row.setting.empty()) e.setting[std::string(row.setting)] = 2.0;
+    SCOPED_TRACE(row.name);
+    EXPECT_EQ(jg::inject::injection_problem(e, motor).field, "");
+    e.coefficients.pop_back();
+    EXPECT_EQ(jg::inject::injection_problem(e, motor).field, "coefficients");
+  }
 }
 
 /// A 3-joint recording of ref3 (2 s at 1 kHz): joints 1 and 2 swing, tau_m1 = sin(pi t).
