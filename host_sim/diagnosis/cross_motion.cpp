@@ -25,12 +25,6 @@ JointSignals sub_signals(const JointSignals& s, std::size_t b, std::size_t e) {
   return out;
 }
 
-double rms(const std::vector<double>& v) {
-  double acc = 0.0;
-  for (const double x : v) acc += x * x;
-  return v.empty() ? 0.0 : std::sqrt(acc / static_cast<double>(v.size()));
-}
-
 std::vector<double> minus(std::vector<double> a, const std::vector<double>& b) {
   for (std::size_t k = 0; k < a.size() && k < b.size(); ++k) a[k] -= b[k];
   return a;

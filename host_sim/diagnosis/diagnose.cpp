@@ -202,7 +202,7 @@ std::vector<DeflectionGroup> deflection_groups(const std::vector<double>& torque
   for (const double band : {0.01, 0.03, 0.1}) {  // width of the sign change, share of the torque RMS
     if (!reverses) break;
     std::vector<double> col(n);
-    for (std::size_t k = 0; k < n; ++k) col[k] = std::tanh(torque[k] / (band * tau_rms));
+    for (std::size_t k = 0; k < n; ++k) col[k] = backlash_shape(torque[k], band, tau_rms);
     groups[1].instances.push_back({band, std::move(col)});
   }
   return groups;
@@ -334,13 +334,11 @@ void deflection_findings(const JointSignals& s, const DiagnoseOptions& o, const 
 void deflection_channel(const JointSignals& s, const Split& split, const DiagnoseOptions& o, JointDiagnosis& d) {
   const std::size_t n = s.size();
   if (s.deflection.size() != n) return;
-  const std::vector<double>& torque = s.load.size() == n ? s.load : s.tau_real;
+  const std::vector<double>& torque = gear_torque(s);
   const double span = std::max(s.t.back() - s.t.front(), 1e-9);
   std::vector<double> ones(n, 1.0), trend(n);
   for (std::size_t k = 0; k < n; ++k) trend[k] = (s.t[k] - s.t.front()) / span;
-  double tau_ms = 0.0;
-  for (const double v : torque) tau_ms += v * v;
-  const double tau_rms = std::sqrt(tau_ms / static_cast<double>(n));
+  const double tau_rms = diag::rms(torque);
   if (!(tau_rms > 0.0)) return;
   const std::vector<DeflectionGroup> groups = deflection_groups(torque, tau_rms);
   const double noise = deflection_noise(s.deflection);

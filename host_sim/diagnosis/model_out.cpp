@@ -176,17 +176,21 @@ double param_or(const robot::PlantEffect& e, const char* name, double fallback) 
   return it == e.params.end() ? fallback : it->second;
 }
 
-/// A gear effect's deflection (the deflection channel's own shapes, diagnose.cpp) taken off
+/// A gear effect in the deflection channel (no torque coefficients of its own): joint
+/// elasticity, and backlash as the deflection's jump.
+bool in_deflection_channel(const robot::PlantEffect& e) {
+  return e.effect == robot::Effect::joint_elasticity || (e.effect == robot::Effect::backlash && e.coefficients.empty());
+}
+
+/// A gear effect's deflection (the deflection channel's own shapes, signals.hpp) taken off
 /// the joint's measured deflection: an elastic gear deflects by the gear torque over its
 /// stiffness; backlash jumps by its gap where that torque changes sign. Without this, the
 /// file's gear would be found again in every round of the loop.
 void remove_gear_deflection(const robot::PlantEffect& e, JointSignals& s, std::vector<std::string>& notes) {
   const std::size_t n = s.size();
   if (s.deflection.size() != n || n == 0U) return;
-  const std::vector<double>& torque = s.load.size() == n ? s.load : s.tau_real;
-  double tau_ms = 0.0;
-  for (const double v : torque) tau_ms += v * v;
-  const double tau_rms = std::sqrt(tau_ms / static_cast<double>(n));
+  const std::vector<double>& torque = gear_torque(s);
+  const double tau_rms = rms(torque);
   const double stiffness = param_or(e, "stiffness_nm_per_rad", 0.0);
   const double gap = param_or(e, "gap_rad", 0.0), share = param_or(e, "transition_share_of_torque_rms", 0.0);
   const std::string joint = "joint " + std::to_string(s.joint) + ": ";
@@ -201,7 +205,7 @@ void remove_gear_deflection(const robot::PlantEffect& e, JointSignals& s, std::v
       notes.push_back(joint + "backlash without gap_rad and transition_share_of_torque_rms: not in the deflection's prediction");
       return;
     }
-    for (std::size_t k = 0; k < n; ++k) s.deflection[k] -= 0.5 * gap * std::tanh(torque[k] / (share * tau_rms));
+    for (std::size_t k = 0; k < n; ++k) s.deflection[k] -= 0.5 * gap * backlash_shape(torque[k], share, tau_rms);
   }
 }
 }  // namespace
@@ -213,8 +217,7 @@ std::vector<std::vector<double>> joint_effects_torque(const std::vector<robot::P
     out.emplace_back(s.size(), 0.0);
     std::vector<FittedEffect> model;
     for (const auto& e : effects) {
-      // Gear effects live in the deflection channel, with no torque coefficients.
-      if (e.joint != s.joint || e.effect == robot::Effect::joint_elasticity || (e.effect == robot::Effect::backlash && e.coefficients.empty())) continue;
+      if (e.joint != s.joint || in_deflection_channel(e)) continue;
       model.push_back({e.effect, e.setting, e.coefficients});
     }
     if (model.empty()) continue;
@@ -243,8 +246,7 @@ std::vector<std::string> add_joint_effects(const std::vector<robot::PlantEffect>
   for (std::size_t j = 0; j < signals.size(); ++j) {
     auto& s = signals[j];
     for (const auto& e : effects) {
-      const bool gear_deflection = e.effect == robot::Effect::joint_elasticity || (e.effect == robot::Effect::backlash && e.coefficients.empty());
-      if (e.joint == s.joint && gear_deflection) remove_gear_deflection(e, s, notes);
+      if (e.joint == s.joint && in_deflection_channel(e)) remove_gear_deflection(e, s, notes);
     }
     for (std::size_t k = 0; k < s.size(); ++k) {
       s.tau_model[k] += extra[j][k];

@@ -41,4 +41,14 @@ double noise_level(const std::vector<double>& x) {
   return 1.4826 * *mid / std::sqrt(6.0);
 }
 
+double rms(const std::vector<double>& x) {
+  double acc = 0.0;
+  for (const double v : x) acc += v * v;
+  return x.empty() ? 0.0 : std::sqrt(acc / static_cast<double>(x.size()));
+}
+
+const std::vector<double>& gear_torque(const JointSignals& s) { return s.load.size() == s.size() ? s.load : s.tau_real; }
+
+double backlash_shape(double gear_torque_nm, double share, double tau_rms) { return std::tanh(gear_torque_nm / (share * tau_rms)); }
+
 }  // namespace jg::diag

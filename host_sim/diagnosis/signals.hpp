@@ -55,5 +55,17 @@ std::vector<double> derivative(const std::vector<double>& x, double dt, double h
 /// Noise level of a signal from itself: 1.4826 MAD of second differences / sqrt(6), which
 /// ignores smooth structure and isolated jumps.
 double noise_level(const std::vector<double>& x);
+/// Root mean square of x (0 when empty).
+double rms(const std::vector<double>& x);
+
+/// The gear-deflection channel's shapes, one definition for the diagnosis that fits them
+/// (diagnose.cpp) and the prediction that takes a file's gear effects off the measured
+/// deflection (model_out.cpp). The torque the gear transmits: the model's rigid-body load
+/// when known, else the measured torque [N·m].
+const std::vector<double>& gear_torque(const JointSignals& s);
+/// Backlash's deflection per half gap: a jump from -1 to +1 where the gear torque changes
+/// sign, smoothed over `share` of the torque's RMS `tau_rms` [N·m] (> 0). An elastic gear's
+/// deflection is the gear torque itself over the stiffness.
+double backlash_shape(double gear_torque_nm, double share, double tau_rms);
 
 }  // namespace jg::diag
