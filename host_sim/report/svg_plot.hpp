@@ -49,6 +49,11 @@ struct Plot {
 /// stderr: the figures in the tables stay right, only the picture is missing.
 std::string render_svg(const Plot& plot);
 
+/// The page script that makes render_svg's plots readable (once per HTML page, before
+/// </body>): hovering a plot shows the pointer's x and y and the nearest trace's value;
+/// dragging across a frame zooms its x range, a double-click shows the whole range again.
+/// Inline and self-contained (plot_script.cpp), so the page stays one offline file.
+std::string plot_script();
 /// Escapes text for HTML/SVG.
 std::string escape(const std::string& s);
 
