@@ -7,7 +7,7 @@ namespace jg::report {
 namespace {
 constexpr const char* kPlotScript = R"JS(
 // Hover readout and x zoom for the page's gnuplot plots (issue 29), offline: no library.
-// Each <svg class="plot"> carries, from svg_plot.cpp, data-frame (the frame's left top right
+// Each svg element of class "plot" carries, from svg_plot.cpp, data-frame (the frame's left top right
 // bottom in px), data-range (x and y range drawn) and data-x-label / data-y-label. The
 // traces stay gnuplot's paths: a zoom rewrites the x of their points inside the frame and
 // clips them to the frame; y is not zoomed, so gnuplot's y axis stays right. While zoomed,
