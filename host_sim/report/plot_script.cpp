@@ -137,9 +137,11 @@ constexpr const char* kPlotScript = R"JS(
     if (n) lines.push(`${n.label} = ${fmt(n.v, ys)}`);
     lines.push(P.zoomed ? 'drag: zoom in x, double-click: whole range' : 'drag across: zoom in x');
     readout.textContent = lines.join('\n');
-    readout.style.left = (e.clientX + 14) + 'px';
-    readout.style.top = (e.clientY + 14) + 'px';
     readout.style.display = 'block';
+    // Beside the pointer, on its left near the window's right edge so that it stays in view.
+    const w = readout.offsetWidth;
+    readout.style.left = (e.clientX + 14 + w > window.innerWidth ? e.clientX - 14 - w : e.clientX + 14) + 'px';
+    readout.style.top = (e.clientY + 14) + 'px';
     P.cross.setAttribute('x1', px); P.cross.setAttribute('x2', px);
     P.cross.style.visibility = 'visible';
     P.dot.style.visibility = n ? 'visible' : 'hidden';
