@@ -7,7 +7,8 @@
 //    the axes give at the pointer (within 1 % of the axis span);
 //  - zoom: a drag across 30 %..60 % of the frame's width leaves x tick labels that say the
 //    x range shown is what was under 30 %..60 % before, all on one straight scale (no stale
-//    label left), and the hover reads the new scale;
+//    label left), every line reaching into the frame and out of it is clipped to the frame,
+//    and the hover reads the new scale;
 //  - reset: a double-click brings back the first range and every line as it was drawn.
 // Writes "PLOT-INTERACTION: ok ..." or "PLOT-INTERACTION: FAIL" and one line per fault into a
 // PRE element, id plot-interaction-verdict.
@@ -58,6 +59,21 @@
     if (!r || r.getClientRects().length === 0) return null;
     return Array.from(r.textContent.matchAll(/=\s*([-\u2212]?[\d.]+(?:[eE][-+]?\d+)?)/g)).map((m) => parseFloat(m[1].replace('\u2212', '-')));
   }
+  // Lines that reach into the frame and out of it (the zoomed traces), each of which must be
+  // clipped (clip-path on it or a parent) to a region inside the frame; their count.
+  function unclipped(svg, F) {
+    let n = 0;
+    for (const p of svg.querySelectorAll('path')) {
+      if (p.closest('defs, clipPath')) continue;
+      const b = p.getBBox(), m = p.getCTM(), l = b.x + m.e, t = b.y + m.f, r = l + b.width, bt = t + b.height;
+      const meets = l < F.r && r > F.l && t < F.b && bt > F.t, inside = l >= F.l - 1.5 && r <= F.r + 1.5 && t >= F.t - 1.5 && bt <= F.b + 1.5;
+      if (!meets || inside) continue;
+      const holder = p.closest('[clip-path]'), id = holder && (holder.getAttribute('clip-path').match(/#([^)"']+)/) || [])[1];
+      const shape = id && svg.querySelector(`clipPath[id="${id}"] > *`), c = shape && shape.getBBox();  // its shape
+      if (!c || c.x < F.l - 1.5 || c.x + c.width > F.r + 1.5 || c.y < F.t - 1.5 || c.y + c.height > F.b + 1.5) ++n;
+    }
+    return n;
+  }
   const near = (a, b, span, tol) => Math.abs(a - b) <= tol * Math.abs(span);
   const lines = (svg) => Array.from(svg.querySelectorAll('path')).map((p) => p.getAttribute('d')).join('|');
 
@@ -82,6 +98,8 @@
       return;
     }
     if (lines(svg) === before) faults.push(`${name}: zoomed, but no line was redrawn`);
+    const loose = unclipped(svg, F);
+    if (loose) faults.push(`${name}: zoomed, ${loose} lines run out of the frame unclipped`);
     checkHover(svg, name, F, X1, Y, 'zoomed');
     fire(svg, 'dblclick', F.l + 0.5 * W, py);
     const X2 = axis(svg, F, 'x');
