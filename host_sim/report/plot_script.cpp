@@ -14,7 +14,8 @@ constexpr const char* kPlotScript = R"JS(
 // gnuplot's x ticks (which would lie) are hidden and ticks for the shown range drawn instead.
 // Hover: the pointer's x and y in the axes' units and the value of the trace nearest to it,
 // in one floating element (id jg-plot-readout). Drag across the frame: zoom to that x
-// range; double-click: back to the whole range. The svg's data-view holds the x range shown.
+// range; Shift + wheel: zoom in or out about the pointer (the plain wheel stays the page's
+// scrolling); double-click: back to the whole range. The svg's data-view holds the x range shown.
 (function () {
   'use strict';
   const NS = 'http://www.w3.org/2000/svg';
@@ -135,7 +136,7 @@ constexpr const char* kPlotScript = R"JS(
     const n = nearest(P, x, y);
     const lines = [`${P.svg.dataset.xLabel || 'x'} = ${fmt(x, xs)}`, `${P.svg.dataset.yLabel || 'y'} = ${fmt(y, ys)}`];
     if (n) lines.push(`${n.label} = ${fmt(n.v, ys)}`);
-    lines.push(P.zoomed ? 'drag: zoom in x, double-click: whole range' : 'drag across: zoom in x');
+    lines.push(P.zoomed ? 'drag or Shift+wheel: zoom, double-click: whole range' : 'drag across or Shift+wheel: zoom in x');
     readout.textContent = lines.join('\n');
     readout.style.display = 'block';
     // Beside the pointer, on its left near the window's right edge so that it stays in view.
@@ -179,6 +180,14 @@ constexpr const char* kPlotScript = R"JS(
       P.band.style.visibility = 'hidden';
       if (x0 !== null && Math.abs(x1 - x0) >= 4) zoom(P, xData(P, Math.min(x0, x1)), xData(P, Math.max(x0, x1)));  // 4 px: not a click
     });
+    P.svg.addEventListener('wheel', (e) => {
+      const p = at(e), d = e.deltaY || e.deltaX;  // some systems turn Shift + wheel sideways
+      if (!e.shiftKey || !d || !inFrame(p)) return;
+      e.preventDefault();
+      const x = xData(P, p.x), k = d > 0 ? 1.25 : 0.8, lo = x - (x - P.view[0]) * k, hi = x + (P.view[1] - x) * k;
+      if (lo <= P.R[0] && hi >= P.R[1]) zoom(P, null);  // out to the whole range: no further
+      else zoom(P, Math.max(lo, P.R[0]), Math.min(hi, P.R[1]));
+    }, {passive: false});
     P.svg.addEventListener('mouseleave', () => hide(P));
     P.svg.addEventListener('dblclick', (e) => { e.preventDefault(); zoom(P, null); });
   }

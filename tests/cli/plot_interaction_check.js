@@ -9,6 +9,8 @@
 //    x range shown is what was under 30 %..60 % before, all on one straight scale (no stale
 //    label left), every line reaching into the frame and out of it is clipped to the frame,
 //    and the hover reads the new scale;
+//  - wheel: Shift + wheel up over the frame narrows the x range about the pointer (the x
+//    under it stays), within the range shown before;
 //  - reset: a double-click brings back the first range and every line as it was drawn.
 // Writes "PLOT-INTERACTION: ok ..." or "PLOT-INTERACTION: FAIL" and one line per fault into a
 // PRE element, id plot-interaction-verdict.
@@ -85,6 +87,17 @@
     if (!near(v[0], X.at(px), xs, 0.01)) faults.push(`${name}: ${when}: the readout's x ${v[0]} is not the axis' ${X.at(px).toPrecision(5)}`);
     if (!near(v[1], Y.at(py), ys, 0.01)) faults.push(`${name}: ${when}: the readout's y ${v[1]} is not the axis' ${Y.at(py).toPrecision(5)}`);
   }
+  function checkWheel(svg, name, F, X0) {
+    const px = F.l + 0.4 * (F.r - F.l), c = new DOMPoint(px, (F.t + F.b) / 2).matrixTransform(svg.getScreenCTM());
+    svg.dispatchEvent(new WheelEvent('wheel', {clientX: c.x, clientY: c.y, deltaY: -100, shiftKey: true, bubbles: true, cancelable: true}));
+    const X1 = axis(svg, F, 'x'), span0 = X0.at(F.r) - X0.at(F.l);
+    if (!X1 || X1.bad) { faults.push(`${name}: after Shift + wheel the x axis has no readable scale${X1 ? ': ' + X1.bad : ''}`); return; }
+    const span1 = X1.at(F.r) - X1.at(F.l);
+    if (!(span1 < 0.95 * span0) || X1.at(F.l) < X0.at(F.l) - 0.01 * span0 || X1.at(F.r) > X0.at(F.r) + 0.01 * span0 || !near(X1.at(px), X0.at(px), span0, 0.01)) {
+      faults.push(`${name}: Shift + wheel over x ${X0.at(px).toPrecision(5)} shows ${X1.at(F.l).toPrecision(5)}..${X1.at(F.r).toPrecision(5)}, ` +
+                  `not a narrower range about it within ${X0.at(F.l).toPrecision(5)}..${X0.at(F.r).toPrecision(5)}`);
+    }
+  }
   function checkZoom(svg, name, F, X0, Y) {
     const W = F.r - F.l, py = F.t + 0.5 * (F.b - F.t), before = lines(svg);
     fire(svg, 'mousedown', F.l + 0.3 * W, py);
@@ -101,6 +114,7 @@
     const loose = unclipped(svg, F);
     if (loose) faults.push(`${name}: zoomed, ${loose} lines run out of the frame unclipped`);
     checkHover(svg, name, F, X1, Y, 'zoomed');
+    checkWheel(svg, name, F, X1);
     fire(svg, 'dblclick', F.l + 0.5 * W, py);
     const X2 = axis(svg, F, 'x');
     if (!X2 || X2.bad || !near(X2.at(F.l), X0.at(F.l), X0.at(F.r) - X0.at(F.l), 0.001) || !near(X2.at(F.r), X0.at(F.r), X0.at(F.r) - X0.at(F.l), 0.001)) {
