@@ -197,11 +197,12 @@ LegendLayout legend_layout(const Plot& p) {
 /// The file the gnuplot script prints the frame and ranges to, beside its SVG.
 fs::path frame_file(const fs::path& svg) { return svg.parent_path() / "frame.txt"; }
 
+/// The canvas' height in px: the frame's share the caller asked for plus the legend's rows.
+double canvas_height(const Plot& p) { return std::round(p.height + legend_layout(p).height_px); }
+
 /// The gnuplot script: svg terminal, labels taken literally (no enhanced-text markup: "x_1"
 /// stays "x_1"), the legend at a fixed place below the x label (gnuplot's own "key below"
 /// drew it over the x label), markers as vertical lines spanning the frame.
-/// The canvas' height in px: the frame's share the caller asked for plus the legend's rows.
-double canvas_height(const Plot& p) { return std::round(p.height + legend_layout(p).height_px); }
 
 std::string script(const Plot& p, const Ranges& r, const std::vector<fs::path>& files, const fs::path& out) {
   const LegendLayout k = legend_layout(p);
