@@ -7,8 +7,8 @@ namespace jg::report {
 namespace {
 constexpr const char* kPlotScript = R"JS(
 // Hover readout and x zoom for the page's gnuplot plots (issue 29), offline: no library.
-// Each svg element of class "plot" carries, from svg_plot.cpp, data-frame (the frame's left top right
-// bottom in px), data-range (x and y range drawn) and data-x-label / data-y-label. The
+// Each svg element of class "plot" carries, from svg_plot.cpp, data-frame (the frame's left
+// top right bottom in px), data-range (x and y range drawn) and data-x-label / data-y-label. The
 // traces stay gnuplot's paths: a zoom rewrites the x of their points inside the frame and
 // clips them to the frame; y is not zoomed, so gnuplot's y axis stays right. While zoomed,
 // gnuplot's x ticks (which would lie) are hidden and ticks for the shown range drawn instead.
@@ -87,15 +87,18 @@ constexpr const char* kPlotScript = R"JS(
     const span = P.view[1] - P.view[0], raw = span / 6, mag = Math.pow(10, Math.floor(Math.log10(raw)));
     const step = [1, 2, 5, 10].map((m) => m * mag).find((s) => s >= raw);
     const decimals = Math.max(0, -Math.floor(Math.log10(step) + 1e-9));
-    for (let x = Math.ceil(P.view[0] / step) * step; x <= P.view[1] + step * 1e-6; x += step) {
-      const px = xPx(P, x);
+    const first = Math.ceil(P.view[0] / step);
+    for (let i = first; i * step <= P.view[1] + step * 1e-6; ++i) {  // by index: no summed rounding
+      const x = i * step, px = xPx(P, x);
       el('path', {d: `M${px.toFixed(2)},${P.F.b} L${px.toFixed(2)},${P.F.t}`, stroke: '#dddddd', 'stroke-dasharray': '2,4'}, P.ticks);
       el('text', {x: px.toFixed(2), y: P.labelY}, P.ticks).textContent = x.toFixed(decimals);
     }
   }
 
-  // Shows the x range [lo, hi] (the whole range when lo is null).
+  // Shows the x range [lo, hi] (the whole range when lo is null); no deeper than a millionth
+  // of the whole range, where the ticks' steps would drown in rounding.
   function zoom(P, lo, hi) {
+    if (lo !== null && !(hi - lo > 1e-6 * (P.R[1] - P.R[0]))) return;
     P.view = lo === null ? [P.R[0], P.R[1]] : [lo, hi];
     P.zoomed = lo !== null;
     for (const t of P.traces) {
@@ -116,8 +119,8 @@ constexpr const char* kPlotScript = R"JS(
         for (let i = 1; i < s.length; ++i) {
           const [a, b] = s[i - 1][0] <= s[i][0] ? [s[i - 1], s[i]] : [s[i], s[i - 1]];
           if (x < a[0] || x > b[0] || b[0] === a[0]) continue;
-          const v = yData(P, a[1] + (b[1] - a[1]) * (x - a[0]) / (b[0] - a[0]));
-          if (!best || Math.abs(v - y) < Math.abs(best.v - y)) best = {v, label: t.label, py: a[1] + (b[1] - a[1]) * (x - a[0]) / (b[0] - a[0])};
+          const py = a[1] + (b[1] - a[1]) * (x - a[0]) / (b[0] - a[0]), v = yData(P, py);
+          if (!best || Math.abs(v - y) < Math.abs(best.v - y)) best = {v, py, label: t.label};
         }
       }
     }
