@@ -346,7 +346,7 @@ int run_demo(const DemoOptions& options) {
   step("firmware cost per estimator and drive cycle on the emulated Cortex-M4F");
   write_mcu_cost(html);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-  html << "<p class=\"note\">Generated in " << fmt("%.0f", wall) << " s.</p></body></html>\n";
+  html << "<p class=\"note\">Generated in " << fmt("%.0f", wall) << " s.</p>" << report::plot_script() << "</body></html>\n";
   const auto report_path = std::filesystem::path(options.out_dir) / "report.html";
   io::write_text_atomic(report_path.string(), html.str());
   std::printf("\npaper collisions at 1 kHz (float): ");

@@ -194,15 +194,22 @@ LegendLayout legend_layout(const Plot& p) {
   return k;
 }
 
+/// The file the gnuplot script prints the frame and ranges to, beside its SVG.
+fs::path frame_file(const fs::path& svg) { return svg.parent_path() / "frame.txt"; }
+
+/// The canvas' height in px: the frame's share the caller asked for plus the legend's rows.
+double canvas_height(const Plot& p) { return std::round(p.height + legend_layout(p).height_px); }
+
 /// The gnuplot script: svg terminal, labels taken literally (no enhanced-text markup: "x_1"
 /// stays "x_1"), the legend at a fixed place below the x label (gnuplot's own "key below"
 /// drew it over the x label), markers as vertical lines spanning the frame.
+
 std::string script(const Plot& p, const Ranges& r, const std::vector<fs::path>& files, const fs::path& out) {
   const LegendLayout k = legend_layout(p);
-  const double h = p.height + k.height_px;
+  const double h = canvas_height(p);
   std::ostringstream s;
   s << "set encoding utf8\n"
-    << "set terminal svg size " << p.width << ',' << num(std::round(h)) << " font 'sans,11' background '#ffffff'\n"
+    << "set terminal svg size " << p.width << ',' << num(h) << " font 'sans,11' background '#ffffff'\n"
     << "set output " << gp_str(out.string()) << "\nset termoption noenhanced\n"
     << "set title " << gp_str(p.title) << " font 'sans,13'\nset xlabel " << gp_str(p.x_label) << "\nset ylabel " << gp_str(p.y_label) << '\n'
     << "set xrange [" << num(r.xlo) << ':' << num(r.xhi) << "]\nset yrange [" << num(r.ylo) << ':' << num(r.yhi) << "]\n"
@@ -224,7 +231,10 @@ std::string script(const Plot& p, const Ranges& r, const std::vector<fs::path>& 
   s << "plot ";
   for (std::size_t i = 0; i < clauses.size(); ++i) s << (i ? ", \\\n     " : "") << clauses[i];
   if (clauses.empty()) s << "NaN notitle";
-  s << '\n';
+  // Where gnuplot put the frame (px from the canvas' left and bottom) and the ranges it drew:
+  // the page's script (plot_script) maps the pointer to data units with them.
+  s << "\nset print " << gp_str(frame_file(out).string()) << "\nprint sprintf('%.10g %.10g %.10g %.10g %.10g %.10g %.10g %.10g', "
+    << "GPVAL_TERM_XMIN, GPVAL_TERM_XMAX, GPVAL_TERM_YMIN, GPVAL_TERM_YMAX, GPVAL_X_MIN, GPVAL_X_MAX, GPVAL_Y_MIN, GPVAL_Y_MAX)\n";
   return s.str();
 }
 
@@ -267,13 +277,29 @@ void erase_all(std::string& s, const std::string& open, const std::string& close
   }
 }
 
+/// What plot_script reads off the <svg> element: the frame (left top right bottom, px), the
+/// x and y ranges drawn and the axes' names; "" when gnuplot printed no frame (the plot then
+/// stays a still picture).
+std::string frame_attributes(const Plot& p, const fs::path& frame_txt) {
+  std::ifstream f(frame_txt);
+  double v[8];
+  for (double& x : v) {
+    if (!(f >> x)) return "";
+  }
+  const double h = canvas_height(p);  // gnuplot counts y up from the bottom, SVG down from the top
+  return " data-frame=\"" + num(v[0]) + ' ' + num(h - v[3]) + ' ' + num(v[1]) + ' ' + num(h - v[2]) + "\" data-range=\"" + num(v[4]) + ' ' +
+         num(v[5]) + ' ' + num(v[6]) + ' ' + num(v[7]) + "\" data-x-label=\"" + escape(p.x_label) + "\" data-y-label=\"" + escape(p.y_label) + '"';
+}
+
 /// gnuplot's file as an inline element: no XML prolog, and no ids, which would repeat across
 /// the plots of one page (its <defs> hold point symbols and text boxes these plots never use).
-std::string inline_svg(std::string svg) {
+/// Each plotted item's group (gnuplot's id "gnuplot_plot_N") keeps its number as data-series,
+/// for plot_script to name the trace nearest the pointer.
+std::string inline_svg(std::string svg, const std::string& attributes) {
   const std::size_t start = svg.find("<svg");
   if (start == std::string::npos) return "";
   svg.erase(0, start);
-  svg.insert(4, " class=\"plot\"");
+  svg.insert(4, " class=\"plot\"" + attributes);
   erase_all(svg, "<title>", "</title>");
   erase_all(svg, "<desc>", "</desc>");
   const std::size_t defs_end = svg.find("</defs>");
@@ -281,6 +307,8 @@ std::string inline_svg(std::string svg) {
       svg.find("href='#", defs_end) == std::string::npos) {
     erase_all(svg, "<defs>", "</defs>");
   }
+  const std::string series_id = " id=\"gnuplot_plot_";
+  for (std::size_t a = svg.find(series_id); a != std::string::npos; a = svg.find(series_id, a)) svg.replace(a, series_id.size(), " data-series=\"");
   erase_all(svg, " id=\"gnuplot_", "\"");
   return svg;
 }
@@ -326,7 +354,7 @@ std::string render_svg(const Plot& p) {
   const fs::path gp = dir / "plot.gp", out = dir / "plot.svg";
   std::ofstream(gp) << script(p, r, files, out);
   const std::string why = run_gnuplot(gp, dir / "gnuplot.err");
-  std::string svg = why.empty() ? inline_svg(read_file(out)) : "";
+  std::string svg = why.empty() ? inline_svg(read_file(out), frame_attributes(p, frame_file(out))) : "";
   std::error_code ec;
   fs::remove_all(dir, ec);
   if (!why.empty()) return placeholder(p, why);

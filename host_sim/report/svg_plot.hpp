@@ -4,7 +4,8 @@
 // hand-written SVG it replaces let traces run outside the frame, cut legends off and drew
 // marker labels over threshold labels (issue 29). Every label is in the legend (below the
 // frame), so none is drawn over the data or over another. The SVG is returned inline, so a
-// report holding it stays one self-contained file.
+// report holding it stays one self-contained file. It carries where gnuplot put the frame and
+// the ranges drawn (data-frame, data-range), which plot_script's hover readout and zoom read.
 #pragma once
 
 #include <string>
@@ -49,6 +50,12 @@ struct Plot {
 /// stderr: the figures in the tables stay right, only the picture is missing.
 std::string render_svg(const Plot& plot);
 
+/// The page script that makes render_svg's plots readable (once per HTML page, before
+/// </body>): hovering a plot shows the pointer's x and y and the nearest trace's value;
+/// dragging across a frame (or Shift + wheel) zooms its x range, a double-click shows the
+/// whole range again.
+/// Inline and self-contained (plot_script.cpp), so the page stays one offline file.
+std::string plot_script();
 /// Escapes text for HTML/SVG.
 std::string escape(const std::string& s);
 

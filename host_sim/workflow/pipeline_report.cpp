@@ -130,7 +130,7 @@ std::string pipeline_report_html(const PipelineOptions& o, const PipelineResult&
   friction_section(h, o, r);
   threshold_section(h, r);
   for (const auto& rp : r.replays) replay_section(h, rp);
-  h << "</body></html>\n";
+  h << report::plot_script() << "</body></html>\n";
   return h.str();
 }
 

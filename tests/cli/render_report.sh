@@ -9,7 +9,10 @@
 #  - the plots' layout as Chromium lays them out (tests/cli/plot_layout.sh): no text over
 #    another, nothing cut off, no line out of its frame; and the same check fails on a
 #    hand-written plot with those faults (tests/cli/data/plot_layout_faulty.html), so it
-#    cannot pass by finding nothing.
+#    cannot pass by finding nothing;
+#  - a reader can read values off every plot and zoom into it (plot_layout.sh --interaction,
+#    tests/cli/plot_interaction_check.js): a hover shows x and y as the axes give them, a drag
+#    zooms the x axis, a double-click brings the whole range back.
 # usage: render_report.sh J OUT [SOURCE_DIR BUILD_DIR MCU_TARGET_EXISTS(0|1)]
 # Skips (77) without Chromium.
 set -euo pipefail
@@ -71,6 +74,7 @@ set -e
 for fault in 'overlaps' 'cut off' 'runs out of the plot frame' 'crosses the plot frame'; do
   grep -q "$fault" "$OUT/faulty.txt" || { cat "$OUT/faulty.txt"; fail "the layout check missed a fault: '$fault'"; }
 done
-bash "$HERE/plot_layout.sh" "$REPORT" "$OUT/layout" > "$OUT/layout.txt" || { cat "$OUT/layout.txt"; fail "the report's plots are not laid out cleanly"; }
-head -1 "$OUT/layout.txt"
+bash "$HERE/plot_layout.sh" --interaction "$REPORT" "$OUT/layout" > "$OUT/layout.txt" ||
+  { cat "$OUT/layout.txt"; fail "the report's plots are not laid out cleanly or cannot be hovered and zoomed"; }
+grep '^PLOT-LAYOUT: \|^PLOT-INTERACTION: ' "$OUT/layout.txt"
 echo "report rendered: $OUT/report.png ($PLOTS plots)"
