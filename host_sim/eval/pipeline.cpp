@@ -247,13 +247,27 @@ Thresholds BandStatistics::fit(double margin) const {
   for (std::size_t j = 0; j < n; ++j) {
     for (std::size_t b = 0; b <= first_count && b < first_moving; ++b) rest[j] = std::max(rest[j], max_[j][b]);
   }
+  // A measured speed may be one count per sample off the true one (a count more or fewer in
+  // the sample's window): where friction changes steeply with speed, the stiction
+  // transition, a sample measured at k counts may carry what the calibration saw at k - 1.
+  // Each slow bin must cover the excess of every bin up to one count below it. (Without
+  // this, the Panda and the UR10e each raised a false alarm in hours of motion at two
+  // counts per sample, 12.6 mrad/s, with an excess the calibration had seen only at one.)
+  const std::size_t count_bins = first_count + 1;
+  std::vector<std::vector<double>> seen(n, std::vector<double>(first_moving, 0.0));
+  for (std::size_t j = 0; j < n; ++j) {
+    for (std::size_t b = 0; b < first_moving; ++b) {
+      for (std::size_t b2 = b >= count_bins ? b - count_bins : 0; b2 <= b; ++b2) {
+        seen[j][b] = std::max(seen[j][b], b2 <= first_count ? rest[j] : max_[j][b2]);
+      }
+    }
+  }
   auto heights = [&](double width, std::vector<double>& extra) {
     double area = 0.0;
     for (std::size_t j = 0; j < n; ++j) {
       extra[j] = 0.0;
       for (std::size_t b = 0; b < first_moving; ++b) {
-        const double seen = b <= first_count ? rest[j] : max_[j][b];
-        const double excess = kStandstillFactor * (seen - moving[j]);
+        const double excess = kStandstillFactor * (seen[j][b] - moving[j]);
         if (excess <= 0.0) continue;
         const double u = kBin * static_cast<double>(b + 1) / width;
         extra[j] = std::max(extra[j], excess * std::exp(std::min(u * u, 50.0)));

@@ -15,6 +15,37 @@
 namespace jg {
 namespace {
 
+/// The band near standstill, eps0 + extra exp(-(w / width)^2), at speed w [rad/s].
+double band_at(const eval::Thresholds& t, std::size_t j, double w) {
+  const double u = w / t.low_speed_width;
+  return t.threshold[j] + t.low_speed_extra[j] * std::exp(-u * u);
+}
+
+/// A joint whose velocity comes in counts of 6.3 mrad/s per sample (the Panda's): 1 N·m while
+/// moving, 5 N·m seen at rest and at one count, 1.5 N·m at two counts. A sample measured at
+/// two counts may be one whose true speed is one count, where the calibration saw 5 N·m: the
+/// band at two counts covers the rest's excess (with the standstill factor), not only the
+/// 1.5 N·m seen there.
+TEST(BandStatistics, ASpeedOneCountOffGetsTheSlowerBinsAllowance) {
+  const double count = 0.0063, margin = 0.1;
+  eval::BandStatistics st(1);
+  for (int k = 0; k < 100; ++k) {
+    st.add(0, 0.0, 5.0, 9.0);
+    st.add(0, count, 5.0, 9.0);
+    st.add(0, 2.0 * count, 1.5, 9.0);
+    st.add(0, 0.05 + 0.01 * k, 1.0, 9.0);
+  }
+  const eval::Thresholds t = st.fit(margin);
+  ASSERT_EQ(t.low_speed_extra.size(), 1U);
+  const double rest_excess = eval::BandStatistics::kStandstillFactor * (5.0 - 1.0);
+  EXPECT_GE(band_at(t, 0, 0.0), 1.0 + margin + rest_excess - 1e-9);
+  // The bin of two counts is covered at its upper edge, as the rest bins are.
+  const double two_counts_edge = (std::floor(2.0 * count / eval::BandStatistics::kBin) + 1.0) * eval::BandStatistics::kBin;
+  EXPECT_GE(band_at(t, 0, two_counts_edge), 1.0 + margin + rest_excess - 1e-9);
+  // Three counts and more: only what was seen there (the moving band) is required.
+  EXPECT_LT(band_at(t, 0, 0.05), 1.0 + margin + rest_excess);
+}
+
 TEST(CalibrationRegionJson, RoundTripReorderedAndRefusals) {
   eval::Thresholds t;
   t.threshold = {1.8, 2.0, 1.2};
