@@ -230,7 +230,7 @@ double heldout_rms_of(const std::vector<double>& residual) {
 }
 }  // namespace
 
-CaseOutcome run_case(const ConcealedCase& c, const TestArm& arm_in) {
+CaseOutcome run_case(const ConcealedCase& c, const TestArm& arm_in, const CaseTrace& trace) {
   std::mt19937_64 rng(c.seed);
   TestArm arm = c.effect == robot::Effect::backlash ? backlash_arm(arm_in, c.joint) : arm_in;
   // A link's mass error shows as a gravity torque a cos(q + phi) on the joints it loads;
@@ -255,16 +255,16 @@ CaseOutcome run_case(const ConcealedCase& c, const TestArm& arm_in) {
   if (c.concealment == "masked") {  // a benign model error: the real last link is 3 % heavier
     real.plant.links.back().mass *= 1.03;
   }
-  return diagnose_pair(c, arm, real, nominal);
+  return diagnose_pair(c, arm, real, nominal, trace);
 }
 
 CaseOutcome diagnose_pair(const ConcealedCase& c, const TestArm& arm, const sim::SimulationSetup& real,
-                          const sim::SimulationSetup& nominal) {
+                          const sim::SimulationSetup& nominal, const CaseTrace& trace) {
   CaseOutcome out;
   out.c = c;
   const auto r = sim::run_simulation(real).recording;
   const auto s = sim::run_simulation(nominal).recording;
-  if (std::getenv("JG_DIAG_TRACE")) {
+  if (trace.non_finite) {
     for (const auto* rec : {&r, &s}) {
       for (std::size_t j = 0; j < rec->joints(); ++j) {
         for (std::size_t k = 0; k < rec->samples(); ++k) {
@@ -284,7 +284,7 @@ CaseOutcome diagnose_pair(const ConcealedCase& c, const TestArm& arm, const sim:
   out.arm = diagnose_arm(signals, {}, &model);
   out.heldout_raw = heldout_rms_of(signals[static_cast<std::size_t>(std::max(1, c.joint) - 1)].residual);
   DiagnoseOptions joint_options;
-  joint_options.trace = std::getenv("JG_DIAG_TRACE_SELECTION") != nullptr;  // each selection step to stderr
+  joint_options.trace = trace.selection;
   for (const auto& sig : without_arm_causes(signals, out.arm)) out.joints.push_back(diagnose_joint(sig, joint_options));
   if (c.effect == robot::Effect::none && !out.arm.findings.empty()) out.false_claim = true;
   // A payload belongs to the last link but shows on every joint it loads: it is named

@@ -55,7 +55,13 @@ struct CaseOutcome {
 /// criterion as at_noise_floor, with the residual before the diagnosis as "before").
 bool resim_at_noise_floor(const CaseOutcome& o);
 
-CaseOutcome run_case(const ConcealedCase& c, const TestArm& arm);
+/// What a case prints to stderr while it runs; the caller decides (the bench: environment).
+struct CaseTrace {
+  bool non_finite = false;  ///< the first non-finite sample of each simulated recording
+  bool selection = false;   ///< each joint's selection steps (DiagnoseOptions::trace)
+};
+
+CaseOutcome run_case(const ConcealedCase& c, const TestArm& arm, const CaseTrace& trace = {});
 
 // The machinery run_case is made of, shared with the second generator (testset_second.hpp).
 /// The nominal simulation of the test arm: the paper's excitation at 500 Hz, the paper's
@@ -68,7 +74,7 @@ TestArm backlash_arm(const TestArm& arm, int joint);
 /// Simulates both setups, diagnoses the pair (arm level, then each joint) and scores it by
 /// the case's effect and joint; closes the loop with the findings written back.
 CaseOutcome diagnose_pair(const ConcealedCase& c, const TestArm& arm, const sim::SimulationSetup& real,
-                          const sim::SimulationSetup& nominal);
+                          const sim::SimulationSetup& nominal, const CaseTrace& trace = {});
 
 /// Issue #7's floor criterion on the effect's joint: held-out RMS after modelling within
 /// 10 % of the noise estimated from the data, or, where the effect stands well above the

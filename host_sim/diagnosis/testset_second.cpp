@@ -275,7 +275,7 @@ std::vector<ConcealedCase> draw_cases_second(int count, unsigned long long seed,
   return out;
 }
 
-CaseOutcome run_case_second(const ConcealedCase& c, const TestArm& arm_in) {
+CaseOutcome run_case_second(const ConcealedCase& c, const TestArm& arm_in, const CaseTrace& trace) {
   const robot::Effect shape = shared_shape(c);
   TestArm arm = arm_in;
   if (shape == robot::Effect::backlash) {  // a user's motion about the zero of the gravity load, not exactly on it
@@ -302,7 +302,7 @@ CaseOutcome run_case_second(const ConcealedCase& c, const TestArm& arm_in) {
       s->plant.friction[other].lugre.tau_s *= 1.08;
     }
   }
-  return diagnose_pair(c, arm, real, nominal);
+  return diagnose_pair(c, arm, real, nominal, trace);
 }
 
 std::string second_shape_description(robot::Effect effect) {

@@ -23,7 +23,7 @@ std::vector<ConcealedCase> draw_cases_second(int count, unsigned long long seed,
 
 /// Simulates the pair with the second shape of the case's effect and diagnoses it
 /// (diagnose_pair: the same scoring as run_case).
-CaseOutcome run_case_second(const ConcealedCase& c, const TestArm& arm);
+CaseOutcome run_case_second(const ConcealedCase& c, const TestArm& arm, const CaseTrace& trace = {});
 
 /// One line per effect: the second shape, for the bench's printout and the docs' table.
 std::string second_shape_description(robot::Effect effect);

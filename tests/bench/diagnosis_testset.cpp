@@ -51,10 +51,14 @@ int main(int argc, char** argv) {
     if (only.empty() || only.find("," + c.effect + ",") != std::string::npos) cases.push_back(c);
   }
   std::vector<jg::diag::CaseOutcome> outcomes(cases.size());
+  // The bench's own switches (environment): what each case prints while it runs.
+  jg::diag::CaseTrace trace;
+  trace.non_finite = std::getenv("JG_DIAG_TRACE") != nullptr;
+  trace.selection = std::getenv("JG_DIAG_TRACE_SELECTION") != nullptr;
   jg::eval::parallel_for(cases.size(), jobs, [&](std::size_t i) {
     const auto& c = cases[i];
-    if (std::getenv("JG_DIAG_TRACE")) std::fprintf(stderr, "running %s joint %d %s A=%.3f seed %llu\n", jg::robot::effect_cstr(c.effect), c.joint, c.concealment.c_str(), c.amplitude_nm, c.seed);
-    outcomes[i] = second ? jg::diag::run_case_second(c, arm) : jg::diag::run_case(c, arm);
+    if (trace.non_finite) std::fprintf(stderr, "running %s joint %d %s A=%.3f seed %llu\n", jg::robot::effect_cstr(c.effect), c.joint, c.concealment.c_str(), c.amplitude_nm, c.seed);
+    outcomes[i] = second ? jg::diag::run_case_second(c, arm, trace) : jg::diag::run_case(c, arm, trace);
   });
   int effect_cases = 0, named = 0, matched = 0, false_claims = 0, floor_ok = 0, floor_n = 0, resim_ok = 0;
   std::map<std::string, std::pair<int, int>> per_effect;
