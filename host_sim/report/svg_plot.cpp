@@ -203,7 +203,6 @@ double canvas_height(const Plot& p) { return std::round(p.height + legend_layout
 /// The gnuplot script: svg terminal, labels taken literally (no enhanced-text markup: "x_1"
 /// stays "x_1"), the legend at a fixed place below the x label (gnuplot's own "key below"
 /// drew it over the x label), markers as vertical lines spanning the frame.
-
 std::string script(const Plot& p, const Ranges& r, const std::vector<fs::path>& files, const fs::path& out) {
   const LegendLayout k = legend_layout(p);
   const double h = canvas_height(p);
