@@ -93,15 +93,7 @@ class BusMaster {
   void send_cycle(std::uint32_t cycle, const double* position, const double* velocity, const double* motor_torque,
                   JointMask holding = 0) {
     const auto seq = static_cast<std::uint8_t>(cycle & 0xFFU);
-    // Repeated until every drive has answered with its reaction torque (a lost command is
-    // sent again); then the bus carries only the drives' torque frames on top of the cycle.
-    if (commanding_ && !all_reacting()) {
-      hal::CanFrame c{};
-      c.fd = true;
-      c.id = protocol::kReactionCommandId;
-      c.length = protocol::encode_reaction_command(command_, seq, static_cast<std::uint8_t*>(c.data));
-      send(c);
-    }
+    send_command(seq);
     for (std::size_t j = 0; j < torque_.size(); ++j) {
       hal::CanFrame f{};
       f.fd = true;
@@ -122,6 +114,29 @@ class BusMaster {
       if (marked) ++counters_.invalid_samples;
       send(f);
     }
+    send_sync(cycle);
+  }
+
+  /// The cycle of drives that sample their own joints (as on the arm: encoder and current
+  /// ADC on the drive's MCU, JointDrive::set_sample): the reaction command and the sync only.
+  void send_sync_only(std::uint32_t cycle) {
+    send_command(static_cast<std::uint8_t>(cycle & 0xFFU));
+    send_sync(cycle);
+  }
+
+ private:
+  /// Repeated until every drive has answered with its reaction torque (a lost command is
+  /// sent again); then the bus carries only the drives' torque frames on top of the cycle.
+  void send_command(std::uint8_t seq) {
+    if (commanding_ && !all_reacting()) {
+      hal::CanFrame c{};
+      c.fd = true;
+      c.id = protocol::kReactionCommandId;
+      c.length = protocol::encode_reaction_command(command_, seq, static_cast<std::uint8_t*>(c.data));
+      send(c);
+    }
+  }
+  void send_sync(std::uint32_t cycle) {
     hal::CanFrame sync{};
     sync.fd = true;  // short frames ride the data phase (bit-rate switch)
     sync.id = protocol::kSyncId;
@@ -132,6 +147,7 @@ class BusMaster {
     have_.assign(have_.size(), false);
   }
 
+ public:
   /// Reads what has arrived; true when every drive's status of the current cycle is in.
   bool collect() {
     hal::CanFrame f{};

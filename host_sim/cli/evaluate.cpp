@@ -7,10 +7,12 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "can/cycle_budget.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/evaluate_output.hpp"
 #include "cli/progress.hpp"
+#include "eval/distributed_estimator.hpp"
 #include "eval/experiments.hpp"
 #include "eval/firmware_estimator.hpp"
 #include "eval/parallel.hpp"
@@ -267,7 +269,31 @@ void apply_options(const EvaluateOptions& o, const sim::Scenario* scenario, eval
   c.residual_detector = !o.no_residual;
   c.residual_time_constant_s = o.residual_time_constant_s;
   c.compare_scalar = o.compare_scalar == o.scalar ? std::string() : o.compare_scalar;
+  c.compare_on_bus = o.compare_bus && (o.scenario == "paper" || o.scenario == "campaign");
   c.reaction = reaction_of(o.reaction);
+}
+
+/// --compare-bus on paper/campaign: the drives' frames of one cycle must fit its period, or
+/// the momentum terms arrive cycles late and the comparison measures a bus that cannot work.
+int check_bus_budget(const eval::ExperimentConfig& c) {
+  if (!c.compare_on_bus) return 0;
+  const eval::DistributedConfig bus;
+  const can::CycleBudget b = can::cycle_budget(c.model.joints.size(), bus.timing, false);
+  const double period_s = 1.0 / c.rate_hz;
+  if (b.wire_s <= period_s) {
+    std::printf("simulated bus: %zu drives, %zu frames per cycle, %.3f ms of wire time (worst case, %.0f / %.0f Mbit/s) of "
+                "the %.3f ms period\n",
+                c.model.joints.size(), b.frames, 1e3 * b.wire_s, 1e-6 * bus.timing.nominal_bps, 1e-6 * bus.timing.data_bps,
+                1e3 * period_s);
+    return 0;
+  }
+  std::fprintf(stderr,
+               "jointguard evaluate: error: --compare-bus: %zu drives put %zu frames, %.3f ms of wire time (worst case, CAN FD "
+               "%.0f / %.0f Mbit/s), on the bus each cycle: more than the %.3f ms period at --rate %.0f, so the neighbours' "
+               "momentum terms could not arrive every cycle. The bus fits this arm at --rate %.0f or below.\n",
+               c.model.joints.size(), b.frames, 1e3 * b.wire_s, 1e-6 * bus.timing.nominal_bps, 1e-6 * bus.timing.data_bps,
+               1e3 * period_s, c.rate_hz, std::floor(b.max_rate_hz()));
+  return 2;
 }
 
 /// A scenario file's run; with a body region named in its collision, the ISO/TS 15066
@@ -313,7 +339,7 @@ std::size_t run_experiments(const eval::ExperimentConfig& c, const EvaluateOptio
     runs_total = std::min<std::size_t>(3, c.model.joints.size());
   } else if (o.scenario == "held") {
     // A short fixed set: the first shard runs all of it, the others none.
-    runs_total = static_cast<std::size_t>(5 * std::min<int>(3, static_cast<int>(c.model.joints.size())) + 1);
+    runs_total = 5 * c.model.joints.size() + 1;
     if (split.shard == 1) fig.runs = eval::held_experiments(c);
     for (std::size_t i = 0; i < fig.runs.size(); ++i) fig.runs[i].index = static_cast<int>(i);
   } else if (o.scenario == "campaign") {
@@ -336,7 +362,7 @@ nlohmann::json config_json(const eval::ExperimentConfig& c, const EvaluateOption
          {"hold_reference_s", c.hold_reference_s}, {"hold_calibration_s", c.hold_calibration_s},
          {"isolation_window_s", c.isolation_window_s}, {"isolation_aligned_s", c.isolation_aligned_s},
          {"isolation_standstill_change", c.isolation_standstill_change}, {"false_alarm_run_with_holds", c.free_run_holds},
-         {"compare_scalar", c.compare_scalar}, {"residual_change_threshold", c.residual_threshold},
+         {"compare_scalar", c.compare_scalar}, {"compare_bus", c.compare_on_bus}, {"residual_change_threshold", c.residual_threshold},
          {"residual_time_constant_s", c.residual_time_constant_s},
          {"contact_window_before_s", c.contact_before_s}, {"contact_window_after_s", c.contact_after_s},
          {"campaign_surface_contacts", c.campaign_surface_contacts}, {"contact_surface_prior", c.contact_surface_prior},
@@ -384,7 +410,8 @@ void add_safety_options(CLI::App* cmd, EvaluateOptions* o) {
   cmd->add_option("--kind", o->kind, "safety: only free or only clamp contacts")->check(CLI::IsMember({"free", "clamp"}));
   cmd->add_flag("--compare-bus", o->compare_bus,
                 "safety: every case also with the joint drives' firmware on the simulated CAN FD bus running the reaction "
-                "(JSON: cases[].bus)");
+                "(JSON: cases[].bus); paper/campaign: the compared estimator (--compare-scalar, or --scalar) runs as the "
+                "drives on the simulated bus, judged by the same detectors (JSON: runs[].bus, summary.bus)");
 }
 
 /// The arm: its model, the simulated plant and the estimator's friction.
@@ -530,6 +557,7 @@ Command add_evaluate(CLI::App& app) {
             std::unique_ptr<sim::Scenario> scenario;
             if (const int rc = load_inputs(*o, c, model_path, scenario)) return rc;
             apply_options(*o, scenario.get(), c);
+            if (const int rc = check_bus_budget(c)) return rc;
             eval::RunSplit split;
             split.jobs = o->jobs == 0 ? eval::default_jobs() : o->jobs;
             if (!o->shard.empty()) parse_shard(o->shard, split.shard, split.shards);

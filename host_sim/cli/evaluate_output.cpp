@@ -41,6 +41,10 @@ nlohmann::json run_json(const eval::RunResult& r) {
   j["speed_at_peak"] = r.speed_at_peak_rad_s;
   j["detected_by_residual"] = r.detected_by_residual;
   if (r.compared) j["t_detected_other_scalar"] = optional_json(r.t_detected_other);
+  if (r.bus) {
+    j["bus"] = {{"frames", r.bus->frames}, {"busy_s", r.bus->busy_s}, {"elapsed_s", r.bus->elapsed_s},
+                {"incomplete_cycles", r.bus->incomplete_cycles}};
+  }
   return j;
 }
 
@@ -49,13 +53,14 @@ struct FreeRunTotals {
   int alarms = 0;
   std::vector<double> times;
 };
-/// Per link 1-3 of a `held` evaluation: the smallest push detected such that every larger
-/// one was detected too (null: none); empty when the runs are not held pushes.
+/// Per link of a `held` evaluation (every link pushed): the smallest push detected such
+/// that every larger one was detected too (null: none); empty when the runs are not held
+/// pushes.
 nlohmann::json held_smallest(const std::vector<eval::RunResult>& runs) {
   nlohmann::json out = nlohmann::json::array();
-  const bool held = std::any_of(runs.begin(), runs.end(), [](const auto& r) { return r.held_push_nm > 0.0; });
-  if (!held) return out;
-  for (int link = 1; link <= 3; ++link) {
+  int links = 0;
+  for (const auto& r : runs) links = r.held_push_nm > 0.0 ? std::max(links, r.link_true) : links;
+  for (int link = 1; link <= links; ++link) {
     double smallest = -1.0;
     for (auto it = runs.rbegin(); it != runs.rend(); ++it) {
       if (it->link_true != link || it->held_push_nm <= 0.0) continue;
@@ -155,7 +160,14 @@ nlohmann::json evaluate_json(const EvaluateFigures& f) {
                          {"below_moving_threshold", sum.touched_below_moving}}}});
   if (sum.compared > 0) {
     s["same_cycle_other_scalar"] = {{"runs", sum.compared}, {"detected_by_either", sum.compared_detected},
-                                    {"same_cycle", sum.same_cycle}};
+                                    {"same_cycle", sum.same_cycle}, {"both_detected", sum.both_detected},
+                                    {"other_minus_first_s", {{"min", sum.other_lag_min_s}, {"median", sum.other_lag_median_s},
+                                                             {"max", sum.other_lag_max_s}}}};
+    if (sum.bus_runs > 0) {
+      s["same_cycle_other_scalar"]["on_bus"] = true;
+      s["bus"] = {{"runs", sum.bus_runs}, {"frames", sum.bus_frames}, {"busy_s", sum.bus_busy_s}, {"elapsed_s", sum.bus_elapsed_s},
+                  {"busy_share_max", sum.bus_busy_max_share}, {"incomplete_cycles", sum.bus_incomplete_cycles}};
+    }
   }
   j["summary"] = s;
   for (const auto& [key, value] : f.extra.items()) j[key] = value;
@@ -238,9 +250,17 @@ void print_figures(const EvaluateFigures& f) {
                 sum.touched, sum.runs, sum.touched_detected, sum.touched, sum.touched_below_moving);
   }
   if (sum.compared > 0) {
-    std::printf("the other scalar on the same measurements: %d of %d collisions detected by either scalar detected by "
-                "both on the same cycle\n",
-                sum.same_cycle, sum.compared_detected);
+    std::printf("the %s on the same measurements: %d of %d collisions detected by either detected by "
+                "both on the same cycle; where both detected (%d), its detection minus the first's min/median/max "
+                "%.1f/%.1f/%.1f ms\n",
+                sum.bus_runs > 0 ? "drives on the simulated bus" : "other scalar", sum.same_cycle, sum.compared_detected,
+                sum.both_detected, 1e3 * sum.other_lag_min_s, 1e3 * sum.other_lag_median_s, 1e3 * sum.other_lag_max_s);
+  }
+  if (sum.bus_runs > 0) {
+    std::printf("simulated bus: %zu frames over %.1f s, wire busy %.1f %% (largest in a run %.1f %%); cycles whose status "
+                "frames were not all in by the next: %zu\n",
+                sum.bus_frames, sum.bus_elapsed_s, sum.bus_elapsed_s > 0.0 ? 100.0 * sum.bus_busy_s / sum.bus_elapsed_s : 0.0,
+                100.0 * sum.bus_busy_max_share, sum.bus_incomplete_cycles);
   }
   if (sum.estimated > 0) print_contact_figures(sum, f.runs);
   print_held_and_detectors(f, sum);

@@ -107,6 +107,11 @@ eval::RunResult run_from_json(const nlohmann::json& j) {
   r.speed_at_peak_rad_s = j.value("speed_at_peak", 0.0);
   r.compared = j.contains("t_detected_other_scalar");
   if (r.compared) r.t_detected_other = optional_of(j, "t_detected_other_scalar");
+  if (j.contains("bus")) {
+    const auto& b = j.at("bus");
+    r.bus = eval::RunResult::BusLoad{b.at("frames").get<std::size_t>(), b.at("incomplete_cycles").get<std::size_t>(),
+                                     b.at("busy_s").get<double>(), b.at("elapsed_s").get<double>()};
+  }
   if (j.contains("contact_estimate") && !j.at("contact_estimate").is_null()) r.contact = contact_from_json(j.at("contact_estimate"));
   return r;
 }

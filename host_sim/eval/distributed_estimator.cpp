@@ -46,9 +46,9 @@ class BusEstimator final : public DistributedEstimator {
           if (f.joint == 0 || f.joint == j + 1) bad.q(j) = bad.dq(j) = bad.tau_m(j) = std::numeric_limits<double>::quiet_NaN();
         }
       }
-      master_.send_cycle(cycle_, bad.q.data(), bad.dq.data(), bad.tau_m.data(), in.holding);
+      send_cycle(bad);
     } else {
-      master_.send_cycle(cycle_, in.q.data(), in.dq.data(), in.tau_m.data(), in.holding);
+      send_cycle(in);
     }
     for (int k = 1; k <= kPollsPerCycle; ++k) {
       bus_.run_until(time_ + dt * k / kPollsPerCycle);
@@ -97,11 +97,25 @@ class BusEstimator final : public DistributedEstimator {
     const JointThreshold<double>* band = config_.node_thresholds.empty() ? nullptr : &config_.node_thresholds[j];
     const HoldChangeParams<double>* hold = j < config_.node_hold.size() ? &config_.node_hold[j] : nullptr;
     const JointEstimatorParams<S> p = joint_params<S>(fc, j, band, config_.debounce_cycles, hold);
-    const DriveConfig dc{NodeConfig{static_cast<std::uint8_t>(j + 1), static_cast<std::uint8_t>(n), config_.fault_cycles}, true};
+    const DriveConfig dc{NodeConfig{static_cast<std::uint8_t>(j + 1), static_cast<std::uint8_t>(n), config_.fault_cycles},
+                         config_.sensors_over_can};
     // A drive's node refers to the drive's relay port: drives never move.
     auto d = std::make_unique<JointDrive<S, can::SimPort>>(dc, p, *ports_[j], gravity_of<S>(fc.model));
     d->set_reaction_gains(reaction_gains<S>(fc.dt, config_.retreat_s, config_.reflex_s));
     return d;
+  }
+
+  /// The cycle's samples (as sensor frames, or into each drive) and its sync.
+  void send_cycle(const EstimatorInput& in) {
+    if (config_.sensors_over_can) {
+      master_.send_cycle(cycle_, in.q.data(), in.dq.data(), in.tau_m.data(), in.holding);
+      return;
+    }
+    for (std::size_t j = 0; j < drives_.size(); ++j) {
+      const auto i = static_cast<Eigen::Index>(j);
+      if (drives_[j]) drives_[j]->set_sample(from_double<S>(in.q(i)), from_double<S>(in.dq(i)), from_double<S>(in.tau_m(i)), ((in.holding >> j) & 1U) != 0U);
+    }
+    master_.send_sync_only(cycle_);
   }
 
   /// Frame faults, babble and link down act on the bus itself over their windows.

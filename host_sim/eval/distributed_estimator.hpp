@@ -22,6 +22,11 @@ struct DistributedConfig {
   /// 1 Mbit/s arbitration, 8 Mbit/s data: a 1 kHz cycle of three drives with sensor frames
   /// takes 0.76 ms of wire time (0.99 ms at 5 Mbit/s, too close to the period).
   can::BusTiming timing{1e6, 8e6};
+  /// The plant's samples reach the drives as sensor frames on the bus (as in the SocketCAN
+  /// host-in-the-loop run); false: each drive samples its own joint (JointDrive::set_sample,
+  /// as on the arm, where encoder and current ADC are the drive's own), and the bus carries
+  /// only what the arm's bus carries: sync, neighbour momentum terms, status (and reactions).
+  bool sensors_over_can = true;
   can::FaultPlan faults{};
   /// Faults over windows of plant time (`--fault`): frame faults, babble and link down on
   /// the bus; bus-off, restart and NaN samples applied to the drives by the run.

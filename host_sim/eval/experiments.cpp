@@ -1,6 +1,7 @@
 #include "eval/experiments.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <iterator>
@@ -9,6 +10,7 @@
 #include <string>
 
 #include "detection/contact_point.hpp"
+#include "eval/distributed_estimator.hpp"
 #include "eval/firmware_estimator.hpp"
 #include "eval/parallel.hpp"
 #include "models/paper_friction.hpp"
@@ -61,7 +63,8 @@ sim::SimulationSetup base_setup(const ExperimentConfig& c, std::shared_ptr<const
   return s;
 }
 
-std::unique_ptr<Estimator> estimator_for(const ExperimentConfig& c) {
+namespace {
+FirmwareEstimatorConfig firmware_config_for(const ExperimentConfig& c) {
   FirmwareEstimatorConfig f;
   f.model = c.model;
   f.dt = 1.0 / c.rate_hz;
@@ -69,18 +72,45 @@ std::unique_ptr<Estimator> estimator_for(const ExperimentConfig& c) {
   f.compensate_friction = !c.friction.empty();
   f.friction = c.friction;
   if (c.hold_calibration_s > 0.0 || !c.hold_threshold.empty()) f.holding_velocity_deadband = holding_deadband(c.model, c.rate_hz);
-  return make_firmware_estimator(f, c.scalar);
+  return f;
 }
 
-namespace {
-/// The compare_scalar's estimator (nullptr when none is configured).
-std::unique_ptr<Estimator> other_estimator_for(const ExperimentConfig& c) {
-  if (c.compare_scalar.empty()) return nullptr;
-  ExperimentConfig other = c;
-  other.scalar = c.compare_scalar;
-  return estimator_for(other);
+/// The estimator compared with the configured one on the same measurements: the other
+/// scalar in process, or either scalar as the drives on the simulated bus.
+struct OtherEstimator {
+  std::unique_ptr<Estimator> estimator;
+  DistributedEstimator* bus = nullptr;  ///< the same object when it runs on the bus
+  [[nodiscard]] Estimator* get() const { return estimator.get(); }
+  /// The bus's load over the run just made into `r`.
+  void record(RunResult& r) const {
+    if (bus == nullptr) return;
+    const BusStatistics s = bus->statistics();
+    r.bus = RunResult::BusLoad{s.frames, s.incomplete_cycles, s.busy_s, s.elapsed_s};
+  }
+};
+
+OtherEstimator other_estimator_for(const ExperimentConfig& c) {
+  OtherEstimator o;
+  if (c.compare_on_bus) {
+    // The drives run the host's estimator configuration; they never flag on their own
+    // (no node bands): the host's detectors judge their estimates as they judge the other's.
+    // Each drive samples its own joint, as on the arm: the bus carries what the arm's does.
+    DistributedConfig dc;
+    dc.estimator = firmware_config_for(c);
+    dc.sensors_over_can = false;
+    auto bus = make_distributed_estimator(dc, c.compare_scalar.empty() ? c.scalar : c.compare_scalar);
+    o.bus = bus.get();
+    o.estimator = std::move(bus);
+  } else if (!c.compare_scalar.empty()) {
+    ExperimentConfig other = c;
+    other.scalar = c.compare_scalar;
+    o.estimator = estimator_for(other);
+  }
+  return o;
 }
 }  // namespace
+
+std::unique_ptr<Estimator> estimator_for(const ExperimentConfig& c) { return make_firmware_estimator(firmware_config_for(c), c.scalar); }
 
 DetectionConfig detection_for(const ExperimentConfig& c) {
   DetectionConfig d;
@@ -118,10 +148,37 @@ DetectionConfig detection_for(const ExperimentConfig& c) {
   return d;
 }
 
+namespace {
+/// A run's comparison with the second estimator (another scalar, or the drives on the bus)
+/// and its bus load into the summary; `lags` collects the other's detection time minus the
+/// first's where both detected.
+void tally_compared(const RunResult& r, Summary& s, std::vector<double>& lags) {
+  if (r.bus) {
+    ++s.bus_runs;
+    s.bus_frames += r.bus->frames;
+    s.bus_incomplete_cycles += r.bus->incomplete_cycles;
+    s.bus_busy_s += r.bus->busy_s;
+    s.bus_elapsed_s += r.bus->elapsed_s;
+    if (r.bus->elapsed_s > 0.0) s.bus_busy_max_share = std::max(s.bus_busy_max_share, r.bus->busy_s / r.bus->elapsed_s);
+  }
+  if (!r.compared || (!r.t_detected && !r.t_detected_other)) {
+    s.compared += r.compared ? 1 : 0;
+    return;
+  }
+  ++s.compared;
+  ++s.compared_detected;
+  if (r.t_detected && r.t_detected_other) {
+    // Same cycle: equal time stamps of one simulation's control clock.
+    s.same_cycle += std::fabs(*r.t_detected - *r.t_detected_other) < 1e-9 ? 1 : 0;
+    lags.push_back(*r.t_detected_other - *r.t_detected);
+  }
+}
+}  // namespace
+
 Summary summarize(const std::vector<RunResult>& runs) {
   Summary s;
   s.runs = static_cast<int>(runs.size());
-  std::vector<double> delays, after;
+  std::vector<double> delays, after, other_lags;
   for (const auto& r : runs) {
     if (r.t_detected) {
       ++s.detected;
@@ -166,14 +223,14 @@ Summary summarize(const std::vector<RunResult>& runs) {
       s.touched_detected += r.t_detected ? 1 : 0;
       s.touched_below_moving += r.max_true_ratio_moving < 1.0 ? 1 : 0;
     }
-    if (r.compared) {
-      ++s.compared;
-      if (r.t_detected || r.t_detected_other) {
-        ++s.compared_detected;
-        // Same cycle: equal time stamps of one simulation's control clock.
-        s.same_cycle += r.t_detected && r.t_detected_other && std::fabs(*r.t_detected - *r.t_detected_other) < 1e-9 ? 1 : 0;
-      }
-    }
+    tally_compared(r, s, other_lags);
+  }
+  std::sort(other_lags.begin(), other_lags.end());
+  s.both_detected = static_cast<int>(other_lags.size());
+  if (!other_lags.empty()) {
+    s.other_lag_min_s = other_lags.front();
+    s.other_lag_median_s = other_lags[other_lags.size() / 2];
+    s.other_lag_max_s = other_lags.back();
   }
   std::sort(delays.begin(), delays.end());
   if (!delays.empty()) {
@@ -485,6 +542,7 @@ std::vector<RunResult> paper_experiments(const ExperimentConfig& c, bool traces,
     auto other = other_estimator_for(c);
     const DetectionConfig d = detection_for(c);
     slots[slot] = run_detection(setup, *est, d, s.name, traces, other.get());
+    other.record(slots[slot]);
     slots[slot].index = static_cast<int>(chosen[slot]);
   });
   for (auto& r : slots) out.push_back(std::move(r));
@@ -535,12 +593,18 @@ RunResult held_push(const ExperimentConfig& c, int link, double torque_nm, bool 
 }
 
 std::vector<RunResult> held_experiments(const ExperimentConfig& c) {
-  std::vector<RunResult> out;
-  const int links = std::min<int>(3, static_cast<int>(c.model.joints.size()));
-  for (int link = 1; link <= links; ++link) {
-    for (const double torque : {0.5, 1.0, 1.5, 2.0, 3.0}) out.push_back(held_push(c, link, torque, false));
-  }
-  out.push_back(held_push(c, 1, 0.0, false));
+  // Every link of the chain (a wrist joint's sensitivity is a figure of its own on six and
+  // seven joints); the runs are independent and seeded by link, so threads change nothing.
+  static constexpr std::array<double, 5> kPushesNm{0.5, 1.0, 1.5, 2.0, 3.0};
+  const std::size_t links = c.model.joints.size();
+  std::vector<RunResult> out(links * kPushesNm.size() + 1);
+  parallel_for(out.size(), c.jobs, [&](std::size_t i) {
+    if (i + 1 == out.size()) {
+      out[i] = held_push(c, 1, 0.0, false);
+    } else {
+      out[i] = held_push(c, static_cast<int>(i / kPushesNm.size()) + 1, kPushesNm[i % kPushesNm.size()], false);
+    }
+  });
   return out;
 }
 
@@ -590,6 +654,7 @@ std::vector<RunResult> campaign(const ExperimentConfig& c, int count, const std:
     const DetectionConfig d = detection_for(c);
     out[slot] = run_detection(setup, *est, d, "campaign " + std::to_string(i + 1) + " (" + sim::to_string(e.profile) + ")", false,
                               other.get());
+    other.record(out[slot]);
     out[slot].index = static_cast<int>(i);
   }, progress);
   return out;

@@ -63,6 +63,11 @@ struct ExperimentConfig {
   /// beside `scalar` on the same measurements with the same thresholds, and its detection
   /// cycle is recorded (RunResult::t_detected_other).
   std::string compare_scalar;
+  /// Campaign and paper runs: the compared estimator (compare_scalar, or `scalar` when none)
+  /// runs as the joint drives' firmware on the simulated CAN FD bus, one drive per joint
+  /// using its neighbours' previous-cycle messages, and each run records the bus's load
+  /// (RunResult::bus).
+  bool compare_on_bus = false;
   /// The contact estimate (ContactWindowConfig): samples before the detection, the decision
   /// after it [s], noise per threshold.
   double contact_before_s = 0.005, contact_after_s = 0.020, contact_noise_band_sigmas = 3.0;
@@ -192,6 +197,16 @@ struct Summary {
   /// Runs with a second scalar (compare_scalar): how many, how many either scalar detected,
   /// and of those how many both detected on the same cycle.
   int compared = 0, compared_detected = 0, same_cycle = 0;
+  /// Of the runs both detected: the other's detection time minus the first's [s] (min,
+  /// median, max; positive: the other later).
+  int both_detected = 0;
+  double other_lag_min_s = 0.0, other_lag_median_s = 0.0, other_lag_max_s = 0.0;
+  /// Runs compared on the simulated bus (RunResult::bus): how many, their frames, wire
+  /// time and run time summed [s], the largest share of a run's time the wire was busy, and
+  /// the cycles whose status frames were not all in by the next cycle.
+  int bus_runs = 0;
+  std::size_t bus_frames = 0, bus_incomplete_cycles = 0;
+  double bus_busy_s = 0.0, bus_elapsed_s = 0.0, bus_busy_max_share = 0.0;
   /// The contact estimate (RunResult::contact): runs with one; its link right (in all, and
   /// among the isolable); its force magnitude within 20 % of the true force at the estimate's
   /// cycle (and the same given the true point); the point within 5 cm of the true one (3-D,

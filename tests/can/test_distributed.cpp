@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "../common/unit_link.hpp"
+#include "can/cycle_budget.hpp"
 #include "eval/distributed_estimator.hpp"
 #include "eval/firmware_estimator.hpp"
 #include "jointguard/hal/loopback_can.hpp"
@@ -125,3 +126,69 @@ TEST(JointNodeFaults, SilentNeighbourRaisesTheFaultAndARestartResynchronises) {
   (void)parent_port;
 }
 }  // namespace
+
+namespace {
+// The drives with their own samples (as on the arm) or the plant's sensor frames, on the
+// recording of the paper's shoulder collision: what the bus carried over the run.
+struct BusRun {
+  Trace trace;
+  eval::BusStatistics stats;
+};
+BusRun run_on_bus(bool sensors_over_can, const char* scalar) {
+  const auto model = robot::load_robot(std::string(JG_SOURCE_DIR) + "/models/ref3.yaml");
+  auto scenario = sim::load_scenario(std::string(JG_SOURCE_DIR) + "/scenarios/paper_collision_shoulder.yaml");
+  const auto rec = sim::run_simulation(scenario.setup).recording;
+  eval::DistributedConfig dc;
+  dc.estimator.model = model;
+  dc.estimator.dt = 0.001;
+  dc.estimator.observer = {ObserverKind::first_order, 150.0, 0.0, 0.0};
+  dc.estimator.friction.assign(sim::kPaperTable1.begin(), sim::kPaperTable1.end());
+  dc.sensors_over_can = sensors_over_can;
+  auto bus = eval::make_distributed_estimator(dc, scalar);
+  BusRun r;
+  r.trace = run(*bus, rec);
+  r.stats = bus->statistics();
+  return r;
+}
+}  // namespace
+
+TEST(CycleBudget, CountsWhatTheSimulatedBusCarriesPerCycle) {
+  for (const bool sensors : {true, false}) {
+    const BusRun r = run_on_bus(sensors, "float");
+    const can::CycleBudget b = can::cycle_budget(3, eval::DistributedConfig{}.timing, sensors);
+    const double cycles = static_cast<double>(r.trace.mu.size());
+    // The drives' boot announcements and the collision events on a detector's rising edge
+    // come on top of the cycle; they are a handful in a whole run.
+    EXPECT_NEAR(static_cast<double>(r.stats.frames) / cycles, static_cast<double>(b.frames), 0.01) << "sensors " << sensors;
+    EXPECT_NEAR(r.stats.busy_s / cycles, b.wire_s, 0.01 * b.wire_s) << "sensors " << sensors;
+    EXPECT_EQ(r.stats.incomplete_cycles, 0U);
+  }
+  // A chain of n: sync, 2 (n - 1) momentum frames, n status frames (and n sensor frames).
+  EXPECT_EQ(can::cycle_budget(7, {}, false).frames, 1U + 12U + 7U);
+  EXPECT_EQ(can::cycle_budget(7, {}, true).frames, 1U + 12U + 7U + 7U);
+  // Seven drives at 1 / 8 Mbit/s do not fit a 1 kHz cycle (the momentum frames alone are
+  // 12 x 48 bytes); three do.
+  EXPECT_GT(can::cycle_budget(7, {1e6, 8e6}, false).wire_s, 1e-3);
+  EXPECT_LT(can::cycle_budget(3, {1e6, 8e6}, true).wire_s, 1e-3);
+}
+
+TEST(DistributedNodes, OwnSamplesGiveTheEstimatesOfSensorFrames) {
+  // Float drives: sensor frames carry Q16.16 samples, their own samples are exact; the
+  // estimates agree to that quantisation.
+  for (const char* scalar : {"float", "q"}) {
+    const BusRun frames = run_on_bus(true, scalar), own = run_on_bus(false, scalar);
+    ASSERT_EQ(frames.trace.mu.size(), own.trace.mu.size());
+    double worst = 0.0, largest = 0.0;
+    for (std::size_t k = 200; k < own.trace.mu.size(); ++k) {
+      for (std::size_t j = 0; j < 3; ++j) {
+        worst = std::max(worst, std::fabs(frames.trace.mu[k][j] - own.trace.mu[k][j]));
+        largest = std::max(largest, std::fabs(own.trace.mu[k][j]));
+      }
+    }
+    std::printf("%s: own samples against sensor frames, worst |mu difference| %.4f N·m (largest |mu| %.1f N·m)\n", scalar,
+                worst, largest);
+    EXPECT_GT(largest, 10.0);  // the collision is in the estimate
+    EXPECT_LT(worst, 0.05);
+    EXPECT_LT(own.stats.frames, frames.stats.frames);
+  }
+}

@@ -101,6 +101,49 @@ if got != want:
 PYEOF
 }
 [ -f "$W/panda.json" ] && { check panda "$W/panda.json" || fail=1; }
+# The drives on the simulated bus (--compare-bus): seven drives' frames do not fit a 1 kHz
+# cycle at 1 / 8 Mbit/s, which evaluate must say before any work (exit 2, naming the rate that
+# fits); at 500 Hz every cycle completes and the drives detect what the host's estimator
+# detects, at most a few cycles later (link i+k's terms reach joint i k cycles late).
+rc=0
+"$J" evaluate --scenario campaign --count 1 --model "$SRC/models/panda.yaml" --friction "$W/panda_fr.json" --compare-bus --json "$W/nobus.json" > "$W/nobus.txt" 2>&1 || rc=$?
+if [ "$rc" -ne 2 ] || ! grep -q -- "--rate 637 or below" "$W/nobus.txt" || [ -f "$W/nobus.json" ]; then
+  echo "FAIL: --compare-bus on seven joints at 1 kHz: exit $rc (2 expected, naming --rate 637)"; tail -3 "$W/nobus.txt"; fail=1
+fi
+"$J" evaluate --scenario campaign --count 3 --rate 500 --calibration 20 --hold-calibration 20 --free-run 5 --jobs 2 \
+  --model "$SRC/models/panda.yaml" --friction "$W/panda_fr.json" --compare-bus --compare-scalar q --json "$W/bus.json" > "$W/bus.txt" 2>&1 || { tail -3 "$W/bus.txt"; fail=1; }
+[ -f "$W/bus.json" ] && { "$PY" - "$W/bus.json" <<'PYEOF' || fail=1
+import json, sys
+d = json.load(open(sys.argv[1]))
+s, bad = d["summary"], []
+b, c = s.get("bus"), s.get("same_cycle_other_scalar")
+if b is None or c is None or not c.get("on_bus"):
+    bad.append("no bus figures in the summary")
+else:
+    if b["incomplete_cycles"] != 0: bad.append("%d incomplete cycles" % b["incomplete_cycles"])
+    if not 0.5 < b["busy_s"] / b["elapsed_s"] < 1.0: bad.append("wire busy %.2f of the time" % (b["busy_s"] / b["elapsed_s"]))
+    if c["both_detected"] != c["detected_by_either"]: bad.append("the bus and the host detect %d and %d" % (c["both_detected"], c["detected_by_either"]))
+    if not 0.0 <= c["other_minus_first_s"]["min"] <= c["other_minus_first_s"]["max"] <= 6 * 0.002 + 1e-9:
+        bad.append("the drives' detection %s s after the host's" % c["other_minus_first_s"])
+    if any("bus" not in r for r in d["runs"]): bad.append("a run without its bus load")
+print("bus: %s; %s" % (b, c))
+for x in bad: print("FAIL: bus: %s" % x)
+sys.exit(1 if bad else 0)
+PYEOF
+}
+# The held-joint sweep pushes every link of the chain (7 here), each with its smallest push.
+"$J" evaluate --scenario held --calibration 20 --hold-calibration 20 --free-run 2 --jobs 2 --model "$SRC/models/panda.yaml" \
+  --friction "$W/panda_fr.json" --json "$W/held.json" > "$W/held.txt" 2>&1 || { tail -3 "$W/held.txt"; fail=1; }
+[ -f "$W/held.json" ] && { "$PY" - "$W/held.json" <<'PYEOF' || fail=1
+import json, sys
+d = json.load(open(sys.argv[1]))
+links = sorted({r["link_true"] for r in d["runs"] if r["held_push"] > 0})
+smallest = d["summary"]["held_smallest_detected"]
+print("held: links pushed %s, smallest detected %s" % (links, smallest))
+if links != list(range(1, 8)) or len(smallest) != 7 or len(d["runs"]) != 36:
+    print("FAIL: held: %d runs on links %s, %d smallest pushes (36, 1..7, 7 expected)" % (len(d["runs"]), links, len(smallest))); sys.exit(1)
+PYEOF
+}
 U="$SRC/../shared/data/real/ur10e-static"
 if [ -f "$U/ur10e.urdf" ] && [ -f "$U/motion_free.csv" ]; then
   M=(--model "$U/ur10e.urdf" --drive "$SRC/models/ur10e_drive.yaml")
