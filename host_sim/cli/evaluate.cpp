@@ -35,7 +35,7 @@ struct EvaluateOptions {
   bool no_hold = false, free_run_without_holds = false, no_residual = false;
   double residual_time_constant_s = 0.05;
   double contact_before_s = 0.005, contact_after_s = 0.020;
-  bool surface_contacts = false, surface_prior = false, point_over_contact = false, observed_force = false, contact_link_from_isolation = false;
+  bool surface_contacts = false, surface_prior = false, point_over_contact = false, observed_force = false, contact_link_from_isolation = true;
   double contact_force_after_s = 0.0, contact_prior_friction = 0.5;
   int count = 50, debounce = 1, jobs = 0;
   double speed = 0.8;
@@ -486,8 +486,10 @@ void add_contact_options(CLI::App* cmd, EvaluateOptions* o) {
       ->capture_default_str()->check(CLI::Range(0.0, 0.2));
   cmd->add_flag("--contact-observed-force", o->observed_force,
                 "Contact estimate: the force as the observer sees it (no extrapolation over its lag)");
-  cmd->add_flag("--contact-link-from-isolation", o->contact_link_from_isolation,
-                "Contact estimate: the point and the force on the link the isolation named (not the estimate's own link)");
+  cmd->add_flag("--contact-link-from-isolation,!--contact-own-link", o->contact_link_from_isolation,
+                "Contact estimate: the point and the force on the link the isolation named (the default, as replay "
+                "does); --contact-own-link: on the estimate's own link (the most proximal one whose fit leaves a "
+                "residual within the noise)");
   cmd->add_flag("--contact-point-over-contact", o->point_over_contact,
                 "Contact estimate: the point along the link from every clean cycle of the contact, not the decision's window");
 }

@@ -74,7 +74,13 @@ void ContactWindow::add(const sim::ArmDynamics& arm, double t, const sim::JointV
     ContactOutcome o;
     o.t = t;
     o.estimate = detection::estimate_contact(arm, obs, config_.estimator, &*grid_);
-    if (config_.link_from_isolation && isolated_link >= 1 && isolated_link <= arm.joints() && isolated_link != o.estimate.link) {
+    // The isolation's link when the torques allow it (its fit leaves a residual within the
+    // noise): the signature sees which joints changed, the fit only which links can explain
+    // the torques; a link they rule out is never reported.
+    const auto& consistent = o.estimate.links_consistent;
+    const bool allowed = consistent.empty() || std::find(consistent.begin(), consistent.end(), isolated_link) != consistent.end();
+    if (config_.link_from_isolation && isolated_link >= 1 && isolated_link <= arm.joints() && isolated_link != o.estimate.link &&
+        allowed) {
       o.estimate.link = isolated_link;
       detection::estimate_point_and_force(arm, obs, config_.estimator,
                                           config_.point_over_the_contact ? &*points_ : nullptr, o.estimate);

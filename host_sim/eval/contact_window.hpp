@@ -49,8 +49,9 @@ struct ContactWindowConfig {
   /// force at that instant; false: of the force as the observer sees it (force_true_observed_n).
   bool lag_correction = true;
   /// The link is the one the isolation decision named (the signature over the detection
-  /// cycle and the aligned cycle after it, evaluate.cpp) when it named one; the point and
-  /// the force are estimated on it. false: the contact estimate's own link (EvidenceGrid).
+  /// cycle and the aligned cycle after it, evaluate.cpp) when it named one and the torques
+  /// allow it (among ContactEstimate::links_consistent); the point and the force are
+  /// estimated on it. false: the contact estimate's own link (EvidenceGrid).
   bool link_from_isolation = false;
   detection::ContactEstimatorParams estimator;
 };

@@ -77,7 +77,7 @@ struct ExperimentConfig {
   bool campaign_surface_contacts = false;
   bool contact_surface_prior = false;
   bool contact_point_over_the_contact = false;
-  bool contact_link_from_isolation = false;  ///< ContactWindowConfig::link_from_isolation
+  bool contact_link_from_isolation = true;  ///< ContactWindowConfig::link_from_isolation
   double contact_prior_friction = 0.5;  ///< the friction coefficient the surface prior assumes (sim::kSkinFriction)
   double contact_force_after_s = 0.0;  ///< ContactWindowConfig::force_after_s
   bool contact_lag_correction = true;  ///< ContactWindowConfig::lag_correction
