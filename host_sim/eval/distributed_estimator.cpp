@@ -113,7 +113,10 @@ class BusEstimator final : public DistributedEstimator {
     }
     for (std::size_t j = 0; j < drives_.size(); ++j) {
       const auto i = static_cast<Eigen::Index>(j);
-      if (drives_[j]) drives_[j]->set_sample(from_double<S>(in.q(i)), from_double<S>(in.dq(i)), from_double<S>(in.tau_m(i)), ((in.holding >> j) & 1U) != 0U);
+      if (drives_[j]) {
+        drives_[j]->set_sample(from_double<S>(in.q(i)), from_double<S>(in.dq(i)), from_double<S>(in.tau_m(i)),
+                               ((in.holding >> j) & 1U) != 0U);
+      }
     }
     master_.send_sync_only(cycle_);
   }

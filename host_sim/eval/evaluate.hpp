@@ -85,6 +85,9 @@ struct RunResult {
   std::vector<double> false_alarm_times;   ///< detections with no contact in the preceding 0.5 s
   std::vector<FalseAlarm> false_alarms;    ///< the same alarms in detail (their first cycle)
   std::optional<double> t_node_flagged;    ///< first cycle a drive's own detector flagged (distributed runs)
+  int link_node_isolated = 0;              ///< highest joint flagged by the drives at that cycle
+  std::optional<double> t_input_fault;     ///< first cycle a drive reported an input fault (the arm holds)
+  std::optional<double> t_comm_fault;      ///< first cycle a drive reported a communication fault (the arm holds)
   /// The simulated bus of a run compared on it (ExperimentConfig::compare_on_bus): frames,
   /// wire time and run time [s], cycles whose status frames were not all in by the next.
   struct BusLoad {
@@ -92,9 +95,6 @@ struct RunResult {
     double busy_s = 0.0, elapsed_s = 0.0;
   };
   std::optional<BusLoad> bus;
-  int link_node_isolated = 0;              ///< highest joint flagged by the drives at that cycle
-  std::optional<double> t_input_fault;     ///< first cycle a drive reported an input fault (the arm holds)
-  std::optional<double> t_comm_fault;      ///< first cycle a drive reported a communication fault (the arm holds)
   std::vector<double> contact_force_n;     ///< contact force per control cycle [N] (runs with collisions)
   bool detected_by_hold = false;           ///< the first detection came from the holding detector alone
   bool detected_by_residual = false;       ///< the first detection came from the residual detector, not the band

@@ -194,8 +194,8 @@ struct Summary {
   /// the arm moves away from is never touched), how many of those were detected, and how
   /// many touched with a true torque that never reaches the moving threshold on any joint.
   int touched = 0, touched_detected = 0, touched_below_moving = 0;
-  /// Runs with a second scalar (compare_scalar): how many, how many either scalar detected,
-  /// and of those how many both detected on the same cycle.
+  /// Runs with a second estimator (compare_scalar, or the drives on the bus: compare_on_bus):
+  /// how many, how many either detected, and of those how many both detected on the same cycle.
   int compared = 0, compared_detected = 0, same_cycle = 0;
   /// Of the runs both detected: the other's detection time minus the first's [s] (min,
   /// median, max; positive: the other later).
