@@ -4,6 +4,31 @@
 #include <cmath>
 
 namespace jg::eval {
+namespace {
+/// The estimate is on the isolation's link while the fit would have taken another: the link
+/// is then not settled by the torques, so the force's set spans the force on every link they
+/// allow (links_consistent), each fitted on the same observation. The interval becomes their
+/// union, and sigma is widened until 2 sigma reaches each link's force (a sigma that spans the
+/// whole union was measured too: 75 % of the force at the median on the second plant against
+/// 56 %, for 191 against 179 of 192 within 2 sigma). The point stays the chosen link's.
+/// Why: on a link the isolation names one too high the same torques need a smaller force
+/// (a longer lever), and the chosen link's own spread then misses the truth (the second
+/// plant: 18 of the 20 forces outside 2 sigma in a 200-collision campaign).
+void cover_consistent_links(const sim::ArmDynamics& arm, const detection::TorqueObservation& obs,
+                            const detection::ContactEstimatorParams& params, detection::ContactEstimate& e) {
+  for (const int link : e.links_consistent) {
+    if (link == e.link) continue;
+    detection::ContactEstimate other = e;
+    other.link = link;
+    detection::estimate_point_and_force(arm, obs, params, nullptr, other);
+    e.force_lo_n = std::min(e.force_lo_n, other.force_lo_n);
+    e.force_hi_n = std::max(e.force_hi_n, other.force_hi_n);
+    e.force_sigma_n = std::max(e.force_sigma_n, 0.5 * std::fabs(other.force_n - e.force_n));
+  }
+  e.force_determined = e.force_determined && std::max(e.force_hi_n - e.force_n, e.force_n - e.force_lo_n) <=
+                                                 params.determined_rel_2sigma * e.force_n;
+}
+}  // namespace
 
 ContactWindow::ContactWindow(ContactWindowConfig config, double dt)
     : config_(std::move(config)), dt_(dt),
@@ -82,8 +107,10 @@ void ContactWindow::add(const sim::ArmDynamics& arm, double t, const sim::JointV
     if (config_.link_from_isolation && isolated_link >= 1 && isolated_link <= arm.joints() && isolated_link != o.estimate.link &&
         allowed) {
       o.estimate.link = isolated_link;
+      link_switched_ = true;
       detection::estimate_point_and_force(arm, obs, config_.estimator,
                                           config_.point_over_the_contact ? &*points_ : nullptr, o.estimate);
+      cover_consistent_links(arm, obs, config_.estimator, o.estimate);
     }
     o.observation = obs;
     o.torque_sigma_lag_nm.assign(lag_sigma_.data(), lag_sigma_.data() + lag_sigma_.size());
@@ -97,6 +124,7 @@ void ContactWindow::add(const sim::ArmDynamics& arm, double t, const sim::JointV
   ContactOutcome& o = *outcome_;
   if (config_.point_over_the_contact) detection::estimate_point_and_force(arm, obs, config_.estimator, &*points_, o.estimate);
   else if (t > o.t) detection::estimate_point_and_force(arm, obs, config_.estimator, nullptr, o.estimate);
+  if (link_switched_) cover_consistent_links(arm, obs, config_.estimator, o.estimate);
   o.t_force = t;
   o.observation = obs;
   o.torque_sigma_lag_nm.assign(lag_sigma_.data(), lag_sigma_.data() + lag_sigma_.size());

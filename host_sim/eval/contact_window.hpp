@@ -112,6 +112,9 @@ class ContactWindow {
   std::size_t keep_;
   long cycle_ = 0, decision_cycle_ = 0;
   bool force_decided_ = false;
+  /// The link is the isolation's, not the fit's own: the force's set covers every link the
+  /// torques allow (cover_consistent_links in contact_window.cpp).
+  bool link_switched_ = false;
   std::optional<ContactOutcome> outcome_;
 };
 

@@ -4,6 +4,7 @@
 // posture; and the contact window estimates the force the observer sees.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "detection/contact_point.hpp"
@@ -179,6 +180,57 @@ TEST(ContactWindowTruth, TheForceIsComparedWithTheForceTheObserverSees) {
   EXPECT_NEAR(o.estimate.force_n, o.force_true_observed_n, 0.03 * o.force_true_observed_n);
   EXPECT_GT(o.force_true_n, 1.1 * o.force_true_observed_n) << "the instant force is ahead of what the observer saw";
   EXPECT_NEAR(o.force_given_true_link_n, o.force_true_observed_n, 0.03 * o.force_true_observed_n);
+}
+
+/// The window's outcome for a steady contact torque seen from 10 ms on, with the isolation
+/// naming `isolated_link` (0: none) and the link taken from it or not.
+jg::eval::ContactOutcome steady_outcome(const Arm& a, const jg::sim::JointVector& q, const Eigen::VectorXd& tau,
+                                        int isolated_link, bool link_from_isolation) {
+  const double dt = 1e-3;
+  jg::eval::ContactWindowConfig c;
+  c.observer_gain_per_s = 150.0;
+  c.estimator = a.params;
+  c.link_from_isolation = link_from_isolation;
+  jg::eval::ContactWindow w(c, dt);
+  std::optional<double> detected;
+  for (int k = 0; k < 60; ++k) {
+    const double t = k * dt;
+    if (k == 10) detected = t;
+    w.add(a.arm, t, q, k < 10 ? Eigen::VectorXd::Zero(3) : tau, jg::sim::JointVector::Constant(3, 0.3), detected, isolated_link);
+  }
+  EXPECT_TRUE(w.outcome());
+  return w.outcome() ? *w.outcome() : jg::eval::ContactOutcome{};
+}
+
+TEST(ContactWindowLink, OnTheIsolationsLinkTheForceSpreadCoversEveryLinkTheTorquesAllow) {
+  // A force on link 2 puts no torque on joint 3; a force on link 3 through joint 3's axis
+  // gives the same torques, so both links explain them and the fit takes the proximal one.
+  // When the isolation names link 3, the estimate goes there, where the same torques need a
+  // smaller force (a longer lever). Its force spread must then reach the force on link 2,
+  // or the truth would lie outside 2 sigma whenever the isolation is one link too high.
+  const Arm a;
+  const auto q = posture(0.3, 0.7, -0.9);
+  const Eigen::Vector3d point(0.2, 0.0, 0.0);
+  const Eigen::Vector3d force_base = a.arm.poses(q).rotation[1] * Eigen::Vector3d(0.0, -40.0, 0.0);
+  const Eigen::VectorXd tau = a.arm.point_jacobian(q, 1, point).transpose() * force_base;
+  ASSERT_NEAR(tau(2), 0.0, 1e-9);
+  const auto own = steady_outcome(a, q, tau, 3, false);
+  const auto iso = steady_outcome(a, q, tau, 3, true);
+  ASSERT_EQ(own.estimate.link, 2);
+  ASSERT_EQ(iso.estimate.link, 3);
+  const auto& consistent = iso.estimate.links_consistent;
+  ASSERT_NE(std::find(consistent.begin(), consistent.end(), 2), consistent.end());
+  ASSERT_LT(iso.estimate.force_n, 0.9 * own.estimate.force_n) << "link 3 needs a smaller force";
+  // Link 2's force lies within 2 sigma of the estimate and within its interval.
+  EXPECT_LE(std::fabs(own.estimate.force_n - iso.estimate.force_n), 2.0 * iso.estimate.force_sigma_n + 1e-9);
+  EXPECT_LE(iso.estimate.force_lo_n, own.estimate.force_n);
+  EXPECT_GE(iso.estimate.force_hi_n, own.estimate.force_n);
+  EXPECT_FALSE(iso.estimate.force_determined);
+  // Without a switch (the isolation names the fit's own link) nothing is widened.
+  const auto same = steady_outcome(a, q, tau, 2, true);
+  EXPECT_EQ(same.estimate.link, 2);
+  EXPECT_DOUBLE_EQ(same.estimate.force_sigma_n, own.estimate.force_sigma_n);
+  EXPECT_DOUBLE_EQ(same.estimate.force_hi_n, own.estimate.force_hi_n);
 }
 
 }  // namespace
