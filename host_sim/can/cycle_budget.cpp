@@ -1,10 +1,9 @@
 #include "can/cycle_budget.hpp"
 
-#include "jointguard/protocol/frames.hpp"
 
 namespace jg::can {
 
-CycleBudget cycle_budget(std::size_t joints, const BusTiming& timing, bool sensors_over_can) {
+CycleBudget cycle_budget(std::size_t joints, const BusTiming& timing, bool sensors_over_can, std::uint8_t momentum_frame_length) {
   CycleBudget b;
   if (joints == 0) return b;
   const auto add = [&](std::size_t count, std::uint8_t length) {
@@ -15,7 +14,7 @@ CycleBudget cycle_budget(std::size_t joints, const BusTiming& timing, bool senso
     b.wire_s += static_cast<double>(count) * frame_duration_s(f, timing);
   };
   add(1, protocol::kSyncFrameLength);
-  add(2 * (joints - 1), protocol::kMomentumFrameLength);
+  add(2 * (joints - 1), momentum_frame_length);
   add(joints, protocol::kStatusFrameLength);
   if (sensors_over_can) add(joints, protocol::kSensorFrameLength);
   return b;

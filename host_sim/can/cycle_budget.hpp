@@ -8,6 +8,7 @@
 #include <cstddef>
 
 #include "can/sim_bus.hpp"
+#include "jointguard/protocol/frames.hpp"
 
 namespace jg::can {
 
@@ -19,7 +20,9 @@ struct CycleBudget {
 };
 
 /// One cycle of `joints` drives (reaction commands and collision events, sent on events
-/// only, left out).
-CycleBudget cycle_budget(std::size_t joints, const BusTiming& timing, bool sensors_over_can);
+/// only, left out). `momentum_frame_length` [bytes, a valid CAN FD length]: the protocol's,
+/// or another to weigh a shorter encoding of the same messages (16-bit fields: 24 bytes).
+CycleBudget cycle_budget(std::size_t joints, const BusTiming& timing, bool sensors_over_can,
+                         std::uint8_t momentum_frame_length = protocol::kMomentumFrameLength);
 
 }  // namespace jg::can

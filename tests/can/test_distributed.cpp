@@ -172,6 +172,24 @@ TEST(CycleBudget, CountsWhatTheSimulatedBusCarriesPerCycle) {
   EXPECT_LT(can::cycle_budget(3, {1e6, 8e6}, true).wire_s, 1e-3);
 }
 
+TEST(CycleBudget, ShorterMomentumFramesAloneDoNotFitSixOrSevenDrivesInOneKilohertz) {
+  // The same messages with 16-bit fields (24-byte frames) save the data phase's bits, but a
+  // frame's nominal-rate part (header, ACK, end of frame: 34 bits, 34 us at 1 Mbit/s) stays:
+  // per cycle six drives still need more than 1 ms at 1 / 8 Mbit/s, seven clearly more.
+  const can::BusTiming fd{1e6, 8e6};
+  for (const std::size_t n : {6U, 7U}) {
+    const can::CycleBudget full = can::cycle_budget(n, fd, false), short16 = can::cycle_budget(n, fd, false, 24);
+    std::printf("%zu drives: 48-byte momentum frames %.3f ms (%.0f Hz), 24-byte %.3f ms (%.0f Hz)\n", n, 1e3 * full.wire_s,
+                full.max_rate_hz(), 1e3 * short16.wire_s, short16.max_rate_hz());
+    EXPECT_EQ(short16.frames, full.frames);
+    EXPECT_LT(short16.wire_s, full.wire_s);
+    EXPECT_GT(short16.wire_s, 1e-3) << n << " drives";
+  }
+  // The saving is the data phase only: 24 bytes fewer, with their worst-case stuffing.
+  const double per_frame = (can::cycle_budget(7, fd, false).wire_s - can::cycle_budget(7, fd, false, 24).wire_s) / 12.0;
+  EXPECT_NEAR(per_frame, (24.0 * 8.0 + 48.0) / 8e6, 1e-9);
+}
+
 TEST(DistributedNodes, OwnSamplesGiveTheEstimatesOfSensorFrames) {
   // Float drives: sensor frames carry Q16.16 samples, their own samples are exact; the
   // estimates agree to that quantisation.
