@@ -1,6 +1,5 @@
 #include "can/cycle_budget.hpp"
 
-
 namespace jg::can {
 
 CycleBudget cycle_budget(std::size_t joints, const BusTiming& timing, bool sensors_over_can, std::uint8_t momentum_frame_length) {

@@ -122,9 +122,14 @@ void ContactWindow::add(const sim::ArmDynamics& arm, double t, const sim::JointV
   if (since + 1e-9 < std::max(config_.after_s, config_.force_after_s)) return;
   // The point and the force on the decided link.
   ContactOutcome& o = *outcome_;
-  if (config_.point_over_the_contact) detection::estimate_point_and_force(arm, obs, config_.estimator, &*points_, o.estimate);
-  else if (t > o.t) detection::estimate_point_and_force(arm, obs, config_.estimator, nullptr, o.estimate);
-  if (link_switched_) cover_consistent_links(arm, obs, config_.estimator, o.estimate);
+  // Estimated again only when the point or the torques moved on since the decision; the
+  // decision's estimate already covers the consistent links.
+  const bool again = config_.point_over_the_contact || t > o.t;
+  if (again) {
+    detection::estimate_point_and_force(arm, obs, config_.estimator, config_.point_over_the_contact ? &*points_ : nullptr,
+                                        o.estimate);
+    if (link_switched_) cover_consistent_links(arm, obs, config_.estimator, o.estimate);
+  }
   o.t_force = t;
   o.observation = obs;
   o.torque_sigma_lag_nm.assign(lag_sigma_.data(), lag_sigma_.data() + lag_sigma_.size());
