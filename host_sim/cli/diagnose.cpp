@@ -42,6 +42,11 @@ diag::DiagnosisInputs read_inputs(const DiagnoseCliOptions& o) {
     in.reals.push_back(load_recording(path, o.input));
     diag::check_recording(in.reals.back(), in.reals.front(), in.nominal.joints.size());
   }
+  if (!o.friction.empty() && !in.nominal.friction_baseline.empty() && o.sim.empty()) {
+    // One friction per joint: the file's, identified with its links, or the friction file's.
+    throw io::FormatError(o.model + ": carries a friction_baseline (identified with its links by an earlier diagnosis), and "
+                          "--friction " + o.friction + " gives another friction for the same joints: give one of them");
+  }
   if (!o.friction.empty()) {
     in.friction = eval::read_friction_json(o.friction, diag::primary(in.reals).longest().joint_ids);
     report_input_identity("friction", o.friction);

@@ -50,6 +50,14 @@ void report_refit(const diag::DiagnosisResult& r, const robot::RobotModel& prior
     arm["notes"].push_back("rigid body not identified: " + r.rigid_body_refused);
   }
   if (r.rigid_body) report_rigid_body(*r.rigid_body, prior, arm);
+  if (r.file_baseline) {
+    const std::string note =
+        "rigid body and friction: the robot file's, identified by an earlier diagnosis (friction_baseline), taken as "
+        "the model; neither refitted nor named against";
+    std::printf("arm: %s\n", note.c_str());
+    arm["notes"].push_back(note);
+    arm["baseline"] = "robot_file";
+  }
 }
 
 /// One finding in the contract's form, with its evidence against the recording's own

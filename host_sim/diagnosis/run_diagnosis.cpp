@@ -215,13 +215,38 @@ void add_identified_friction(const std::vector<dyn::FrictionFit>& friction, std:
   }
 }
 
+/// The friction baseline a robot file carries, as the refit's friction (the same shape).
+std::vector<dyn::FrictionFit> friction_of(const std::vector<robot::FrictionBaseline>& baseline) {
+  std::vector<dyn::FrictionFit> out;
+  for (const auto& b : baseline) {
+    dyn::FrictionFit f;
+    f.coulomb_pos = b.coulomb_pos_nm;
+    f.coulomb_neg = b.coulomb_neg_nm;
+    f.coulomb = 0.5 * (b.coulomb_pos_nm + b.coulomb_neg_nm);
+    f.viscous = b.viscous_nms_rad;
+    f.offset = b.offset_nm;
+    f.eps = b.eps_rad_s;
+    out.push_back(f);
+  }
+  return out;
+}
+
+/// The refit's friction as the robot file writes it.
+std::vector<robot::FrictionBaseline> baseline_of(const std::vector<dyn::FrictionFit>& friction) {
+  std::vector<robot::FrictionBaseline> out;
+  for (const auto& f : friction) out.push_back({f.coulomb_pos, f.coulomb_neg, f.viscous, f.offset, f.eps});
+  return out;
+}
+
 /// Stage 3: the signals the diagnosis works on: real against simulated, or against the
 /// model's prediction with the file's per-joint effects and the identified friction in it.
 std::vector<JointSignals> diagnosis_signals(const DiagnosisInputs& in, const sim::ArmDynamics& arm, const RunState& st,
                                             DiagnosisResult& out) {
   const io::LoadedRecording& real = primary(in.reals);
-  // With the arm identified, its friction is the identified one (below), not the nominal one.
-  const ModelContext ctx = model_context(arm, st.used, in.nominal, out.rigid_body ? std::vector<LuGreParams<double>>() : in.friction);
+  // With the arm identified (now or by an earlier diagnosis), its friction is the identified
+  // one (below), not the nominal one.
+  const bool identified = out.rigid_body.has_value() || out.file_baseline;
+  const ModelContext ctx = model_context(arm, st.used, in.nominal, identified ? std::vector<LuGreParams<double>>() : in.friction);
   std::vector<JointSignals> signals = in.sims.empty() ? model_signals(in.reals, ctx, &out.spans)
                                                       : paired_signals(in.reals, in.sims, ctx, &out.spans);
   for (const auto& r : in.reals) out.segments += r.data.segments.size();
@@ -232,6 +257,7 @@ std::vector<JointSignals> diagnosis_signals(const DiagnosisInputs& in, const sim
     out.file_effects = FileEffectsInPrediction{st.used.plant_effects.size(), notes};
   }
   if (out.rigid_body) add_identified_friction(out.rigid_body->friction, signals);
+  if (out.file_baseline) add_identified_friction(friction_of(st.used.friction_baseline), signals);
   return signals;
 }
 
@@ -304,6 +330,12 @@ ModelOut model_out_of(const RunState& st, const DiagnosisResult& r) {
     out.notes.push_back("the identified rigid body is not written: a named cause could not be taken back out of its links");
     out.rigid_body_identified = false;
   }
+  // The friction identified with the links written is written beside them (the next round
+  // takes both): the identified links, or the file's when the refit kept them (its friction
+  // was then fitted with those). Not when the identified links had to give way to the file's.
+  if (r.rigid_body && (out.rigid_body_identified || !r.rigid_body->accepted)) {
+    out.model.friction_baseline = baseline_of(r.rigid_body->friction);
+  }
   out.model.plant_effects = merge_plant_effects(out.model.plant_effects, plant_effects_of(r.arm, r.joints));
   return out;
 }
@@ -332,7 +364,11 @@ void check_recording(const io::LoadedRecording& r, const io::LoadedRecording& fi
 DiagnosisResult run_diagnosis(const DiagnosisInputs& in, const DiagnosisSettings& settings) {
   DiagnosisResult out;
   RunState st = prepare(in, settings);
-  if (in.sims.empty() && settings.identify_rigid_body) {
+  // A file whose links and friction an earlier diagnosis identified is the model as it
+  // stands: naming causes against it or refitting it would start the loop's next round from
+  // another residual than the one the last round left (and claim its own baseline again).
+  out.file_baseline = in.sims.empty() && !st.model.friction_baseline.empty();
+  if (in.sims.empty() && settings.identify_rigid_body && !out.file_baseline) {
     name_causes_against_file(in, st, out);
     refit_rigid_body(in, st, out);
   }

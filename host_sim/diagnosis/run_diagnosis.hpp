@@ -4,7 +4,8 @@
 //      --model-out carries what an earlier diagnosis found);
 //   2. without a simulated recording: causes named against the robot file itself (a payload,
 //      a link's mass, a drive's torque constant), then the whole arm's rigid body identified
-//      on what they leave;
+//      on what they leave (unless the file carries the links and friction an earlier
+//      diagnosis identified: DiagnosisResult::file_baseline);
 //   3. the per-joint signals (real against simulated, or against the model's prediction);
 //   4. the arm-level causes, once for the arm; with several recordings, what transfers
 //      between them (leave-one-recording-out);
@@ -80,6 +81,10 @@ struct DiagnosisResult {
   // Stage 2 (without sims, unless switched off).
   std::optional<dyn::RigidBodyIdResult> rigid_body;  ///< identified (accepted or not)
   std::string rigid_body_refused;                   ///< why it could not be identified (empty: it was, or not tried)
+  /// The robot file carries the links and friction an earlier diagnosis identified
+  /// (`friction_baseline`): taken as the model, neither named against nor refitted, so that
+  /// the loop's next round starts from the residual the last one left.
+  bool file_baseline = false;
   /// Several recordings and causes named against the file: each fold's arm-level fit.
   std::optional<std::vector<CrossMotionFold>> named_folds;
   // Stage 3.

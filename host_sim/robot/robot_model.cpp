@@ -61,9 +61,38 @@ void read_identity(const io::YamlFields& root, RobotModel& m) {
   if (m.written_by_version.empty()) id.fail("version", "empty (expected the jointguard version that wrote the file)");
 }
 
+/// The optional `friction_baseline` list: one entry per joint, every number finite, the
+/// tanh scale > 0 and every level within what a drive can hold (kMaxFrictionNm).
+std::vector<FrictionBaseline> read_friction_baseline(const io::YamlFields& root, std::size_t joints) {
+  std::vector<FrictionBaseline> out;
+  if (!root.has("friction_baseline")) return out;
+  const auto entries = root.sequence("friction_baseline");
+  if (entries.size() != joints) {
+    root.fail("friction_baseline", std::to_string(entries.size()) + " entries, the file has " + std::to_string(joints) + " joints");
+  }
+  for (const auto& e : entries) {
+    e.allow_only({"coulomb_pos_nm", "coulomb_neg_nm", "viscous_nms_rad", "offset_nm", "eps_rad_s"});
+    FrictionBaseline f;
+    const auto level = [&](const char* key) {
+      const double v = e.number(key, 0.0);
+      if (!(std::abs(v) <= kMaxFrictionNm)) e.fail(key, "beyond any drive's friction (|value| at most 1e5)");
+      return v;
+    };
+    f.coulomb_pos_nm = level("coulomb_pos_nm");
+    f.coulomb_neg_nm = level("coulomb_neg_nm");
+    f.viscous_nms_rad = level("viscous_nms_rad");
+    f.offset_nm = level("offset_nm");
+    f.eps_rad_s = e.number("eps_rad_s");
+    if (!(f.eps_rad_s > 0.0 && f.eps_rad_s <= 10.0)) e.fail("eps_rad_s", "must be > 0 and at most 10 rad/s");
+    out.push_back(f);
+  }
+  return out;
+}
+
 RobotModel load_yaml(const std::string& path) {
   const io::YamlFields root = io::YamlFields::load_file(path);
-  root.allow_only({"name", "description", "gravity_m_s2", "joints", "sources", "plant_effects", "rated_payload_kg", "identity"});
+  root.allow_only({"name", "description", "gravity_m_s2", "joints", "sources", "plant_effects", "rated_payload_kg", "identity",
+                   "friction_baseline"});
   RobotModel m;
   m.source = path;
   read_identity(root, m);
@@ -120,6 +149,7 @@ RobotModel load_yaml(const std::string& path) {
     m.joints.push_back(d);
   }
   m.plant_effects = read_plant_effects(root, m.joints.size());
+  m.friction_baseline = read_friction_baseline(root, m.joints.size());
   return m;
 }
 

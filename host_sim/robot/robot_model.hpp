@@ -26,6 +26,9 @@ inline constexpr double kMaxCurrentLimitA = 1e5;
 /// The heaviest rated payload of any arm the tool may meet [kg] (the largest industrial arms
 /// are rated about 2,300 kg): beyond it a value is a unit slip (grams) or a typo.
 inline constexpr double kMaxRatedPayloadKg = 5000.0;
+/// A friction level (N·m) or viscous coefficient (N·m·s/rad) no drive reaches: a larger one in
+/// a `friction_baseline` is a corrupt file.
+inline constexpr double kMaxFrictionNm = 1e5;
 
 struct JointDescription {
   std::string name;
@@ -34,6 +37,19 @@ struct JointDescription {
   double lower_rad = -3.14, upper_rad = 3.14;
   double reach_m = 0.3;  ///< distance to the next joint (for placing contacts)
   double effort_limit_nm = 0.0;  ///< torque limit when the file gives one (URDF <limit effort>), else 0
+};
+
+/// One joint's friction as a diagnosis identified it with the arm's links (written by
+/// `diagnose --model-out` beside the identified links, key `friction_baseline`):
+/// tau_f = f_c+ max(t, 0) + f_c- min(t, 0) + f_v dq + f_o, t = tanh(dq / eps).
+/// A later diagnosis with that file takes it (and the links) as the model instead of
+/// refitting them, so that the loop's next round starts where the last one ended.
+struct FrictionBaseline {
+  double coulomb_pos_nm = 0.0;    ///< f_c+ [N·m]
+  double coulomb_neg_nm = 0.0;    ///< f_c- [N·m]
+  double viscous_nms_rad = 0.0;   ///< f_v [N·m·s/rad]
+  double offset_nm = 0.0;         ///< f_o [N·m]
+  double eps_rad_s = 0.01;        ///< tanh velocity scale [rad/s], > 0
 };
 
 struct RobotModel {
@@ -47,6 +63,9 @@ struct RobotModel {
   /// The maker's rated payload [kg] (`rated_payload_kg`, in the robot file or in drive.yaml
   /// beside a URDF); 0 = not given. The diagnosis claims no payload above it.
   double rated_payload_kg = 0.0;
+  /// The friction identified with these links (one per joint), or empty: the file's links
+  /// are then the maker's (or hand-written) and a diagnosis identifies friction itself.
+  std::vector<FrictionBaseline> friction_baseline;
   /// True for a URDF without a drive file's k_i: every torque constant is the placeholder
   /// 1 N·m/A, and motor currents cannot be turned into torques (robot/torque_kind.hpp).
   bool torque_constant_assumed = false;

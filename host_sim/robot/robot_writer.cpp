@@ -70,6 +70,14 @@ std::string robot_yaml(const RobotModel& m, const std::string& header) {
     }
     o << "    reach_m: " << num(j.reach_m) << "\n";
   }
+  if (!m.friction_baseline.empty()) {
+    o << "friction_baseline:   # identified with the links above by jointguard diagnose; a later diagnosis takes it as is\n";
+    for (const auto& f : m.friction_baseline) {
+      o << "  - {coulomb_pos_nm: " << num(f.coulomb_pos_nm) << ", coulomb_neg_nm: " << num(f.coulomb_neg_nm)
+        << ", viscous_nms_rad: " << num(f.viscous_nms_rad) << ", offset_nm: " << num(f.offset_nm)
+        << ", eps_rad_s: " << num(f.eps_rad_s) << "}\n";
+    }
+  }
   write_plant_effects(o, m.plant_effects);
   return o.str();
 }

@@ -2,12 +2,13 @@
 # The loop on a real arm (../shared/data/real, skipped when absent): `diagnose --model-out`
 # on the UR10e's vendor URDF + drive.yaml, then `diagnose --model` with the written file on
 # the same recording claims nothing new, and a third round writes the same plant_effects.
-# On motion_free (no contact). Not on the recordings with pushes (static_pushes,
-# motion_contacts): the pushes are in their residual, and the second round still claims
-# there (docs/diagnosis.md, "Written back").
+# On motion_free (no contact) and motion_contacts (pushes during the motion): the written
+# file carries the links and the friction the first round identified (friction_baseline),
+# and the second round takes them as the model. Not on static_pushes: there the pushes
+# dominate joint 5's residual and each round fits another effect to them (docs/diagnosis.md,
+# "Written back").
 # What the first round found in the gear-deflection channel (an elastic gear, backlash) is
-# taken off the measured deflection in the second; the rigid-body refit's friction baseline
-# is identified on top of the file's per-joint effects (never absorbing them twice).
+# taken off the measured deflection in the second.
 # Usage: real_loop.sh <jointguard> <source dir>
 set -euo pipefail
 J="$1"
@@ -20,7 +21,7 @@ fi
 W=$(mktemp -d)
 trap 'rm -rf "$W"' EXIT
 PY=/usr/bin/python3
-for f in motion_free; do
+for f in motion_free motion_contacts; do
   "$J" diagnose --model "$U/ur10e.urdf" --drive "$U/drive.yaml" --real "$U/$f.csv" --model-out "$W/${f}_1.yaml" --json "$W/${f}_1.json" > /dev/null
   "$J" diagnose --model "$W/${f}_1.yaml" --real "$U/$f.csv" --model-out "$W/${f}_2.yaml" --json "$W/${f}_2.json" > /dev/null
   "$J" diagnose --model "$W/${f}_2.yaml" --real "$U/$f.csv" --model-out "$W/${f}_3.yaml" --json "$W/${f}_3.json" > /dev/null
@@ -40,6 +41,7 @@ c1, c2 = claims(first), claims(second)
 print(f"{name}: round 1 claims {c1}; round 2 claims {c2}")
 assert c1, f"{name}: the first round claims nothing (the test needs something to close the loop on)"
 assert not c2, f"{name}: the second round claims {c2} with the first round's file"
+assert second["arm"].get("baseline") == "robot_file", f"{name}: the second round did not take the file's friction_baseline"
 e2, e3 = effects(sys.argv[4]), effects(sys.argv[5])
 assert e2 == e3, f"{name}: the third round's file differs:\n{e2}\n{e3}"
 PYEOF

@@ -201,6 +201,44 @@ TEST(RobotWriter, WritesWhatTheReaderReadsBack) {
   }
 }
 
+TEST(RobotWriter, FrictionBaselineReadsBackAndABadOneIsRefusedNamingTheField) {
+  robot::RobotModel m = robot::load_robot(kSource + "/models/ref3.yaml");
+  ASSERT_TRUE(m.friction_baseline.empty());
+  for (std::size_t j = 0; j < m.joints.size(); ++j) {
+    const double k = static_cast<double>(j) + 1.0;
+    m.friction_baseline.push_back({0.5 * k, 0.4 * k, -0.1 * k, 0.01 * k, 0.003});
+  }
+  const std::string out = (std::filesystem::temp_directory_path() / "jg_writer_baseline.yaml").string();
+  robot::write_robot(out, m, "baseline");
+  const robot::RobotModel r = robot::load_robot(out);
+  ASSERT_EQ(r.friction_baseline.size(), m.joints.size());
+  for (std::size_t j = 0; j < m.joints.size(); ++j) {
+    const auto &a = m.friction_baseline[j], &c = r.friction_baseline[j];
+    EXPECT_DOUBLE_EQ(a.coulomb_pos_nm, c.coulomb_pos_nm);
+    EXPECT_DOUBLE_EQ(a.coulomb_neg_nm, c.coulomb_neg_nm);
+    EXPECT_DOUBLE_EQ(a.viscous_nms_rad, c.viscous_nms_rad);
+    EXPECT_DOUBLE_EQ(a.offset_nm, c.offset_nm);
+    EXPECT_DOUBLE_EQ(a.eps_rad_s, c.eps_rad_s);
+  }
+  // One entry per joint, and a tanh scale > 0: else refused, naming the field.
+  const auto refused = [&](const robot::RobotModel& bad, const std::string& field) {
+    robot::write_robot(out, bad, "bad baseline");
+    try {
+      (void)robot::load_robot(out);
+      ADD_FAILURE() << "accepted a friction_baseline that should name " << field;
+    } catch (const io::FormatError& e) {
+      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+    }
+  };
+  robot::RobotModel short_list = m;
+  short_list.friction_baseline.pop_back();
+  refused(short_list, "friction_baseline");
+  robot::RobotModel zero_eps = m;
+  zero_eps.friction_baseline[1].eps_rad_s = 0.0;
+  refused(zero_eps, "eps_rad_s");
+  std::filesystem::remove(out);
+}
+
 TEST(RobotWriter, FailureLeavesNothing) {
   const auto m = robot::load_robot(kSource + "/models/ref3.yaml");
   const std::string out = "/nonexistent_dir_jg/model.yaml";
