@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "eval/aligned_estimate.hpp"
+#include "eval/decision_signature.hpp"
 #include "identification/lugre_batch.hpp"
 #include "jointguard/node/joint_reaction.hpp"
 
@@ -137,12 +138,8 @@ struct RunState {
   JointMask window_signature = 0;  ///< joints taking part in the signature since the detection
   /// Joints flagged by a detector at the detection cycle or by their holding change since it.
   JointMask flagged_signature = 0;
-  /// Per joint, over the cycles it was looked at in the aligned decision (the detection
-  /// cycle and the aligned ones): the sum of its estimate, their number, its lowest and
-  /// highest value [N·m].
-  std::vector<double> decision_sum;
-  std::vector<int> decision_cycles;
-  std::vector<double> decision_low, decision_high;
+  /// The joints' estimates over the aligned decision (the detection cycle and the aligned ones).
+  DecisionSignature decision;
   double last_alarm_t = -1e9;      ///< [s]
   bool other_started = false;
   sim::JointVector other_mu;
@@ -161,10 +158,7 @@ struct RunState {
         friction_state(p.d.friction.size()),
         friction_now(sim::JointVector::Zero(static_cast<Eigen::Index>(p.n))),
         detectors(p.n),
-        decision_sum(p.n, 0.0),
-        decision_cycles(p.n, 0),
-        decision_low(p.n, 0.0),
-        decision_high(p.n, 0.0),
+        decision(p.n),
         other_detectors(p.n),
         still_cycles(p.n, 0),
         baseline(p.n, 0.0),
@@ -323,13 +317,12 @@ void isolate(const RunParams& p, RunState& s, double t, const CycleFlags& f, Run
   // (|mu| there is mostly the friction it holds): over kHeldSignatureFraction of its
   // change threshold, about the largest collision-free change (1.5x it + 0.2 N·m).
   // Over the detection cycle and the aligned ones, a joint that is not held takes part by
-  // its largest estimate there while the estimate keeps its sign (a contact's own torque
-  // builds), and by its mean once the sign changes: the coupling of a sudden torque on a
-  // joint below into the one above it rings, one cycle up and the next down (UR10e: elbow
-  // +4.0 then -4.0 N·m after a 25 N·m push on the upper arm; Panda: joint 4 -0.97 then
-  // +0.59 N·m, the bar 0.82), and the mean cancels it.
-  JointMask by_decision = 0;
+  // its largest estimate there while the estimate keeps its sign, by its mean once the sign
+  // changes (the coupling's ringing: decision_signature.hpp; Panda: joint 4 -0.97 then
+  // +0.59 N·m, the bar 0.82).
+  std::vector<double> bar(p.n);
   for (std::size_t j = 0; j < p.n; ++j) {
+    bar[j] = p.d.isolation_fraction * p.d.threshold[j];
     const double value =
         s.mu(static_cast<Eigen::Index>(j)) + (use_aligned && !p.d.observer_aligns_motor_torque ? s.aligned.correction(j) : 0.0);
     const bool still = p.d.isolation_standstill_change && s.still_cycles[j] * p.dt >= kStandstillS - 1e-9;
@@ -339,30 +332,17 @@ void isolate(const RunParams& p, RunState& s, double t, const CycleFlags& f, Run
     // the detection cycle only.
     if (use_aligned && still) continue;
     const HoldChangeState<double>& held = s.detectors.hold[j];
-    const double bar = p.d.isolation_fraction * p.d.threshold[j];
     const double excess = still ? value - s.baseline_at_detection[j] : value;
     if (!held.armed && in_aligned_decision) {
-      const bool first = s.decision_cycles[j] == 0;
-      s.decision_low[j] = first ? excess : std::min(s.decision_low[j], excess);
-      s.decision_high[j] = first ? excess : std::max(s.decision_high[j], excess);
-      s.decision_sum[j] += excess;
-      ++s.decision_cycles[j];
+      s.decision.add(j, excess);
       continue;
     }
     const bool part = held.armed ? hold_deviation(held, value) > kHeldSignatureFraction * p.detectors.hold[j].change_threshold
-                                 : std::fabs(excess) > bar;
+                                 : std::fabs(excess) > bar[j];
     if (part) signature |= static_cast<JointMask>(1U << j);
   }
-  for (std::size_t j = 0; j < p.n; ++j) {
-    const int cycles = s.decision_cycles[j];
-    if (cycles == 0) continue;
-    const bool one_sign = s.decision_low[j] >= 0.0 || s.decision_high[j] <= 0.0;
-    const double size = one_sign ? std::max(std::fabs(s.decision_low[j]), std::fabs(s.decision_high[j]))
-                                 : std::fabs(s.decision_sum[j] / cycles);
-    if (size > p.d.isolation_fraction * p.d.threshold[j]) by_decision |= static_cast<JointMask>(1U << j);
-  }
   s.flagged_signature |= signature;
-  s.window_signature = s.flagged_signature | by_decision;
+  s.window_signature = s.flagged_signature | s.decision.mask(bar);
   out.link_isolated = isolate_link(s.window_signature);
   if (out.link_first_cycle == 0) out.link_first_cycle = out.link_isolated;
 }
