@@ -5,6 +5,7 @@
 
 #include "diagnosis/model_out.hpp"
 #include "diagnosis/pairing.hpp"
+#include "robot/effect_catalogue.hpp"
 #include "robot/torque_kind.hpp"
 
 namespace jg::diag {
@@ -279,15 +280,26 @@ std::vector<NotTransferring> diagnose_arm_level(const DiagnosisInputs& in, const
 }
 
 /// The options of `joint`'s diagnosis: its effects that did not transfer excluded, and the
-/// notes saying so.
-DiagnoseOptions joint_options(int joint, const std::vector<NotTransferring>& not_transferring, bool trace,
-                              std::vector<std::string>& notes) {
+/// notes saying so. An effect the robot file already carries on the joint (`file_effects`,
+/// written by an earlier diagnosis and in the prediction) is not offered again: the cause is
+/// named, and a second component of it (a Stribeck curve at another speed scale, a ripple at
+/// another period) is the remainder of a shape the vocabulary's form does not fit, which the
+/// loop would otherwise add round after round. It stays in the joint's unexplained residual.
+DiagnoseOptions joint_options(int joint, const std::vector<NotTransferring>& not_transferring,
+                              const std::vector<robot::PlantEffect>& file_effects, bool trace, std::vector<std::string>& notes) {
   DiagnoseOptions jo;
   jo.trace = trace;
   for (const auto& n : not_transferring) {
     if (n.joint != joint) continue;
     jo.excluded_effects.push_back(n.effect);
     notes.push_back(n.why);
+  }
+  for (const auto& e : file_effects) {
+    if (e.joint != joint || std::find(jo.excluded_effects.begin(), jo.excluded_effects.end(), e.effect) != jo.excluded_effects.end()) {
+      continue;
+    }
+    jo.excluded_effects.push_back(e.effect);
+    notes.push_back(robot::effect_word(e.effect) + " is in the robot file already (an earlier diagnosis): not offered again; what it leaves is in the unexplained residual");
   }
   return jo;
 }
@@ -299,11 +311,11 @@ void stage_done(const DiagnosisSettings& settings, DiagnosisStage stage, const D
 
 /// Stage 5: each joint's diagnosis on the signals the arm-level causes left (out.signals),
 /// into out.joints.
-void diagnose_joints(const std::vector<NotTransferring>& not_transferring, const std::string& path,
-                     const DiagnosisSettings& settings, DiagnosisResult& out) {
+void diagnose_joints(const std::vector<NotTransferring>& not_transferring, const std::vector<robot::PlantEffect>& file_effects,
+                     const std::string& path, const DiagnosisSettings& settings, DiagnosisResult& out) {
   for (const auto& s : out.signals) {
     std::vector<std::string> notes;
-    const DiagnoseOptions jo = joint_options(s.joint, not_transferring, settings.trace, notes);
+    const DiagnoseOptions jo = joint_options(s.joint, not_transferring, file_effects, settings.trace, notes);
     JointDiagnosis d = io::about_recording(path, [&] { return diagnose_joint(s, jo); });
     d.notes.insert(d.notes.end(), notes.begin(), notes.end());
     out.joints.push_back(d);
@@ -382,7 +394,10 @@ DiagnosisResult run_diagnosis(const DiagnosisInputs& in, const DiagnosisSettings
   out.signals = without_arm_causes(signals, out.arm);
   merge_named(st.named, out.arm);
   stage_done(settings, DiagnosisStage::arm, out);
-  diagnose_joints(not_transferring, primary(in.reals).path, settings, out);
+  // The file's per-joint effects (as written, before any was folded into a drive's K_I) are
+  // in the prediction only without simulated recordings.
+  const std::vector<robot::PlantEffect> file_effects = in.sims.empty() ? st.model.plant_effects : std::vector<robot::PlantEffect>();
+  diagnose_joints(not_transferring, file_effects, primary(in.reals).path, settings, out);
   if (settings.model_out) out.model_out = model_out_of(st, out);
   return out;
 }

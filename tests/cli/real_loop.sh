@@ -4,7 +4,8 @@
 # the same recording claims nothing new, and a third round writes the same plant_effects.
 # On motion_free (no contact) and motion_contacts (pushes during the motion): the written
 # file carries the links and the friction the first round identified (friction_baseline),
-# and the second round takes them as the model. Not on static_pushes: there the pushes
+# and the second round takes them as the model; an effect the file carries on a joint is not
+# offered on that joint again. Not on static_pushes: there the pushes
 # dominate joint 5's residual and each round fits another effect to them (docs/diagnosis.md,
 # "Written back").
 # What the first round found in the gear-deflection channel (an elastic gear, backlash) is
@@ -42,6 +43,13 @@ print(f"{name}: round 1 claims {c1}; round 2 claims {c2}")
 assert c1, f"{name}: the first round claims nothing (the test needs something to close the loop on)"
 assert not c2, f"{name}: the second round claims {c2} with the first round's file"
 assert second["arm"].get("baseline") == "robot_file", f"{name}: the second round did not take the file's friction_baseline"
+# An effect the file carries on a joint is not offered on it again (a second Stribeck curve,
+# another ripple period: the loop would add one a round on the Panda); the joint says so.
+for j in first["joints"]:
+    effects1 = {f["effect"] for f in j["findings"] if f["effect"] != "none"}
+    notes2 = " ".join(next(k for k in second["joints"] if k["joint"] == j["joint"]).get("notes", []))
+    for e in effects1:
+        assert f"{e} is in the robot file already" in notes2, f"{name}: joint {j['joint']}'s {e} offered again in round 2: {notes2}"
 e2, e3 = effects(sys.argv[4]), effects(sys.argv[5])
 assert e2 == e3, f"{name}: the third round's file differs:\n{e2}\n{e3}"
 PYEOF
