@@ -136,7 +136,9 @@ struct RunState {
   sim::JointVector friction_now;
   DetectorStates detectors;
   JointMask window_signature = 0;  ///< joints taking part in the signature since the detection
-  /// Joints flagged by a detector at the detection cycle or by their holding change since it.
+  /// Joints that took part cycle by cycle: flagged by a detector at the detection cycle, by
+  /// their holding change since it, or (isolation_window_s past the aligned cycles) over
+  /// their bar on a cycle. The aligned decision's own joints are `decision`'s.
   JointMask flagged_signature = 0;
   /// The joints' estimates over the aligned decision (the detection cycle and the aligned ones).
   DecisionSignature decision;

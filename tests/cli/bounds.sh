@@ -173,4 +173,10 @@ expect 1 "huge_sigma0.json: joint 1: LuGre parameters (sigma0 180000000000000" -
   --model models/ref3.yaml --friction "$W/huge_sigma0.json" --threshold tests/data/recordings/ref3_threshold.json --scalar q \
   --json "$W/never.json"
 [ ! -e "$W/never.json" ] || { echo "replay wrote its JSON with friction the scalar cannot hold"; exit 1; }
+# A robot file carrying the friction an earlier diagnosis identified with its links, and
+# --friction beside it: two frictions for one joint, refused naming the file, nothing written.
+expect 1 "ref3_friction_baseline.yaml: carries a friction_baseline" -- "$J" diagnose \
+  --model tests/fuzz/corpus/robot_yaml/ref3_friction_baseline.yaml --real tests/data/recordings/held_arm.csv \
+  --friction tests/data/recordings/ref3_friction.json --json "$W/never.json"
+[ ! -e "$W/never.json" ] || { echo "diagnose wrote its JSON with two frictions for one joint"; exit 1; }
 echo "bounds: ok"
