@@ -456,6 +456,22 @@ double heldout_rms(const JointProblem& p, const Chosen& cs) {
   return rms(p.y_test - rows_of(cols, p.split.test) * b);
 }
 
+/// `g` without the instances at another setting than the robot file's, for an effect the
+/// file carries on the joint (DiagnoseOptions::only_at_setting); others untouched.
+void keep_only_file_settings(const DiagnoseOptions& o, std::vector<Candidate>& g) {
+  if (g.empty()) return;
+  const robot::Effect effect = g.front().effect;
+  const auto listed = [&](const std::pair<robot::Effect, std::map<std::string, double>>& e) { return e.first == effect; };
+  if (std::none_of(o.only_at_setting.begin(), o.only_at_setting.end(), listed)) return;
+  g.erase(std::remove_if(g.begin(), g.end(),
+                         [&](const Candidate& c) {
+                           return std::none_of(o.only_at_setting.begin(), o.only_at_setting.end(), [&](const auto& e) {
+                             return e.first == effect && e.second == c.setting;
+                           });
+                         }),
+          g.end());
+}
+
 /// The candidate groups the joint is offered: the library's, without those ruled out
 /// beforehand (they did not transfer between recordings: cross_motion.hpp), and, when the
 /// gear-deflection channel found something, its torque side (the rotor's acceleration
@@ -470,6 +486,8 @@ std::vector<std::vector<Candidate>> joint_candidates(const JointSignals& s, cons
                                                                g.front().effect) != o.excluded_effects.end();
                               }),
                groups.end());
+  for (auto& g : groups) keep_only_file_settings(o, g);
+  groups.erase(std::remove_if(groups.begin(), groups.end(), [](const std::vector<Candidate>& g) { return g.empty(); }), groups.end());
   deflection_channel(s, split, o, d);
   if (!d.findings.empty()) {
     const auto strongest = std::max_element(d.findings.begin(), d.findings.end(),

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <map>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -82,6 +83,10 @@ struct DiagnoseOptions {
   double min_duration_s = 2.0;
   /// Effects not offered (e.g. they did not transfer between recordings of the same arm).
   std::vector<robot::Effect> excluded_effects;
+  /// Effects offered only at the given settings (the robot file carries them there, an
+  /// earlier diagnosis wrote them): what is found is a change of their size, never a second
+  /// component of the same cause at another setting.
+  std::vector<std::pair<robot::Effect, std::map<std::string, double>>> only_at_setting;
   /// Each selection step to stderr (the caller decides: `diagnose --trace`); the algorithms
   /// read no environment. (The test-set bench's JG_DIAG_TRACE prints only its own lines.)
   bool trace = false;

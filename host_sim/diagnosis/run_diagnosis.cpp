@@ -281,10 +281,12 @@ std::vector<NotTransferring> diagnose_arm_level(const DiagnosisInputs& in, const
 
 /// The options of `joint`'s diagnosis: its effects that did not transfer excluded, and the
 /// notes saying so. An effect the robot file already carries on the joint (`file_effects`,
-/// written by an earlier diagnosis and in the prediction) is not offered again: the cause is
-/// named, and a second component of it (a Stribeck curve at another speed scale, a ripple at
-/// another period) is the remainder of a shape the vocabulary's form does not fit, which the
-/// loop would otherwise add round after round. It stays in the joint's unexplained residual.
+/// written by an earlier diagnosis and in the prediction) is offered again only at the file's
+/// setting: a change of its size (a drive's constant that moved since the file was written) is
+/// found and merged into the file's entry, but a second component of the cause (a Stribeck
+/// curve at another speed scale, a ripple at another period) is the remainder of a shape the
+/// vocabulary's form does not fit, which the loop would otherwise add round after round. It
+/// stays in the joint's unexplained residual.
 DiagnoseOptions joint_options(int joint, const std::vector<NotTransferring>& not_transferring,
                               const std::vector<robot::PlantEffect>& file_effects, bool trace, std::vector<std::string>& notes) {
   DiagnoseOptions jo;
@@ -298,8 +300,8 @@ DiagnoseOptions joint_options(int joint, const std::vector<NotTransferring>& not
     if (e.joint != joint || std::find(jo.excluded_effects.begin(), jo.excluded_effects.end(), e.effect) != jo.excluded_effects.end()) {
       continue;
     }
-    jo.excluded_effects.push_back(e.effect);
-    notes.push_back(robot::effect_word(e.effect) + " is in the robot file already (an earlier diagnosis): not offered again; what it leaves is in the unexplained residual");
+    jo.only_at_setting.emplace_back(e.effect, e.setting);
+    notes.push_back(robot::effect_word(e.effect) + " is in the robot file already (an earlier diagnosis): offered again only at the file's setting, as a change of its size; what another shape of it would add is in the unexplained residual");
   }
   return jo;
 }

@@ -9,7 +9,12 @@
 #    measured run as a floor (named >= 10, payload claims off by more than 20 % <= 2), no
 #    claim on a zero-size case beyond the untouched recording's; the per-joint vocabulary
 #    (--vocabulary): no size beyond the range the diagnosis accepts claimed, and the named
-#    count of the last measured run as a floor (31/104, docs/results.md).
+#    count of the last measured run as a floor (39/104, docs/results.md);
+#  - the same on the UR10e against the file the untouched recording's own diagnosis wrote
+#    (--baseline: its links, friction and findings, as a user diagnoses a change on an arm
+#    diagnosed before): the measured figures as floors (payloads 13/16, vocabulary 91/104),
+#    nothing claimed on a zero-size case, and no more sizes beyond the accepted range claimed
+#    than measured (5 of 11: a delay past 50 ms reads as a shorter one, docs/results.md).
 # Usage: injection_bench.sh <jointguard> <source dir>
 set -euo pipefail
 J="$1"
@@ -25,15 +30,20 @@ cd "$SRC"
 PY=/usr/bin/python3
 "$PY" scripts/injection_bench.py "$J" "$DATA" panda --cases 2 --json "$W/panda.json" > /dev/null
 "$PY" scripts/injection_bench.py "$J" "$DATA" ur10e --vocabulary --json "$W/ur10e.json" > /dev/null
-"$PY" - "$W/panda.json" "$W/ur10e.json" <<'PYEOF'
+"$PY" scripts/injection_bench.py "$J" "$DATA" ur10e --vocabulary --baseline --json "$W/ur10e_baseline.json" > /dev/null
+"$PY" - "$W/panda.json" "$W/ur10e.json" "$W/ur10e_baseline.json" <<'PYEOF'
 import json, sys
-p, u = (json.load(open(f))["summary"] for f in sys.argv[1:3])
+p, u, b = (json.load(open(f))["summary"] for f in sys.argv[1:4])
 print("panda:", p)
 print("ur10e:", u)
+print("ur10e against its own diagnosed file:", b)
+assert b["named_within_20pct"] >= 13 and b["joint_effects_named"] >= 91, b  # measured 13/16, 91/104
+assert len(b["implausible_claimed"]) <= 5, b  # measured 5 of 11 (delays past 50 ms read shorter)
+assert b["zero_size_cases"] == 2 and b["zero_size_with_extra_claims"] == 0, b
 assert p["named_within_20pct"] >= 1 and p["wrong_claims"] == 0, p  # 0.3 kg (below the floor) and 1.5 kg
 assert u["named_within_20pct"] >= 10 and u["wrong_claims"] <= 2, u  # measured 10/16 (docs/results.md)
 assert u["implausible_cases"] >= 1 and u["implausible_claimed"] == [], u  # beyond the range: never claimed
-assert u["joint_effects_named"] >= 31, u  # measured 31/104
+assert u["joint_effects_named"] >= 39, u  # measured 39/104
 for s in (p, u):
     assert s["zero_size_cases"] == 2 and s["zero_size_with_extra_claims"] == 0, s
 PYEOF

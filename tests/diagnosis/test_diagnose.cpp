@@ -162,3 +162,31 @@ TEST(DiagnoseRealArmRules, NoTorqueConstantOnAJointTorqueSensor) {
   s.joint_torque_sensor = true;
   for (const auto& f : jg::diag::diagnose_joint(s).findings) EXPECT_NE(f.effect, jg::robot::Effect::torque_constant);
 }
+
+// An effect the robot file carries on the joint is offered again only at the file's setting
+// (DiagnoseOptions::only_at_setting): a change of its size is found, another component of
+// the cause (a ripple at another period) is not.
+TEST(DiagnoseRealArmRules, FileEffectOfferedOnlyAtItsSetting) {
+  const auto s = synthetic_joint([](double, double) { return 0.0; }, 5);
+  auto rippled = s;
+  for (std::size_t k = 0; k < rippled.size(); ++k) {
+    rippled.residual[k] += 0.2 * std::sin(50.0 * rippled.q[k]);
+    rippled.tau_real[k] = rippled.tau_model[k] + rippled.residual[k];
+  }
+  auto ripple_periods = [](const jg::diag::JointDiagnosis& d) {
+    std::vector<double> out;
+    for (const auto& f : d.findings) {
+      if (f.effect == jg::robot::Effect::position_ripple) out.push_back(f.params.at("periods_per_rev"));
+    }
+    return out;
+  };
+  EXPECT_EQ(ripple_periods(jg::diag::diagnose_joint(rippled)), std::vector<double>{50.0}) << "the ripple is not found at all";
+  jg::diag::DiagnoseOptions same;
+  same.only_at_setting.emplace_back(jg::robot::Effect::position_ripple, std::map<std::string, double>{{"periods_per_rev", 50.0}});
+  EXPECT_EQ(ripple_periods(jg::diag::diagnose_joint(rippled, same)), std::vector<double>{50.0}) << "a change of the file's ripple is not found";
+  jg::diag::DiagnoseOptions other;
+  other.only_at_setting.emplace_back(jg::robot::Effect::position_ripple, std::map<std::string, double>{{"periods_per_rev", 30.0}});
+  for (const double k : ripple_periods(jg::diag::diagnose_joint(rippled, other))) EXPECT_EQ(k, 30.0) << "a ripple at another period than the file's is offered";
+  // Untouched effects keep their whole grid.
+  EXPECT_TRUE(ripple_periods(jg::diag::diagnose_joint(s, same)).empty());
+}
