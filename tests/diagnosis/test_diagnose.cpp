@@ -190,3 +190,32 @@ TEST(DiagnoseRealArmRules, FileEffectOfferedOnlyAtItsSetting) {
   // Untouched effects keep their whole grid.
   EXPECT_TRUE(ripple_periods(jg::diag::diagnose_joint(s, same)).empty());
 }
+
+// A delay past the plausible 50 ms is not claimed as a shorter one: the first-order column's
+// coefficient saturates (an 80 ms lag of a 5 Hz torque reads as about 19 ms), the model's
+// torque shifted by whole samples with its gain held at 1 finds the lag itself.
+TEST(DiagnoseRealArmRules, LongDelayIsNotReadAsAShortOne) {
+  auto lagged = [](double delay_s) {
+    auto s = synthetic_joint([](double, double) { return 0.0; }, 6);
+    auto model = [](double t) { return 10.0 + 5.0 * std::sin(0.6 * std::sin(2.0 * M_PI * 0.2 * t)) + 3.0 * std::sin(2.0 * M_PI * 5.0 * t); };
+    for (std::size_t k = 0; k < s.size(); ++k) {
+      s.tau_model[k] = model(s.t[k]);
+      s.residual[k] += model(s.t[k] - delay_s) - model(s.t[k]);
+      s.tau_real[k] = s.tau_model[k] + s.residual[k];
+    }
+    return jg::diag::diagnose_joint(s);
+  };
+  auto delay_of = [](const jg::diag::JointDiagnosis& d) {
+    for (const auto& f : d.findings) {
+      if (f.effect == jg::robot::Effect::time_delay) return f.params.at("delay_s");
+    }
+    return -1.0;
+  };
+  const auto short_delay = lagged(0.02);
+  EXPECT_NEAR(delay_of(short_delay), 0.02, 0.01) << names(short_delay);
+  const auto long_delay = lagged(0.08);
+  EXPECT_LT(delay_of(long_delay), 0.0) << "an 80 ms delay claimed as " << delay_of(long_delay) << " s";
+  bool noted = false;
+  for (const auto& n : long_delay.notes) noted = noted || (n.find("time_delay: the model's torque lags best by") == 0 && n.find("beyond 50 ms") != std::string::npos);
+  EXPECT_TRUE(noted) << "the long delay is not reported: " << ::testing::PrintToString(long_delay.notes);
+}
