@@ -57,7 +57,7 @@ const std::vector<EffectInfo>& effect_catalogue() {
       {Effect::current_offset, "current_offset", S::joint, C::sensor, 1, "", "offset_nm [N·m]",
        "at most the largest torque measured", "a constant offset of the current sensor (amperes through K_I)",
        "a constant column (also what differs at the recording's start)"},
-      {Effect::time_delay, "time_delay", S::joint, C::sensor, 1, "", "delay_s [s]", "the torque lags the motion by dt/2 to 50 ms",
+      {Effect::time_delay, "time_delay", S::joint, C::sensor, 1, "", "delay_s [s]", "the torque lags the motion by dt/2 to 50 ms, fitted and as the best whole-sample shift",
        "one delay of all drives' current channels (the median of the joints'), in whole samples",
        "the derivative of the model's torque (a first-order delay)"},
       {Effect::backlash, "backlash", S::joint, C::deflection, 0, "gap_rad", "gap_rad [rad], fraction",
