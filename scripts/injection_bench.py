@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""Known causes injected into real recordings, then diagnosed against the robot file alone.
+"""Known causes injected into real recordings, then diagnosed against the robot file alone, or
+(--baseline) against the file the untouched recording's own `diagnose --model-out` wrote.
 
 Usage: injection_bench.py JOINTGUARD DATA_DIR ARM [--cases N] [--vocabulary] [--baseline] [--json OUT]
   ARM: panda (panda-excitation, models/panda.yaml, joint torque sensor) or ur10e

@@ -719,13 +719,10 @@ double best_whole_shift_s(const JointSignals& s, const VectorXd& z, double max_s
 void drop_delay_beyond_range(const JointProblem& p, const VectorXd& y, Chosen& chosen, JointDiagnosis& d) {
   const auto at = std::find_if(chosen.begin(), chosen.end(), [](const Candidate* c) { return c->effect == robot::Effect::time_delay; });
   if (at == chosen.end()) return;
-  Chosen others = chosen;
-  others.erase(others.begin() + (at - chosen.begin()));
-  const auto all_rows = all_rows_of(p.s.size());
   VectorXd z = y;
-  if (!others.empty()) {
+  if (chosen.size() > 1) {
     // The others as fitted together with the delay, taken off.
-    const MatrixXd X = rows_of(columns_of(chosen), all_rows);
+    const MatrixXd X = rows_of(columns_of(chosen), all_rows_of(p.s.size()));
     const VectorXd b = solve(X, y);
     Eigen::Index col = 0;
     for (const auto* c : chosen) {

@@ -359,7 +359,7 @@ void arm_and_joints(const DiagnosisInputs& in, const sim::ArmDynamics& arm, cons
   const std::string& path = primary(in.reals).path;
   auto not_transferring = diagnose_arm_level(in, arm, st, signals, out);
   out.signals = without_arm_causes(signals, out.arm);
-  if (!settings.backfit || !in.sims.empty()) {
+  if (!in.sims.empty()) {
     merge_named(st.named, out.arm);
     stage_done(settings, DiagnosisStage::arm, out);
     diagnose_joints(not_transferring, file_effects, path, settings, out);

@@ -60,9 +60,6 @@ struct DiagnosisSettings {
   bool identify_rigid_body = true;
   bool trace = false;      ///< each selection step to stderr
   bool model_out = false;  ///< compute the robot file to write back (DiagnosisResult::model_out)
-  /// Without sims, on one recording: the arm's causes fitted again on what the joints' effects leave, and the
-  /// joints again on what those leave (one backfitting step; run_diagnosis.cpp).
-  bool backfit = true;
   /// Called as each stage ends, with the result so far (may be empty).
   std::function<void(DiagnosisStage, const DiagnosisResult&)> on_stage;
 };

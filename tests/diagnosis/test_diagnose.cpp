@@ -187,7 +187,7 @@ TEST(DiagnoseRealArmRules, FileEffectOfferedOnlyAtItsSetting) {
   jg::diag::DiagnoseOptions other;
   other.only_at_setting.emplace_back(jg::robot::Effect::position_ripple, std::map<std::string, double>{{"periods_per_rev", 30.0}});
   for (const double k : ripple_periods(jg::diag::diagnose_joint(rippled, other))) EXPECT_EQ(k, 30.0) << "a ripple at another period than the file's is offered";
-  // Untouched effects keep their whole grid.
+  // Nothing in the residual: the restriction finds nothing either.
   EXPECT_TRUE(ripple_periods(jg::diag::diagnose_joint(s, same)).empty());
 }
 
