@@ -584,6 +584,26 @@ std::string jointly_implausible(const JointProblem& p, const Chosen& cs) {
 /// makes an effect already chosen implausible when fitted with it (a drift imitating a scale
 /// and an offset together) is not an addition: checked at each step, not only at the end,
 /// where dropping the implausible effect would leave the others fitted for its company.
+/// Whether the held-out blocks can judge the last effect of `trial`: its fitted torque (fitted
+/// on the training blocks with the others) must act there, at least a tenth of its RMS on the
+/// training blocks. A Stribeck excess where the joint moves slowly only in training blocks
+/// changes the held-out residual by nothing, which is no evidence against it: such an effect
+/// is judged by the delete-one-block jackknife alone (drop_below_null), which deletes each
+/// block where it does act in turn.
+bool heldout_exercises(const JointProblem& p, const Chosen& trial) {
+  const MatrixXd Xtr = rows_of(columns_of(trial), p.split.train);
+  const VectorXd b = solve(Xtr, p.y_train);
+  const auto m = static_cast<Eigen::Index>(trial.back()->columns.size());
+  const Eigen::Index at = b.size() - m;
+  const MatrixXd Xte = rows_of(columns_of({trial.back()}), p.split.test);
+  const double on_test = rms(Xte * b.segment(at, m)), on_train = rms(Xtr.rightCols(m) * b.segment(at, m));
+  return on_test >= 0.1 * on_train;
+}
+
+std::string unexercised_note(const Candidate& c) {
+  return c.effect + " does not act in the held-out blocks (they cannot judge it): judged by the delete-one-block jackknife alone";
+}
+
 Selection forward_selection(const JointProblem& p, const std::vector<bool>& excluded) {
   const DiagnoseOptions& o = p.o;
   Selection sel;
@@ -610,8 +630,12 @@ Selection forward_selection(const JointProblem& p, const std::vector<bool>& excl
       continue;
     }
     const double h = heldout_rms(p, trial);
-    if (o.trace) std::fprintf(stderr, "  j%d -> %s dBIC %.1f held-out %.4f -> %.4f\n", p.s.joint, robot::effect_cstr(best.candidate->effect), best.delta, sel.heldout, h);
-    if (h > sel.heldout * (1.0 - o.min_heldout_gain)) {
+    const bool judged = heldout_exercises(p, trial);
+    if (o.trace) std::fprintf(stderr, "  j%d -> %s dBIC %.1f held-out %.4f -> %.4f%s\n", p.s.joint, robot::effect_cstr(best.candidate->effect), best.delta, sel.heldout, h, judged ? "" : " (not exercised there)");
+    if (!judged && std::find(sel.notes.begin(), sel.notes.end(), unexercised_note(*best.candidate)) == sel.notes.end()) {
+      sel.notes.push_back(unexercised_note(*best.candidate));
+    }
+    if (judged && h > sel.heldout * (1.0 - o.min_heldout_gain)) {
       rejected[best.group] = true;  // fits the training blocks only: not claimed
       sel.notes.push_back(best.candidate->effect + " improved the training fit but not the held-out blocks: not claimed");
       continue;

@@ -12,10 +12,9 @@
 #    count of the last measured run as a floor (39/104, docs/results.md);
 #  - the same on the UR10e against the file the untouched recording's own diagnosis wrote
 #    (--baseline: its links, friction and findings, as a user diagnoses a change on an arm
-#    diagnosed before): the measured figures as floors (payloads 13/16, vocabulary 90/104),
+#    diagnosed before): the measured figures as floors (payloads 15/16, vocabulary 95/104),
 #    nothing claimed on a zero-size case, and no more sizes beyond the accepted range claimed
-#    than measured (2 of 11: a delay of 57 ms at 100 Hz, a load coefficient of 0.73 read as
-#    0.49; docs/results.md).
+#    than measured (2 of 11; docs/results.md).
 # Usage: injection_bench.sh <jointguard> <source dir>
 set -euo pipefail
 J="$1"
@@ -38,7 +37,7 @@ p, u, b = (json.load(open(f))["summary"] for f in sys.argv[1:4])
 print("panda:", p)
 print("ur10e:", u)
 print("ur10e against its own diagnosed file:", b)
-assert b["named_within_20pct"] >= 13 and b["joint_effects_named"] >= 90, b  # measured 13/16, 90/104
+assert b["named_within_20pct"] >= 15 and b["joint_effects_named"] >= 95, b  # measured 15/16, 95/104
 assert len(b["implausible_claimed"]) <= 2, b  # measured 2 of 11
 assert b["zero_size_cases"] == 2 and b["zero_size_with_extra_claims"] == 0, b
 assert p["named_within_20pct"] >= 1 and p["wrong_claims"] == 0, p  # 0.3 kg (below the floor) and 1.5 kg
