@@ -18,7 +18,10 @@ joint, at 3x and 10x the joint's own noise level (torque RMS added, measured on 
 file against the original). Scored: named on its joint (a torque constant may be named with the
 arm's causes, against the robot file: it counts for its joint), by its vocabulary word; an effect
 the untouched recording is diagnosed with already counts only if its size moved by the injected
-one (torque constants and current offsets: within 20 %), never merely for being claimed.
+one (torque constants and current offsets: within 20 %), never merely for being claimed. An
+effect not claimed but named beside the claim as its indistinguishable alternative (a current
+offset and a friction asymmetry on a recording that hardly stands still) is counted apart
+(`joint_effects_named_as_alternative`), never as named.
 A size beyond the range the diagnosis accepts (a torque constant off by more than 30 %, a
 delay over 50 ms, a load coefficient over 0.5) is scored apart ("implausible": right when
 the diagnosis does not claim it) and run again at 95 % of the range's edge.
@@ -104,6 +107,13 @@ def claims(diag):
     for j in diag["joints"]:
         out |= {(j["joint"], f["effect"]) for f in j["findings"] if f["effect"] != "none"}
     return out
+
+
+def alternatives(diag):
+    """(joint, effect) the diagnosis names as the indistinguishable alternative of a claim on
+    that joint (a current offset and a friction level the same in both directions differ
+    only at rest: docs/diagnosis.md)."""
+    return {(j["joint"], a["effect"]) for j in diag["joints"] for f in j["findings"] for a in f.get("alternatives", [])}
 
 
 def scale_errors(diag):
@@ -329,6 +339,7 @@ def main():
                 continue
             row = {"kind": "joint_effect", "case": name,
                    "named": named_on_joint(got, base_claims, d, base, joint, effect, size),
+                   "named_as_alternative": (joint, effect) in alternatives(d) - alternatives(base) - base_claims,
                    "claimed_untouched": (joint, effect) in base_claims,
                    "residual_growth": residual_growth(base, d, joint),
                    "extra_claims": sorted(map(str, got - base_claims - {(joint, effect)}))}
@@ -361,6 +372,9 @@ def main():
         summary["implausible_claimed"] = [r["case"] for r in imp if r["claimed"]]
         summary["refused_by_inject"] = [r["case"] for r in rows if r["kind"] == "refused"]
         summary["joint_effects_named"] = sum(r["named"] for r in voc)
+        # Not claimed, but named beside the claim as the alternative the recording cannot tell
+        # from it: counted apart, never in joint_effects_named.
+        summary["joint_effects_named_as_alternative"] = sum(r["named_as_alternative"] and not r["named"] for r in voc)
         # Left nothing to the joint's diagnosis: its held-out residual grew by under 2 %.
         summary["joint_effects_absorbed"] = sum(r["residual_growth"] < 1.02 for r in voc)
         summary["named_of_not_absorbed"] = f'{sum(r["named"] for r in voc if r["residual_growth"] >= 1.02)}/' \

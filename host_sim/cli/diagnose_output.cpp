@@ -70,6 +70,9 @@ nlohmann::json finding_json(const diag::Finding& f) {
     // centred fit won), so it is unknown, not zero with zero spread.
     for (const char* k : {"com_x_m", "com_y_m", "com_x_m_sigma", "com_y_m_sigma"}) out["params"][k] = nullptr;
   }
+  for (const auto& a : f.alternatives) {
+    out["alternatives"].push_back({{"effect", a.effect}, {"params", a.params}, {"evidence", {{"null", "delete-one-block jackknife of what tells the two apart"}, {"z", a.null_z}}}, {"description", a.text}});
+  }
   if (f.null_z > 0.0) {
     out["evidence"] = {{"null", "delete-one-block jackknife over the recording's contiguous blocks"},
                        {"z", f.null_z},

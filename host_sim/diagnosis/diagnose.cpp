@@ -792,6 +792,67 @@ std::vector<double> drop_below_null(const JointProblem& p, Chosen& chosen, Joint
   return null_z;
 }
 
+/// The one pair of effects whose columns differ only where the joint stands still: a current
+/// offset (a constant everywhere) and a friction level the same in both directions
+/// (asymmetric_friction's Coulomb column: a constant while moving, 0 at rest). What tells
+/// them apart is the level at rest against the level while moving: fitted with both columns,
+/// the claim's own column carries it (an offset's: the level at rest; the asymmetry's: moving
+/// minus rest). When that is below the recording's own block-to-block variation (the
+/// delete-one-block jackknife, the null every claim must beat; at rest a real joint's residual
+/// is its static friction, which differs from one stop to the next), the recording does not
+/// tell them apart, and the other is named beside the claim as its alternative, sized by the
+/// fit with the claim's column swapped for it.
+std::vector<Alternative> rest_alternatives(const JointProblem& p, const VectorXd& y, const Chosen& chosen, std::size_t i) {
+  const Candidate& c = *chosen[i];
+  const bool offset = c.effect == robot::Effect::current_offset;
+  if (!offset && !(c.effect == robot::Effect::asymmetric_friction && c.setting.empty())) return {};
+  const robot::Effect other = offset ? robot::Effect::asymmetric_friction : robot::Effect::current_offset;
+  if (std::any_of(chosen.begin(), chosen.end(), [&](const Candidate* x) { return x->effect == other; })) return {};
+  const Candidate o = make_candidate(other, {}, p.s);
+  if (o.columns.empty() || c.columns.empty()) return {};
+  // What tells them apart is the level at rest: the rest indicator's coefficient fitted beside
+  // the alternative's own column (beside the asymmetry's: the level at rest, 0 if it is the
+  // cause; beside the offset's: rest minus moving, 0 if the offset is), with the claim's
+  // other columns and the rest of the model.
+  const std::vector<double>& ones = offset ? c.columns.front() : o.columns.front();
+  const std::vector<double>& level = offset ? o.columns.front() : c.columns.front();
+  std::vector<double> at_rest(ones.size());
+  double rest_norm2 = 0.0;
+  for (std::size_t k = 0; k < at_rest.size(); ++k) {
+    at_rest[k] = ones[k] - level[k];
+    rest_norm2 += at_rest[k] * at_rest[k];
+  }
+  std::vector<std::vector<const std::vector<double>*>> groups;
+  for (std::size_t k = 0; k < chosen.size(); ++k) {
+    if (k != i) groups.push_back(columns_of({chosen[k]}));
+  }
+  for (std::size_t j = 1; j < c.columns.size(); ++j) groups.push_back({&c.columns[j]});
+  groups.push_back({&o.columns.front()});
+  groups.push_back({&at_rest});
+  Alternative a;
+  a.effect = other;
+  // Never at rest (under a sample's worth of it): nothing tells them apart.
+  a.null_z = rest_norm2 < 1.0 ? 0.0 : block_jackknife_z(groups, p.s.residual, p.o.blocks).back();
+  if (p.o.trace) std::fprintf(stderr, "  j%d %s told from %s: jackknife z %.2f\n", p.s.joint, robot::effect_cstr(c.effect), robot::effect_cstr(other), a.null_z);
+  if (a.null_z >= p.o.min_null_z) return {};
+  // Sized in the claim's place, with the rest of the model refitted.
+  Chosen alt = chosen;
+  alt[i] = &o;
+  const VectorXd b = solve(rows_of(columns_of(alt), all_rows_of(p.s.size())), y);
+  Eigen::Index at = 0;
+  for (std::size_t k = 0; k < i; ++k) at += static_cast<Eigen::Index>(chosen[k]->columns.size());
+  const auto m = static_cast<Eigen::Index>(o.columns.size());
+  std::string described;
+  a.params = describe(o, std::vector<double>(b.data() + at, b.data() + at + m), p.s, described);
+  std::ostringstream os;
+  os.precision(3);
+  os << "or " << described;
+  os << ": while the joint moves the two are the same constant, and what tells them apart, the level at rest, does not beat the"
+     << " recording's own block-to-block variation (jackknife z = " << a.null_z << ", needs " << p.o.min_null_z << ")";
+  a.text = os.str();
+  return {a};
+}
+
 /// The final fit on all samples: the model, the fitted torque, and a finding per chosen
 /// effect ranked by the evidence it carries (the BIC lost without it).
 void final_fit(const JointProblem& p, const VectorXd& y, const Chosen& chosen, const std::vector<double>& null_z,
@@ -830,6 +891,8 @@ void final_fit(const JointProblem& p, const VectorXd& y, const Chosen& chosen, c
     f.confidence = 1.0 / (1.0 + std::exp(-(f.delta_bic - p.o.min_delta_bic) / 10.0));
     f.params = describe(c, coef, p.s, f.text);
     f.null_z = i < null_z.size() ? null_z[i] : 0.0;
+    f.alternatives = rest_alternatives(p, y, chosen, i);
+    for (const auto& a : f.alternatives) f.text += "; " + a.text;
     d.findings.push_back(f);
   }
 }
@@ -849,6 +912,7 @@ void merge_findings(const DiagnoseOptions& o, JointDiagnosis& d) {
     it->null_z = std::max(it->null_z, f.null_z);
     it->confidence = 1.0 / (1.0 + std::exp(-(it->delta_bic - o.min_delta_bic) / 10.0));
     it->text += "; " + f.text;
+    it->alternatives.insert(it->alternatives.end(), f.alternatives.begin(), f.alternatives.end());
   }
   d.findings = std::move(merged);
   std::sort(d.findings.begin(), d.findings.end(), [](const Finding& a, const Finding& b2) { return a.delta_bic > b2.delta_bic; });

@@ -14,6 +14,16 @@
 
 namespace jg::diag {
 
+/// Another effect the data explain as well as a claim: named beside it, not instead.
+struct Alternative {
+  robot::Effect effect = robot::Effect::none;
+  std::map<std::string, double> params;
+  /// Jackknife z of what tells the claim from this alternative (below
+  /// DiagnoseOptions::min_null_z the recording does not tell them apart).
+  double null_z = 0.0;
+  std::string text;
+};
+
 struct Finding {
   robot::Effect effect = robot::Effect::none;
   std::map<std::string, double> params;
@@ -24,6 +34,9 @@ struct Finding {
   /// error of its refits with one block of the recording left out at a time (delete-one-block
   /// jackknife); claimed only at DiagnoseOptions::min_null_z or more. 0: not computed.
   double null_z = 0.0;
+  /// Effects these data cannot tell from this one (a current offset and a friction level the
+  /// same in both directions differ only at rest): each could be the cause instead.
+  std::vector<Alternative> alternatives;
 };
 
 /// A selected effect with its setting and fitted coefficients: enough to predict it on

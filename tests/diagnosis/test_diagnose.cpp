@@ -266,3 +266,46 @@ TEST(DiagnoseRealArmRules, EffectTheHeldOutBlocksDoNotSeeIsJudgedByTheJackknife)
   const auto one_block = jg::diag::diagnose_joint(slow_only_in_training_blocks(false));
   EXPECT_FALSE(names_stribeck(one_block)) << names(one_block) << ::testing::PrintToString(one_block.notes);
 }
+
+// A current offset and a friction level the same in both directions differ only at rest. On
+// a joint that never stands still the recording cannot tell them apart: the claim names the
+// other as its alternative. With long stops and a quiet residual at rest it can, and does not.
+TEST(DiagnoseRealArmRules, OffsetAndDirectionLevelToldApartOnlyAtRest) {
+  auto with_offset = [](bool stops) {
+    jg::diag::JointSignals s;
+    s.joint = 1;
+    s.dt = 0.002;
+    std::mt19937 rng(8);
+    std::normal_distribution<double> noise(0.0, 0.05);
+    double q = 0.0;
+    for (int k = 0; k < 5000; ++k) {
+      const double t = k * s.dt, phase = std::fmod(t, 1.0);
+      // Without stops: always moving, 0.4-1.2 rad/s, one direction per second. With: the
+      // second half of every second at rest.
+      const double dir = std::fmod(std::floor(t), 2.0) == 0.0 ? 1.0 : -1.0;
+      const double dq = stops && phase >= 0.5 ? 0.0 : dir * (0.8 + 0.4 * std::sin(2.0 * M_PI * phase));
+      q += dq * s.dt;
+      s.t.push_back(t);
+      s.q.push_back(q);
+      s.dq.push_back(dq);
+      s.ddq.push_back(0.0);
+      s.tau_model.push_back(10.0 + 5.0 * std::sin(q));
+      s.residual.push_back(0.5 + noise(rng));
+      s.tau_real.push_back(s.tau_model.back() + s.residual.back());
+    }
+    return jg::diag::diagnose_joint(s);
+  };
+  auto alternatives_of_offset = [](const jg::diag::JointDiagnosis& d) {
+    std::vector<jg::robot::Effect> out;
+    bool claimed = false;
+    for (const auto& f : d.findings) {
+      if (f.effect != jg::robot::Effect::current_offset) continue;
+      claimed = true;
+      for (const auto& a : f.alternatives) out.push_back(a.effect);
+    }
+    EXPECT_TRUE(claimed) << names(d);
+    return out;
+  };
+  EXPECT_EQ(alternatives_of_offset(with_offset(false)), std::vector<jg::robot::Effect>{jg::robot::Effect::asymmetric_friction});
+  EXPECT_TRUE(alternatives_of_offset(with_offset(true)).empty());
+}
