@@ -129,14 +129,24 @@ def scale_errors(diag):
     return out
 
 
-def named_on_joint(got, base, d, base_diag, joint, effect, size):
+def ripple_periods(diag, joint):
+    """The periods per turn of the position ripples claimed on the joint."""
+    return {f["params"]["periods_per_rev"] for j in diag["joints"] if j["joint"] == joint
+            for f in j["findings"] if f["effect"] == "position_ripple"}
+
+
+def named_on_joint(got, base, d, base_diag, joint, effect, size, period=None):
     """Named: claimed on its joint, and not merely a claim the untouched recording makes
     already. A torque constant claimed on both counts when its scale moved by the injected
-    one within 20 % ((1 + k') = (1 + k)(1 + c)); any other effect claimed on both does not."""
+    one within 20 % ((1 + k') = (1 + k)(1 + c)); a position ripple when one is claimed at the
+    injected period and the untouched recording's ripple is at another; any other effect
+    claimed on both does not."""
     if (joint, effect) not in got:
         return False
     if (joint, effect) not in base:
         return True
+    if effect == "position_ripple" and period is not None:
+        return period in ripple_periods(d, joint) and period not in ripple_periods(base_diag, joint)
     if effect == "torque_constant":
         k0, k1 = scale_errors(base_diag).get(joint), scale_errors(d).get(joint)
         if k0 is None or k1 is None:
@@ -338,7 +348,9 @@ def main():
                 print(json.dumps(row), flush=True)
                 continue
             row = {"kind": "joint_effect", "case": name,
-                   "named": named_on_joint(got, base_claims, d, base, joint, effect, size),
+                   "named": named_on_joint(got, base_claims, d, base, joint, effect, size,
+                                           float(text.split("periods_per_rev: ")[1].split(",")[0].split("}")[0])
+                                           if "periods_per_rev: " in text else None),
                    "named_as_alternative": (joint, effect) in alternatives(d) - alternatives(base) - base_claims,
                    "claimed_untouched": (joint, effect) in base_claims,
                    "residual_growth": residual_growth(base, d, joint),
