@@ -579,11 +579,6 @@ std::string jointly_implausible(const JointProblem& p, const Chosen& cs) {
   return {};
 }
 
-/// One forward selection (groups in `excluded` not offered): effects added one at a time
-/// by the information criterion, each confirmed on the held-out blocks. An addition that
-/// makes an effect already chosen implausible when fitted with it (a drift imitating a scale
-/// and an offset together) is not an addition: checked at each step, not only at the end,
-/// where dropping the implausible effect would leave the others fitted for its company.
 /// Whether the held-out blocks can judge the last effect of `trial`: its fitted torque (fitted
 /// on the training blocks with the others) must act there, at least a tenth of its RMS on the
 /// training blocks. A Stribeck excess where the joint moves slowly only in training blocks
@@ -604,6 +599,11 @@ std::string unexercised_note(const Candidate& c) {
   return c.effect + " does not act in the held-out blocks (they cannot judge it): judged by the delete-one-block jackknife alone";
 }
 
+/// One forward selection (groups in `excluded` not offered): effects added one at a time
+/// by the information criterion, each confirmed on the held-out blocks. An addition that
+/// makes an effect already chosen implausible when fitted with it (a drift imitating a scale
+/// and an offset together) is not an addition: checked at each step, not only at the end,
+/// where dropping the implausible effect would leave the others fitted for its company.
 Selection forward_selection(const JointProblem& p, const std::vector<bool>& excluded) {
   const DiagnoseOptions& o = p.o;
   Selection sel;
@@ -630,12 +630,13 @@ Selection forward_selection(const JointProblem& p, const std::vector<bool>& excl
       continue;
     }
     const double h = heldout_rms(p, trial);
-    const bool judged = heldout_exercises(p, trial);
-    if (o.trace) std::fprintf(stderr, "  j%d -> %s dBIC %.1f held-out %.4f -> %.4f%s\n", p.s.joint, robot::effect_cstr(best.candidate->effect), best.delta, sel.heldout, h, judged ? "" : " (not exercised there)");
-    if (!judged && std::find(sel.notes.begin(), sel.notes.end(), unexercised_note(*best.candidate)) == sel.notes.end()) {
+    // Only an addition that does not improve the held-out blocks needs to know whether they see it.
+    const bool unseen = h > sel.heldout * (1.0 - o.min_heldout_gain) && !heldout_exercises(p, trial);
+    if (o.trace) std::fprintf(stderr, "  j%d -> %s dBIC %.1f held-out %.4f -> %.4f%s\n", p.s.joint, robot::effect_cstr(best.candidate->effect), best.delta, sel.heldout, h, unseen ? " (not exercised there)" : "");
+    if (unseen && std::find(sel.notes.begin(), sel.notes.end(), unexercised_note(*best.candidate)) == sel.notes.end()) {
       sel.notes.push_back(unexercised_note(*best.candidate));
     }
-    if (judged && h > sel.heldout * (1.0 - o.min_heldout_gain)) {
+    if (!unseen && h > sel.heldout * (1.0 - o.min_heldout_gain)) {
       rejected[best.group] = true;  // fits the training blocks only: not claimed
       sel.notes.push_back(best.candidate->effect + " improved the training fit but not the held-out blocks: not claimed");
       continue;
