@@ -389,8 +389,11 @@ void arm_and_joints(const DiagnosisInputs& in, const sim::ArmDynamics& arm, cons
 /// Stage 6: the named physics written back where the simulation lives (robot file +
 /// plant_effects): `simulate --model` and a new diagnosis include it. Arm-level effects held
 /// in the links (the file's own and those named here) are taken back out and written as
-/// effects; the same cause found again is one entry.
-ModelOut model_out_of(const RunState& st, const DiagnosisResult& r) {
+/// effects; the same cause found again is one entry. The file describes the arm, not the
+/// reading: a joint torque sensor's model has no rotor inertia (robot::for_torque_kind), and
+/// the rotors written are the robot file's (`nominal`), which every command reads (`simulate`
+/// needs them for an elastic gear; a diagnosis of tau_j zeroes them again).
+ModelOut model_out_of(const RunState& st, const DiagnosisResult& r, const robot::RobotModel& nominal, bool joint_torque_sensor) {
   ModelOut out;
   out.rigid_body_identified = r.rigid_body && r.rigid_body->accepted;
   out.model = out.rigid_body_identified ? r.rigid_body->model : st.used;
@@ -412,6 +415,9 @@ ModelOut model_out_of(const RunState& st, const DiagnosisResult& r) {
     out.model.friction_baseline = baseline_of(r.rigid_body->friction);
   }
   out.model.plant_effects = merge_plant_effects(out.model.plant_effects, plant_effects_of(r.arm, r.joints));
+  for (std::size_t j = 0; joint_torque_sensor && j < out.model.joints.size() && j < nominal.joints.size(); ++j) {
+    out.model.joints[j].link.rotor_inertia = nominal.joints[j].link.rotor_inertia;
+  }
   return out;
 }
 
@@ -454,7 +460,7 @@ DiagnosisResult run_diagnosis(const DiagnosisInputs& in, const DiagnosisSettings
   // Causes that are one thing in the world (a payload, a link's mass) next, once for the
   // arm, then each joint on what they leave.
   arm_and_joints(in, arm, signals, settings, st, out);
-  if (settings.model_out) out.model_out = model_out_of(st, out);
+  if (settings.model_out) out.model_out = model_out_of(st, out, in.nominal, primary(in.reals).torque == io::TorqueKind::tau_j);
   return out;
 }
 
