@@ -420,9 +420,12 @@ std::string implausible(const Candidate& c, const std::vector<double>& b, const 
     else if (b.size() > 1 && b[1] < 0.0) os << "torque constant rising with the current (saturation " << b[1] << " per N·m < 0)";
     else if (b.size() > 1 && std::fabs(b[0]) + b[1] * tau_max > 0.3) os << "torque constant " << 100.0 * (std::fabs(b[0]) + b[1] * tau_max) << " % off at the largest torque, beyond 30 %";
   } else if (e == robot::Effect::time_delay) {
-    // Causal and short: the torque lags the motion by half a sample to 50 ms.
+    // Short, either way: the torque lags the motion (a current channel filtered or sampled
+    // late) or leads it (motion signals older than the torque's: a filtered velocity, or a
+    // logger that reads the arm's state and its torques at different times; the Panda's
+    // recording repeats q and dq in 107 rows where the torques change) by half a sample to 50 ms.
     const double delay = -b[0];
-    if (delay < 0.5 * s.dt || delay > 0.05) os << "delay " << 1000.0 * delay << " ms outside [dt/2, 50 ms]";
+    if (std::fabs(delay) < 0.5 * s.dt || std::fabs(delay) > 0.05) os << "delay " << 1000.0 * delay << " ms outside +/-[dt/2, 50 ms]";
   } else if (e == robot::Effect::backlash) {
     if (b[0] < 0.0 || b[0] > 1.5) os << "backlash fraction " << b[0] << " outside [0, 1.5]";
   } else if (e == robot::Effect::presliding && c.setting.count("sigma0_ratio") != 0U) {
@@ -524,7 +527,12 @@ std::map<std::string, double> describe(const Candidate& c, const std::vector<dou
     os << "current sensor offset worth " << b[0] << " N·m";
   } else if (e == robot::Effect::time_delay) {
     p["delay_s"] = -b[0];
-    os << "measurement delay of " << -b[0] * 1000.0 << " ms between motion and torque";
+    if (b[0] > 0.0) {
+      os << "the torque leads the motion by " << b[0] * 1000.0 << " ms (delay_s < 0): the motion signals are older than the torque's "
+         << "(a filtered velocity, or the state and the torques read at different times)";
+    } else {
+      os << "measurement delay of " << -b[0] * 1000.0 << " ms between motion and torque";
+    }
   } else if (c.setting.count("rotor_acceleration") != 0U) {
     p["deflection_acceleration_gain"] = b[0];
     os << "torque transients where the gear deflection accelerates (" << e << "): " << b[0] << " N·m per rad/s²";

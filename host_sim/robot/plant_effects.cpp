@@ -97,7 +97,7 @@ EffectProblem setting_range_problem(const PlantEffect& p, std::size_t joints) {
   static const Range params[] = {
       {"stiffness_nm_per_rad", 1.0, 1e9, "[1, 1e9] N·m/rad (a gear stiffness)"},
       {"gap_rad", 0.0, 0.5, "[0, 0.5] rad (a backlash gap)"},
-      {"delay_s", 0.0, 1.0, "[0, 1] s (a measurement delay)"},
+      {"delay_s", -1.0, 1.0, "[-1, 1] s (a measurement delay; < 0: the torque leads the motion)"},
       {"mass_kg", 1e-9, kMaxPayloadKg, "(0, 5000] kg (a payload)"},
   };
   for (const auto& r : params) {
@@ -143,7 +143,7 @@ EffectProblem coefficient_range_problem(const PlantEffect& p) {
                                                               "the true torque; <= 0 would flip or erase it)"});
   }
   if (p.effect == Effect::time_delay) {
-    return out_of_range("coefficients", -b[0], {"", 0.0, 1.0, "[0, 1] s as a delay (-coefficients[0])"});
+    return out_of_range("coefficients", -b[0], {"", -1.0, 1.0, "[-1, 1] s as a delay (-coefficients[0]; < 0: the torque leads the motion)"});
   }
   if (p.effect == Effect::inertia_error) return out_of_range("coefficients", b[0], {"", -kMaxRotorInertiaKgM2, kMaxRotorInertiaKgM2, "+/-1e4 kg·m²"});
   if (p.effect == Effect::load_dependent_friction) {

@@ -147,6 +147,13 @@ void apply_effect(const robot::PlantEffect& e, std::size_t j, int joint, Simulat
   std::ostringstream os;
   os.precision(4);
   if (!apply_friction_effect(e, f, os) && !apply_drive_effect(e, j, s, os)) {
+    if (e.effect == robot::Effect::time_delay && b[0] > 0.0) {
+      // A lead is the recording's motion signals being older than its torques (delay_s < 0):
+      // the simulation's motion is exact, and its current channel cannot read ahead.
+      os << "time_delay: the torque leads the motion by " << 1000.0 * b[0] << " ms (old motion signals): the simulated current channel cannot read ahead";
+      r.not_modelled.push_back(joint_text(joint, os.str()));
+      return;
+    }
     if (e.effect == robot::Effect::time_delay) {
       delays.push_back(-b[0]);
       return;  // one delay for all drives' current channels, set below

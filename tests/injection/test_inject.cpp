@@ -196,6 +196,18 @@ TEST(InjectSensor, TimeDelayShiftsTheReading) {
   }
 }
 
+TEST(InjectSensor, TimeLeadReadsAhead) {
+  // b = +0.02: the torque leads the motion by 20 ms (the motion signals older than it).
+  const Injected x = run({{jg::robot::Effect::time_delay, 1, {}, {0.02}, {}}}, "jg_inject_lead.csv");
+  const double t_end = x.before.back()[0];
+  for (std::size_t k = 0; k < x.after.size(); ++k) {
+    const double t = x.before[k][0];
+    const double want = std::sin(M_PI * std::min(t + 0.02, t_end));  // held at the last sample after
+    ASSERT_NEAR(x.after[k][7], want, 1e-7) << "t = " << t;
+    ASSERT_EQ(x.after[k][8], x.before[k][8]);
+  }
+}
+
 TEST(InjectArm, PayloadPickedUpActsFromThen) {
   const Injected x = run({{jg::robot::Effect::payload, 0, {{"picked_up_at_s", 1.0}}, {1.0, 0.2, 0.0, 0.0}, {}}}, "jg_inject_pickup.csv");
   for (std::size_t k = 0; k < x.after.size(); ++k) {
