@@ -2,7 +2,7 @@
 """Known causes injected into real recordings, then diagnosed against the robot file alone, or
 (--baseline) against the file the untouched recording's own `diagnose --model-out` wrote.
 
-Usage: injection_bench.py JOINTGUARD DATA_DIR ARM [--cases N] [--vocabulary] [--baseline] [--json OUT]
+Usage: injection_bench.py JOINTGUARD DATA_DIR ARM [--cases N] [--vocabulary] [--only EFFECT[,EFFECT]] [--baseline] [--json OUT]
   ARM: panda (panda-excitation, models/panda.yaml, joint torque sensor) or ur10e
   (ur10e-static/motion_free.csv, vendor URDF + drive.yaml, motor currents).
 
@@ -25,6 +25,8 @@ offset and a friction asymmetry on a recording that hardly stands still) is coun
 A size beyond the range the diagnosis accepts (a torque constant off by more than 30 %, a
 delay over 50 ms, a load coefficient over 0.5) is scored apart ("implausible": right when
 the diagnosis does not claim it) and run again at 95 % of the range's edge.
+--only keeps those per-joint effects of the vocabulary (e.g. `--only time_delay --cases 0`: the
+delays and the zero-size cases, a part of the full run).
 Only the Python standard library (the CI machine's /usr/bin/python3).
 """
 import json
@@ -273,6 +275,13 @@ def main():
     count = int(args[args.index("--cases") + 1]) if "--cases" in args else None
     vocabulary = "--vocabulary" in args
     out_json = args[args.index("--json") + 1] if "--json" in args else None
+    if "--only" in args:
+        global JOINT_EFFECTS
+        keep = args[args.index("--only") + 1].split(",")
+        unknown = [e for e in keep if e not in {name for name, _, _ in JOINT_EFFECTS}]
+        if unknown:
+            raise SystemExit(f"--only: not an effect of the vocabulary: {', '.join(unknown)}")
+        JOINT_EFFECTS = [e for e in JOINT_EFFECTS if e[0] in keep]
     arm = ARMS[arm_name]
     model = [a.format(data=data) for a in arm["model"]]
     recording = os.path.join(data, arm["recording"])
