@@ -776,10 +776,10 @@ double best_whole_shift_s(const JointSignals& s, const VectorXd& z, double max_s
 /// coefficient saturates: 80 ms came out 25 ms on the UR10e at 100 Hz). A delay claim stands
 /// only where the model's torque, shifted whole samples with its gain held at 1, also lags
 /// (or leads) by at most the plausible 50 ms; beyond, the delay is implausible and not claimed.
-/// A lead is the unusual direction (a causal drive lags), and its column is close to an
-/// inertia error's (both follow the torque's rate): it stands only where the whole-sample
-/// shift leads too (UR10e at 100 Hz: a joint-3 inertia error was read as a 26 ms lead, the
-/// shifted torque does not lead there).
+/// A lead is the unusual direction (a causal drive lags): it stands only where the
+/// whole-sample shift leads too. (That alone does not tell a lead from an inertia error: on
+/// the UR10e at 100 Hz the shift led for an injected joint-3 inertia error as well;
+/// lead_not_told_from_inertia does.)
 void drop_delay_beyond_range(const JointProblem& p, const VectorXd& y, Chosen& chosen, JointDiagnosis& d) {
   const auto at = std::find_if(chosen.begin(), chosen.end(), [](const Candidate* c) { return c->effect == robot::Effect::time_delay; });
   if (at == chosen.end()) return;
