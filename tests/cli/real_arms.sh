@@ -39,9 +39,9 @@ PYEOF
 # inertia, the file keeps the robot file's (it names an elastic gear on joint 2, which the
 # plant cannot simulate without a rotor), and `simulate` reads it back. The identified
 # friction's bristles are stiff on the wrist links: a plant rate that resolves them.
-grep "rotor_inertia_kg_m2" "$W/panda_m2.yaml" | awk '{print $2}' > "$W/rotors.txt"
-[ "$(tr '\n' ' ' < "$W/rotors.txt")" = "0.605721456 0.605721456 0.462474144 0.462474144 0.205544064 0.205544064 0.205544064 " ] \
-  || { echo "panda_m2.yaml: rotor inertias $(tr '\n' ' ' < "$W/rotors.txt"), not the robot file's"; exit 1; }
+rotors() { grep -o "rotor_inertia_kg_m2: [0-9.e+-]*" "$1" | awk '{print $2}' | tr '\n' ' '; }
+[ -n "$(rotors models/panda.yaml)" ] && [ "$(rotors "$W/panda_m2.yaml")" = "$(rotors models/panda.yaml)" ] \
+  || { echo "panda_m2.yaml: rotor inertias $(rotors "$W/panda_m2.yaml"), the robot file's $(rotors models/panda.yaml)"; exit 1; }
 cat > "$W/excite.yaml" <<YAML
 name: panda_excitation
 model: $SRC/models/panda.yaml
