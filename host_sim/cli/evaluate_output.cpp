@@ -23,7 +23,7 @@ nlohmann::json run_json(const eval::RunResult& r) {
                    {"max_true_torque_over_moving_threshold", r.max_true_ratio_moving},
                    {"isolable", r.isolable}, {"isolable_at_decision", r.isolable_at_decision},
                    {"link_first_cycle", r.link_first_cycle}, {"detected_by_hold", r.detected_by_hold},
-                   {"peak_true_torque_held", r.peak_true_torque_held}, {"held_push", r.held_push_nm}};
+                   {"peak_true_torque_held", r.peak_true_torque_held}, {"peak_true_torque_own", r.peak_true_torque_own}, {"peak_reaching_torque_own", r.peak_reaching_torque_own}, {"held_push", r.held_push_nm}};
   // Contract fields: the true contact force (peak over the run, N) and the estimate's force
   // magnitude (at the end of the estimate's window, N; null: no estimate). The estimate
   // compares with `contact_estimate.force_true_at_estimate` (the same cycle), not the peak.
@@ -68,6 +68,26 @@ nlohmann::json held_smallest(const std::vector<eval::RunResult>& runs) {
       smallest = it->held_push_nm;
     }
     out.push_back(smallest > 0.0 ? nlohmann::json(smallest) : nlohmann::json(nullptr));
+  }
+  return out;
+}
+
+/// Per link of a `held` evaluation: at its largest push, the torque that reaches the own
+/// joint's motor (RunResult::peak_reaching_torque_own) and the true torque there [N·m]; a
+/// push its static friction takes cannot show in the currents. Empty when not held pushes.
+nlohmann::json held_reaching(const std::vector<eval::RunResult>& runs) {
+  nlohmann::json out = nlohmann::json::array();
+  std::vector<const eval::RunResult*> largest;
+  for (const auto& r : runs) {
+    if (r.held_push_nm <= 0.0 || r.link_true < 1) continue;
+    const auto link = static_cast<std::size_t>(r.link_true);
+    if (largest.size() < link) largest.resize(link, nullptr);
+    if (largest[link - 1] == nullptr || r.held_push_nm > largest[link - 1]->held_push_nm) largest[link - 1] = &r;
+  }
+  for (const auto* r : largest) {
+    out.push_back(r == nullptr ? nlohmann::json(nullptr)
+                               : nlohmann::json{{"push", r->held_push_nm}, {"true_own", r->peak_true_torque_own},
+                                                {"reaching_own", r->peak_reaching_torque_own}});
   }
   return out;
 }
@@ -130,6 +150,7 @@ nlohmann::json evaluate_json(const EvaluateFigures& f) {
             {"detected_by_hold", sum.detected_by_hold},
             {"detected_by_residual", sum.detected_by_residual},
             {"held_smallest_detected", held_smallest(f.runs)},
+            {"held_reaching_own_at_largest", held_reaching(f.runs)},
             {"detection_rate_over_1p5x_threshold", sum.detectable ? static_cast<double>(sum.detectable_found) / sum.detectable : 1.0},
             {"over_1p5x_threshold", {{"collisions", sum.detectable}, {"detected", sum.detectable_found}}},
             {"over_1p5x_moving_threshold", {{"collisions", sum.detectable_moving}, {"detected", sum.detectable_moving_found}}},
@@ -204,6 +225,15 @@ void print_held_and_detectors(const EvaluateFigures& f, const eval::Summary& sum
     int quiet_alarms = 0;
     for (const auto& r : f.runs) quiet_alarms += r.held_push_nm <= 0.0 ? static_cast<int>(r.false_alarm_times.size()) : 0;
     std::printf("; alarms in the hold without contact: %d\n", quiet_alarms);
+    std::printf("at the largest push, the torque that reaches the own joint's motor (static friction takes the rest):");
+    std::size_t link = 0;
+    for (const auto& h : held_reaching(f.runs)) {
+      ++link;
+      if (!h.is_null()) {
+        std::printf(" link %zu %.2f of %.2f N·m", link, h["reaching_own"].get<double>(), h["true_own"].get<double>());
+      }
+    }
+    std::printf("\n");
   }
   if (f.config.contains("residual_change_threshold") && !f.config["residual_change_threshold"].empty()) {
     std::printf("residual detector (baseline time constant %.3f s): change threshold",
@@ -233,7 +263,8 @@ void print_figures(const EvaluateFigures& f) {
               "(1.5x the moving threshold: %d/%d); isolation %d/%d\n",
               sum.detected, sum.runs, sum.detectable_found, sum.detectable, sum.detectable_moving_found,
               sum.detectable_moving, sum.isolated, sum.runs);
-  std::printf("isolable (the true torques name the link: the highest joint over its moving threshold): %d/%d; "
+  std::printf("isolable (the torques that reach the motors name the link: the highest joint over its moving "
+              "threshold, less what a stuck joint's static friction takes): %d/%d; "
               "isolated of those %d/%d; detections first seen by the holding detector %d\n",
               sum.isolable, sum.runs, sum.isolated_of_isolable, sum.isolable, sum.detected_by_hold);
   std::printf("isolation against its ceiling: %d/%d distinguished and named (ceiling %d/%d, %.1f %% of it); "

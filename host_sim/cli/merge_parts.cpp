@@ -101,6 +101,8 @@ eval::RunResult run_from_json(const nlohmann::json& j) {
   r.detected_by_hold = j.at("detected_by_hold").get<bool>();
   r.peak_true_torque_held = j.at("peak_true_torque_held").get<double>();
   r.held_push_nm = j.at("held_push").get<double>();
+  r.peak_true_torque_own = j.value("peak_true_torque_own", 0.0);
+  r.peak_reaching_torque_own = j.value("peak_reaching_torque_own", r.peak_true_torque_own);
   r.peak_joint = j.contains("peak_joint") ? small_int(j, "peak_joint") : 0;
   r.detected_by_residual = j.value("detected_by_residual", false);
   r.peak_true_torque_nm = j.value("peak_true_torque", 0.0);

@@ -5,6 +5,7 @@
 
 #include "eval/aligned_estimate.hpp"
 #include "eval/decision_signature.hpp"
+#include "eval/torque_reaching_motor.hpp"
 #include "identification/lugre_batch.hpp"
 #include "jointguard/node/joint_reaction.hpp"
 
@@ -434,11 +435,14 @@ std::optional<sim::JointVector> detection_cycle(const RunParams& p, RunState& s,
 }
 
 /// The recording's true external torques against the thresholds: the peak ratios, the first
-/// crossing, whether the collided link was isolable at all and by the decision.
-void ground_truth_figures(const RunParams& p, const RunState& s, const io::Recording& rec, RunResult& out) {
+/// crossing, whether the collided link was isolable at all and by the decision (from the
+/// torque that reaches the motor).
+void ground_truth_figures(const RunParams& p, const RunState& s, const sim::SimulationResult& r, RunResult& out) {
+  const io::Recording& rec = r.recording;
+  const std::vector<std::vector<double>> reaching = torque_reaching_motor(r, p.dt, {kStandstillSpeed, kStandstillS});
   for (std::size_t k = 0; k < rec.samples(); ++k) {
     const bool traced = k < s.holding_trace.size();
-    int highest_clear = 0;  // the highest joint whose true torque clears its moving band
+    int highest_clear = 0;  // the highest joint whose torque reaching the motor clears its moving band
     for (std::size_t j = 0; j < p.n; ++j) {
       // Against the threshold in effect (the band at the velocity the detector saw, or the
       // change threshold of an armed holding detector), and against the moving threshold
@@ -446,6 +450,7 @@ void ground_truth_figures(const RunParams& p, const RunState& s, const io::Recor
       const double magnitude = std::fabs(rec.tau_ext[j][k]);
       const double in_effect = traced ? s.in_effect_trace[k * p.n + j] : threshold_at(p.detectors.band[j], rec.dq[j][k]);
       const double ratio = magnitude / in_effect;
+      const double reaching_motor = reaching.empty() ? magnitude : std::fabs(reaching[j][k]);
       out.max_true_ratio = std::max(out.max_true_ratio, ratio);
       if (magnitude / p.d.threshold[j] > out.max_true_ratio_moving) {
         out.max_true_ratio_moving = magnitude / p.d.threshold[j];
@@ -454,13 +459,17 @@ void ground_truth_figures(const RunParams& p, const RunState& s, const io::Recor
         out.speed_at_peak_rad_s = std::fabs(rec.dq[j][k]);
       }
       if (!out.t_threshold && ratio > 1.0) out.t_threshold = rec.t[k];
-      if (magnitude > p.d.threshold[j]) highest_clear = static_cast<int>(j) + 1;
+      if (reaching_motor > p.d.threshold[j]) highest_clear = static_cast<int>(j) + 1;
+      if (static_cast<int>(j) + 1 == out.link_true) {
+        out.peak_true_torque_own = std::max(out.peak_true_torque_own, magnitude);
+        out.peak_reaching_torque_own = std::max(out.peak_reaching_torque_own, reaching_motor);
+      }
       if (traced && ((s.holding_trace[k] >> j) & 1U) != 0U) {
         out.peak_true_torque_held = std::max(out.peak_true_torque_held, magnitude);
       }
     }
-    // Isolable: at some cycle of the run the true torques name the collided link (the
-    // highest joint over its noise band, the moving threshold, is the collided link's).
+    // Isolable: at some cycle of the run the torques that reach the motors name the collided
+    // link (the highest joint over its noise band, the moving threshold, is the collided link's).
     if (highest_clear != 0 && highest_clear == out.link_true) {
       out.isolable = true;
       // Up to the decision (the detection cycle plus the cycles the decision waits for).
@@ -505,7 +514,7 @@ RunResult run_detection(const sim::SimulationSetup& setup, Estimator& estimator,
   sim::SimulationSetup with_recording = setup;
   with_recording.record = p.record_ground_truth;
   sim::SimulationResult r = sim::run_simulation(with_recording, hook);
-  ground_truth_figures(p, s, r.recording, out);
+  ground_truth_figures(p, s, r, out);
   finish(p, s, r, out);
   return out;
 }

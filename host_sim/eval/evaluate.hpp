@@ -98,8 +98,9 @@ struct RunResult {
   std::vector<double> contact_force_n;     ///< contact force per control cycle [N] (runs with collisions)
   bool detected_by_hold = false;           ///< the first detection came from the holding detector alone
   bool detected_by_residual = false;       ///< the first detection came from the residual detector, not the band
-  /// The collided link is nameable at all: the highest joint whose true |tau_ext| clears
-  /// its band (the threshold in effect) at some cycle of the contact is the collided link.
+  /// The collided link is nameable at all: the highest joint whose |tau_ext| that reaches the
+  /// motor (less what a stuck joint's static friction takes) clears its moving threshold at
+  /// some cycle of the contact is the collided link.
   bool isolable = false;
   /// The same from the cycles up to the isolation decision only (the detection plus the
   /// cycles the decision waits for; the whole run when nothing was detected): the ceiling
@@ -107,6 +108,10 @@ struct RunResult {
   bool isolable_at_decision = false;
   double held_push_nm = 0.0;               ///< held_push: the torque the push puts on its own joint [N·m]
   double peak_true_torque_held = 0.0;      ///< max true |tau_ext| on a joint while its controller held [N·m]
+  /// On the collided link's own joint, the largest true |tau_ext| and the largest of the torque
+  /// that reaches its motor (less what a stuck joint's static friction takes:
+  /// eval/torque_reaching_motor.hpp) [N·m]: what any estimator from the currents can see there.
+  double peak_true_torque_own = 0.0, peak_reaching_torque_own = 0.0;
   /// Where the true torque peaks against the moving threshold: the joint (1-based, 0 when no
   /// contact), its true |tau_ext| [N·m] and measured |velocity| [rad/s] there (miss analysis).
   int peak_joint = 0;

@@ -118,6 +118,22 @@ void record_cycle(io::Recording& rec, long k, double t, const Measurement& m, co
   rec.collision[uk] = contact_link;
 }
 
+/// Cycle k's plant friction and true speed (SimulationResult::plant_friction_nm), aligned as
+/// tau_ext: the friction over the step that ended at the cycle's time (zero before the first).
+void record_plant_truth(SimulationResult& result, const Plant& plant, long k, long cycles) {
+  const auto n = static_cast<std::size_t>(plant.state().qd.size());
+  if (result.plant_friction_nm.size() != n) {
+    result.plant_friction_nm.assign(n, std::vector<double>(static_cast<std::size_t>(cycles), 0.0));
+    result.plant_speed_rad_s = result.plant_friction_nm;
+  }
+  const auto uk = static_cast<std::size_t>(k);
+  for (std::size_t j = 0; j < n; ++j) {
+    const auto i = static_cast<Eigen::Index>(j);
+    result.plant_friction_nm[j][uk] = k > 0 ? plant.friction_torque()(i) : 0.0;
+    result.plant_speed_rad_s[j][uk] = plant.state().qd(i);
+  }
+}
+
 /// A run that diverges (a gear stiffer than the plant rate resolves, an unphysical model)
 /// must not write NaN rows and report success: stop with the reason.
 void check_finite(const Plant& plant, const SimulationSetup& setup, const TrajectorySample& start, double t_next) {
@@ -169,6 +185,7 @@ SimulationResult run_simulation(const SimulationSetup& setup, const ControlOverr
     rec.meta = setup.meta;
     rec.meta.sample_time = dt;
   }
+  const bool record_friction = setup.record && !setup.collisions.empty();
   JointVector current_cmd = JointVector::Zero(n);
   JointVector external = JointVector::Zero(n);
   int contact_link = 0;
@@ -188,6 +205,7 @@ SimulationResult run_simulation(const SimulationSetup& setup, const ControlOverr
     }
     current_cmd = sensors.current_command(demand);
     if (setup.record) record_cycle(rec, k, t, m, external, contact_link, n);
+    if (record_friction) record_plant_truth(result, plant, k, cycles);
     plant.advance(dt, sensors.produced_torque(current_cmd), contact);
     check_finite(plant, setup, start, t + dt);
     external = plant.external_torque();
