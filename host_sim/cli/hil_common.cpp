@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
+#include <string>
 #include <nlohmann/json.hpp>
 
 #include "can/fault_spec.hpp"
@@ -173,11 +175,24 @@ nlohmann::json hil_json(const HilOptions& o, const hil::HilResult& r) {
 }
 }  // namespace
 
+void override_plant_rate(sim::Scenario& scenario, double plant_rate_hz, const std::string& scenario_path) {
+  if (plant_rate_hz <= 0.0) return;
+  if (plant_rate_hz < scenario.setup.control_rate_hz) {
+    char text[120];
+    std::snprintf(text, sizeof text, "--plant-rate %g Hz is below ", plant_rate_hz);
+    char rate[60];
+    std::snprintf(rate, sizeof rate, "'s control_rate_hz %g Hz", scenario.setup.control_rate_hz);
+    throw std::invalid_argument(text + scenario_path + rate);
+  }
+  scenario.setup.plant.plant_rate_hz = plant_rate_hz;
+}
+
 int run_hil_command(const HilOptions& o) {
   if (o.iface.empty() && o.bus != "sim") throw std::invalid_argument("say where the drives are: --iface IFACE (SocketCAN) or --bus sim");
   if (o.threshold.empty()) throw std::invalid_argument("--threshold is required: the drives need their detection bands (jointguard calibrate)");
   sim::Scenario scenario = sim::load_scenario(o.scenario, o.seed, o.has_seed);
   if (o.duration_s > 0.0) scenario.setup.duration_s = o.duration_s;
+  override_plant_rate(scenario, o.plant_rate_hz, o.scenario);
   hil::HilConfig c = hil_config(o, scenario);
   try {
     // Bad fault specs are usage errors (exit 2), refused before anything runs.

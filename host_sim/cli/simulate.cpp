@@ -18,6 +18,7 @@ struct SimulateOptions {
   std::string out;
   unsigned long long seed = 0;
   double duration_s = 0.0;
+  double plant_rate_hz = 0.0;
   HilOptions hil;
 };
 }  // namespace
@@ -33,6 +34,10 @@ Command add_simulate(CLI::App& app) {
   cmd->add_option("--out", opt->out, "Recording to write (CSV; a .json side file is written beside it)")->check(recording_output_file())->required();
   auto* seed = cmd->add_option("--seed", opt->seed, "Override the scenario's seed");
   cmd->add_option("--duration", opt->duration_s, "Override the duration [s]")->check(CLI::Range(1e-6, 2592000.0));
+  cmd->add_option("--plant-rate", opt->plant_rate_hz,
+                  "Override the scenario's plant_rate_hz [Hz]: a robot file with stiffer friction or gears than the scenario "
+                  "was written for (the divergence message names the joint)")
+      ->check(CLI::Range(1.0, 1e6));
   cmd->add_option("--bus", opt->hil.bus,
                   "sim: run the joint drives' firmware in the loop on the simulated CAN FD bus (needs --threshold)")
       ->check(CLI::IsMember({"none", "sim"}))->capture_default_str();
@@ -47,6 +52,7 @@ Command add_simulate(CLI::App& app) {
       h.seed = opt->seed;
       h.has_seed = seed->count() > 0;
       h.duration_s = opt->duration_s;
+      h.plant_rate_hz = opt->plant_rate_hz;
       return run_hil_command(h);
     }
     if (!opt->hil.faults.empty()) {
@@ -60,6 +66,7 @@ Command add_simulate(CLI::App& app) {
     if (opt->duration_s > 0.0) {
       s.setup.duration_s = opt->duration_s;
     }
+    override_plant_rate(s, opt->plant_rate_hz, opt->scenario);
     Progress progress("simulate");
     const auto t0 = std::chrono::steady_clock::now();
     sim::SimulationResult r = sim::run_simulation(s.setup, {}, [&](double f) { progress.update(f); });

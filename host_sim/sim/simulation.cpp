@@ -141,7 +141,7 @@ void check_finite(const Plant& plant, const SimulationSetup& setup, const Trajec
   if (!st.q.allFinite() || !st.qd.allFinite() || !st.theta.allFinite() || !st.theta_dot.allFinite()) {
     throw std::runtime_error("the simulation diverged at t = " + std::to_string(t_next) +
                              " s (the plant's state is not finite): " + stiffest_mode(setup.plant, plant, start.q) +
-                             "; raise plant_rate_hz or check the robot file");
+                             "; raise plant_rate_hz (the scenario's, or simulate --plant-rate) or check the robot file");
   }
 }
 }  // namespace

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Bad input that used to hang or crash (issue 14): a 40 kB DBC line (std::regex recursion),
-# plant_rate_hz 1e9 and duration_s 1e12 in a scenario, --duration 1e12, a diverging stiff gear. Each must exit 1
+# plant_rate_hz 1e9 and duration_s 1e12 in a scenario, --duration 1e12, --plant-rate out of range
+# or under the control rate, a diverging stiff gear. Each must exit 1
 # (file, line and field named) or 2 (bad command line), quickly, writing nothing. Also duplicate
 # YAML keys and the friction/threshold JSON messages.
 # Usage: bounds.sh <jointguard> <source dir>
@@ -36,6 +37,9 @@ expect 1 "plant_rate_hz" -- "$J" simulate "$W/fast.yaml" --out "$W/never.csv"
 variant 's/^control_rate_hz: 1000$/control_rate_hz: 1000\nduration_s: 1e12/' paper_excitation.yaml long.yaml
 expect 1 "duration_s" -- "$J" simulate "$W/long.yaml" --out "$W/never.csv"
 expect 2 "duration" -- "$J" simulate scenarios/paper_excitation.yaml --duration 1e12 --out "$W/never.csv"
+expect 2 "plant-rate" -- "$J" simulate scenarios/paper_excitation.yaml --plant-rate 1e9 --out "$W/never.csv"
+expect 1 "paper_excitation.yaml's control_rate_hz" -- "$J" simulate scenarios/paper_excitation.yaml --plant-rate 500 --out "$W/never.csv"
+[ ! -e "$W/never.csv" ] || { echo "a refused --plant-rate wrote $W/never.csv"; exit 1; }
 # A generated motion of 76 days (found by the scenario fuzzer: its moves filled the memory).
 variant 's/^  duration_s: .*/  duration_s: 6566666/' free_motion.yaml random_long.yaml
 expect 1 "random_long.yaml:.*duration_s.*7 days" -- "$J" simulate "$W/random_long.yaml" --out "$W/never.csv"

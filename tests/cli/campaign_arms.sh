@@ -58,26 +58,10 @@ refused() {  # refused NAME FIELD-TEXT ARGS...: evaluate must exit 1 naming the 
   fi
 }
 fail=0
-# The Panda's friction: identify on a simulated excitation of every joint about evaluate's home
-# posture (its plant: the paper's Table 1, joint 3's beyond the third, as evaluate's).
-cat > "$W/panda_excitation.yaml" <<YAML
-name: panda_excitation
-model: $SRC/models/panda.yaml
-control_rate_hz: 1000
-seed: 1
-trajectory:
-  type: excitation
-  offset_rad: [0.0, 0.6, -0.8, 0.0, 0.0, 0.0, 0.0]
-  joints: [1, 2, 3, 4, 5, 6, 7]
-  amplitude_rad: 0.6
-  frequency_hz: 0.2
-  periods: 4
-  blend_s: 2.5
-sensors:
-  current_noise_rms_a: 0.01
-  current_lsb_a: 0.0005
-YAML
-"$J" simulate "$W/panda_excitation.yaml" --out "$W/panda_excitation.csv" > /dev/null
+# The Panda's friction: identify on the shipped excitation of every joint about evaluate's home
+# posture (scenarios/panda_excitation.yaml; its plant: the paper's Table 1, joint 3's beyond the
+# third, as evaluate's).
+"$J" simulate "$SRC/scenarios/panda_excitation.yaml" --out "$W/panda_excitation.csv" > /dev/null
 "$J" identify "$W/panda_excitation.csv" --model "$SRC/models/panda.yaml" --json "$W/panda_fr.json" > /dev/null
 # Refused files: the Panda's friction for the 3-joint reference arm (joint count), and a
 # joint whose bristle stiffness Q16.16 does not hold at 1 kHz.
