@@ -67,6 +67,11 @@ void print_result(const inject::InjectRequest& r, const inject::InjectResult& re
   for (const auto& c : res.joints) {
     std::printf("%s: %zu of %zu rows changed, max |change| %.4g %s, RMS %.4g %s\n", c.column.c_str(), c.rows_changed, res.data_rows,
                 c.max_abs_change, res.unit.c_str(), c.rms_change, res.unit.c_str());
+    if (c.delay_on_model_rms > 0.0) {
+      std::printf("  its delay against the model's torque (delay x d tau_model/dt, what the diagnosis can see): RMS %.4g %s; "
+                  "the rest is the reading's own noise and fast content, shifted\n",
+                  c.delay_on_model_rms, res.unit.c_str());
+    }
   }
   if (res.rows_outside > 0) std::printf("%zu rows outside every uniform segment (too short to use): left unchanged\n", res.rows_outside);
   if (res.repeats_follow_state) std::printf("rows repeating the previous row's state got its new reading (they stay repeats)\n");

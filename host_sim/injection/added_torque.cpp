@@ -7,6 +7,7 @@
 
 #include "diagnosis/diagnose.hpp"
 #include "diagnosis/pairing.hpp"
+#include "diagnosis/signals.hpp"
 #include "dynamics/sensitivity.hpp"
 #include "injection/effects_file.hpp"
 
@@ -146,7 +147,7 @@ std::vector<SegmentAddition> physics_added(const std::vector<io::Recording>& seg
   const std::vector<double> delay = delays_s(effects, nj);
   std::vector<SegmentAddition> out;
   for (std::size_t p = 0; p < parts.size(); ++p) {
-    SegmentAddition a{segments[p].t, arm_added(parts[p], nominal, arm)};
+    SegmentAddition a{segments[p].t, arm_added(parts[p], nominal, arm), std::vector<double>(nj, 0.0)};
     for (std::size_t j = 0; j < nj; ++j) {
       for (std::size_t k = 0; k < a.t.size(); ++k) a.added_nm[j][k] += per_joint[p][j][k];
       if (delay[j] == 0.0) continue;
@@ -154,6 +155,10 @@ std::vector<SegmentAddition> physics_added(const std::vector<io::Recording>& seg
       for (std::size_t k = 0; k < reading.size(); ++k) reading[k] += a.added_nm[j][k];
       const auto d = delay_added(reading, parts[p][j].dt, delay[j]);
       for (std::size_t k = 0; k < a.t.size(); ++k) a.added_nm[j][k] += d[k];
+      // The same derivative as the diagnosis's time_delay column (diagnosis/effects.cpp).
+      for (const double rate : diag::derivative(parts[p][j].tau_model, parts[p][j].dt)) {
+        a.delay_on_model_ss[j] += delay[j] * rate * delay[j] * rate;
+      }
     }
     out.push_back(std::move(a));
   }

@@ -24,6 +24,11 @@ struct InjectModel {
 struct SegmentAddition {
   std::vector<double> t;                      ///< the segment's uniform grid [s]
   std::vector<std::vector<double>> added_nm;  ///< [joint][sample] [N·m]
+  /// Per joint, the sum over the samples of (delay x d tau_model/dt)^2 [N·m^2]: what a
+  /// time_delay adds against the model's torque, the diagnosis's delay column (a shifted
+  /// reading also reshuffles its noise and fast content, which no model predicts). Zero
+  /// without a delay on the joint.
+  std::vector<double> delay_on_model_ss;
 };
 
 /// Per joint: the reading becomes scale * (reading + added) + offset_nm (the drive's current

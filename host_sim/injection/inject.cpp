@@ -1,6 +1,7 @@
 #include "injection/inject.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -92,8 +93,14 @@ InjectResult inject(const InjectRequest& r) {
   res.text = e.text;
   res.data_rows = e.data_rows;
   res.rows_outside = e.rows_outside;
+  std::size_t samples = 0;
+  for (const auto& a : added) samples += a.t.size();
   for (std::size_t j = 0; j < e.columns.size(); ++j) {
-    res.joints.push_back({first.joint_ids[j], e.columns[j], e.rows_changed[j], e.max_abs_change[j], e.rms_change[j]});
+    double ss = 0.0;
+    for (const auto& a : added) ss += j < a.delay_on_model_ss.size() ? a.delay_on_model_ss[j] : 0.0;
+    const double unit = r.torque == io::TorqueKind::current ? r.model.torque_constant[j] : 1.0;  // N·m per column unit
+    const double delay_rms = samples > 0 ? std::sqrt(ss / static_cast<double>(samples)) / unit : 0.0;
+    res.joints.push_back({first.joint_ids[j], e.columns[j], e.rows_changed[j], e.max_abs_change[j], e.rms_change[j], delay_rms});
   }
   return res;
 }
@@ -118,6 +125,7 @@ nlohmann::json side_file(const InjectRequest& r, const InjectResult& result,
   for (const auto& c : result.joints) {
     changed.push_back({{"joint", c.joint}, {"column", c.column}, {"rows_changed", c.rows_changed},
                        {"max_abs_change", c.max_abs_change}, {"rms_change", c.rms_change}});
+    if (c.delay_on_model_rms > 0.0) changed.back()["delay_on_model_rms"] = c.delay_on_model_rms;
   }
   nlohmann::json entry{{"tool", "jointguard inject"},
                        {"source", {{"path", r.recording_path}, {"sha256", result.source_sha256}}},

@@ -29,6 +29,10 @@ struct JointChange {
   std::size_t rows_changed = 0;
   double max_abs_change = 0.0;  ///< [column units]
   double rms_change = 0.0;      ///< over the rows changed [column units]
+  /// A time_delay's share the model predicts, delay x d tau_model/dt, RMS over the segments'
+  /// samples [column units] (0 without a delay): the size of a delay as the diagnosis can see
+  /// it (rms_change also counts the reading's own noise and fast content, shifted).
+  double delay_on_model_rms = 0.0;
 };
 
 struct InjectResult {

@@ -208,6 +208,36 @@ TEST(InjectSensor, TimeLeadReadsAhead) {
   }
 }
 
+/// inject's figure for a delay as a model sees it (delay x d tau_model/dt, RMS): linear in
+/// the delay, the same for a lead, on the delayed joint only, absent without a delay.
+TEST(InjectSensor, TimeDelayReportsWhatTheModelSees) {
+  const std::string path = write_recording("jg_inject_delay_model.csv");
+  const jg::io::Regularized data = jg::io::regularize(jg::io::read_recording(path));
+  const jg::robot::RobotModel model = jg::robot::load_robot(std::string(JG_SOURCE_DIR) + "/models/ref3.yaml");
+  auto on_model = [&](const std::vector<PlantEffect>& effects) {
+    jg::inject::InjectRequest r;
+    r.recording_path = path;
+    r.data = &data;
+    r.model.model = &model;
+    r.model.torque_constant = {12.0, 12.0, 12.0};
+    r.effects = effects;
+    std::vector<double> out;
+    for (const auto& c : jg::inject::inject(r).joints) out.push_back(c.delay_on_model_rms);
+    return out;
+  };
+  const auto twenty = on_model({{jg::robot::Effect::time_delay, 2, {}, {-0.02}, {}}});
+  const auto ten = on_model({{jg::robot::Effect::time_delay, 2, {}, {-0.01}, {}}});
+  const auto lead = on_model({{jg::robot::Effect::time_delay, 2, {}, {0.02}, {}}});
+  ASSERT_EQ(twenty.size(), 3U);
+  EXPECT_GT(twenty[1], 1e-3) << "joint 2 swings: its model torque changes";
+  EXPECT_NEAR(twenty[1], 2.0 * ten[1], 1e-12 * twenty[1]);
+  EXPECT_DOUBLE_EQ(lead[1], twenty[1]);
+  EXPECT_EQ(twenty[0], 0.0);
+  EXPECT_EQ(twenty[2], 0.0);
+  for (const double v : on_model({{jg::robot::Effect::coulomb, 2, {}, {0.3}, {}}})) EXPECT_EQ(v, 0.0);
+  std::filesystem::remove(path);
+}
+
 TEST(InjectArm, PayloadPickedUpActsFromThen) {
   const Injected x = run({{jg::robot::Effect::payload, 0, {{"picked_up_at_s", 1.0}}, {1.0, 0.2, 0.0, 0.0}, {}}}, "jg_inject_pickup.csv");
   for (std::size_t k = 0; k < x.after.size(); ++k) {
