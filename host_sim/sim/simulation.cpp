@@ -130,7 +130,8 @@ void record_plant_truth(SimulationResult& result, const Plant& plant, long k, lo
   for (std::size_t j = 0; j < n; ++j) {
     const auto i = static_cast<Eigen::Index>(j);
     result.plant_friction_nm[j][uk] = k > 0 ? plant.friction_torque()(i) : 0.0;
-    result.plant_speed_rad_s[j][uk] = plant.state().qd(i);
+    // The speed the friction acts at: the motor side's on an elastic joint (plant.cpp).
+    result.plant_speed_rad_s[j][uk] = plant.elastic() ? plant.state().theta_dot(i) : plant.state().qd(i);
   }
 }
 

@@ -60,7 +60,8 @@ struct SimulationResult {
   /// The first scheduled collision as it acted (point and direction resolved at its onset:
   /// into_motion, surface contacts); link 0 when it never began.
   ResolvedContact first_contact;
-  /// The plant's own friction torque [N·m] and true joint speed [rad/s] per joint and cycle,
+  /// The plant's own friction torque [N·m] and the true speed it acts at [rad/s] (the motor
+  /// side's on an elastic joint) per joint and cycle,
   /// aligned with the recording's tau_ext (only when recording a setup with collisions): what
   /// a stuck joint's static friction takes of a push, which no current measurement shows.
   std::vector<std::vector<double>> plant_friction_nm, plant_speed_rad_s;
