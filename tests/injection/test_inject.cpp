@@ -154,18 +154,24 @@ struct Injected {
   std::vector<std::vector<double>> before, after;  ///< rows of numbers
 };
 
-/// `name`: a file of its own per test (ctest runs the tests in parallel).
-Injected run(const std::vector<PlantEffect>& effects, const std::string& name) {
-  const std::string path = write_recording(name);
-  const jg::io::Regularized data = jg::io::regularize(jg::io::read_recording(path));
-  const jg::robot::RobotModel model = jg::robot::load_robot(std::string(JG_SOURCE_DIR) + "/models/ref3.yaml");
+/// The request both tests build: ref3 with a torque constant of 12 N·m/A on every joint.
+jg::inject::InjectRequest ref3_request(const std::string& path, const jg::io::Regularized& data,
+                                       const jg::robot::RobotModel& model, const std::vector<PlantEffect>& effects) {
   jg::inject::InjectRequest r;
   r.recording_path = path;
   r.data = &data;
   r.model.model = &model;
   r.model.torque_constant = {12.0, 12.0, 12.0};
   r.effects = effects;
-  const auto res = jg::inject::inject(r);
+  return r;
+}
+
+/// `name`: a file of its own per test (ctest runs the tests in parallel).
+Injected run(const std::vector<PlantEffect>& effects, const std::string& name) {
+  const std::string path = write_recording(name);
+  const jg::io::Regularized data = jg::io::regularize(jg::io::read_recording(path));
+  const jg::robot::RobotModel model = jg::robot::load_robot(std::string(JG_SOURCE_DIR) + "/models/ref3.yaml");
+  const auto res = jg::inject::inject(ref3_request(path, data, model, effects));
   auto numbers = [](const std::string& text) {
     std::vector<std::vector<double>> rows;
     std::istringstream in(text);
@@ -215,14 +221,8 @@ TEST(InjectSensor, TimeDelayReportsWhatTheModelSees) {
   const jg::io::Regularized data = jg::io::regularize(jg::io::read_recording(path));
   const jg::robot::RobotModel model = jg::robot::load_robot(std::string(JG_SOURCE_DIR) + "/models/ref3.yaml");
   auto on_model = [&](const std::vector<PlantEffect>& effects) {
-    jg::inject::InjectRequest r;
-    r.recording_path = path;
-    r.data = &data;
-    r.model.model = &model;
-    r.model.torque_constant = {12.0, 12.0, 12.0};
-    r.effects = effects;
     std::vector<double> out;
-    for (const auto& c : jg::inject::inject(r).joints) out.push_back(c.delay_on_model_rms);
+    for (const auto& c : jg::inject::inject(ref3_request(path, data, model, effects)).joints) out.push_back(c.delay_on_model_rms);
     return out;
   };
   const auto twenty = on_model({{jg::robot::Effect::time_delay, 2, {}, {-0.02}, {}}});
