@@ -2,7 +2,7 @@
 """Known causes injected into real recordings, then diagnosed against the robot file alone, or
 (--baseline) against the file the untouched recording's own `diagnose --model-out` wrote.
 
-Usage: injection_bench.py JOINTGUARD DATA_DIR ARM [--cases N] [--vocabulary] [--only EFFECT[,EFFECT]] [--baseline] [--json OUT]
+Usage: injection_bench.py JOINTGUARD DATA_DIR ARM [--cases N] [--vocabulary] [--only EFFECT[,EFFECT]] [--joints J[,J]] [--baseline] [--json OUT]
   ARM: panda (panda-excitation, models/panda.yaml, joint torque sensor) or ur10e
   (ur10e-static/motion_free.csv, vendor URDF + drive.yaml, motor currents).
 
@@ -17,7 +17,8 @@ channel can carry (no current-channel or rotor effects on a joint torque sensor)
 joint, at 3x and 10x the joint's own noise level (torque RMS added, measured on the injected
 file against the original; for a time delay, the RMS of delay x d tau_model/dt that inject
 reports, the part a model can see: a shifted reading's own noise and fast content are not). Scored: named on its joint (a torque constant may be named with the
-arm's causes, against the robot file: it counts for its joint), by its vocabulary word; an effect
+arm's causes, against the robot file: it counts for its joint), by its vocabulary word (a position
+ripple also at its period, give or take one a turn); an effect
 the untouched recording is diagnosed with already counts only if its size moved by the injected
 one (torque constants and current offsets: within 20 %), never merely for being claimed. An
 effect not claimed but named beside the claim as its indistinguishable alternative (a current
@@ -27,7 +28,8 @@ A size beyond the range the diagnosis accepts (a torque constant off by more tha
 delay over 50 ms, a load coefficient over 0.5) is scored apart ("implausible": right when
 the diagnosis does not claim it) and run again at 95 % of the range's edge.
 --only keeps those per-joint effects of the vocabulary (e.g. `--only time_delay --cases 0`: the
-delays and the zero-size cases, a part of the full run).
+delays and the zero-size cases, a part of the full run); --joints keeps those joints' cases
+(e.g. `--only position_ripple --joints 3,7 --cases 0`: a few cases, to look at one miss).
 Only the Python standard library (the CI machine's /usr/bin/python3).
 """
 import json
@@ -141,15 +143,19 @@ def ripple_periods(diag, joint):
 def named_on_joint(got, base, d, base_diag, joint, effect, size, period=None):
     """Named: claimed on its joint, and not merely a claim the untouched recording makes
     already. A torque constant claimed on both counts when its scale moved by the injected
-    one within 20 % ((1 + k') = (1 + k)(1 + c)); a position ripple when one is claimed at the
-    injected period and the untouched recording's ripple is at another; any other effect
+    one within 20 % ((1 + k') = (1 + k)(1 + c)); a position ripple only when one is claimed at
+    the injected period, give or take one period a turn (the recorded range covers about three
+    periods, over which k and k +- 1 differ by a few tenths of one), and the untouched
+    recording's ripple is at another; any other effect
     claimed on both does not."""
     if (joint, effect) not in got:
         return False
+    if effect == "position_ripple" and period is not None:  # at the injected period, always
+        def near(periods):  # within one step of the grid of whole periods a turn
+            return any(abs(k - period) <= 1.0 for k in periods)
+        return near(ripple_periods(d, joint)) and not near(ripple_periods(base_diag, joint))
     if (joint, effect) not in base:
         return True
-    if effect == "position_ripple" and period is not None:
-        return period in ripple_periods(d, joint) and period not in ripple_periods(base_diag, joint)
     if effect == "torque_constant":
         k0, k1 = scale_errors(base_diag).get(joint), scale_errors(d).get(joint)
         if k0 is None or k1 is None:
@@ -237,7 +243,7 @@ def delay_on_model_rms(side_path, col):
     return next((c.get("delay_on_model_rms", 0.0) for c in changed if c["column"] == col), 0.0)
 
 
-def vocabulary_cases(jg, recording, model, work, joints, sensor):
+def vocabulary_cases(jg, recording, model, work, joints, sensor, only_joints=None):
     """(name, yaml text, joint or 'arm', effect) scaled to 3x and 10x each joint's noise."""
     header, rows = read_csv(recording)
     cols = torque_columns(header, joints)
@@ -250,6 +256,8 @@ def vocabulary_cases(jg, recording, model, work, joints, sensor):
         if sensor and effect in CURRENT_ONLY:
             continue
         for j in range(1, joints + 1):
+            if only_joints is not None and j not in only_joints:
+                continue
             at = identifiable_setting(effect, setting, column(rows, header, f"q{j}"))
             probe = os.path.join(work, "probe.yaml")
             with open(probe, "w") as f:
@@ -295,6 +303,12 @@ def main():
         if unknown:
             raise SystemExit(f"--only: not an effect of the vocabulary: {', '.join(unknown)}")
         JOINT_EFFECTS = [e for e in JOINT_EFFECTS if e[0] in keep]
+    only_joints = None
+    if "--joints" in args:
+        try:
+            only_joints = {int(j) for j in args[args.index("--joints") + 1].split(",")}
+        except (IndexError, ValueError):
+            raise SystemExit("--joints: a comma-separated list of joint numbers (from 1), e.g. --joints 2,6")
     arm = ARMS[arm_name]
     model = [a.format(data=data) for a in arm["model"]]
     recording = os.path.join(data, arm["recording"])
@@ -350,7 +364,7 @@ def main():
         header, _ = read_csv(recording)
         joints = len(torque_columns(header, sum(1 for h in header if h.startswith("q") and h[1:].isdigit())))
         sensor = "--torque-kind" in model and model[model.index("--torque-kind") + 1] == "joint"
-        for n, (name, text, joint, effect, size, plausible) in enumerate(vocabulary_cases(jg, recording, model, work, joints, sensor)):
+        for n, (name, text, joint, effect, size, plausible) in enumerate(vocabulary_cases(jg, recording, model, work, joints, sensor, only_joints)):
             effects = os.path.join(work, f"v{n}.yaml")
             with open(effects, "w") as f:
                 f.write(text)

@@ -284,9 +284,10 @@ std::vector<NotTransferring> diagnose_arm_level(const DiagnosisInputs& in, const
 /// written by an earlier diagnosis and in the prediction) is offered again only at the file's
 /// setting: a change of its size (a drive's constant that moved since the file was written) is
 /// found and merged into the file's entry, but a second component of the cause (a Stribeck
-/// curve at another speed scale, a ripple at another period) is the remainder of a shape the
-/// vocabulary's form does not fit, which the loop would otherwise add round after round. It
-/// stays in the joint's unexplained residual.
+/// curve at another speed scale) is the remainder of a shape the vocabulary's form does not
+/// fit, which the loop would otherwise add round after round. It stays in the joint's
+/// unexplained residual. A ripple at another period is another ripple (diagnose.cpp,
+/// keep_only_file_settings), offered beside the file's.
 DiagnoseOptions joint_options(int joint, const std::vector<NotTransferring>& not_transferring,
                               const std::vector<robot::PlantEffect>& file_effects, bool trace, std::vector<std::string>& notes) {
   DiagnoseOptions jo;
@@ -301,7 +302,11 @@ DiagnoseOptions joint_options(int joint, const std::vector<NotTransferring>& not
       continue;
     }
     jo.only_at_setting.emplace_back(e.effect, e.setting);
-    notes.push_back(robot::effect_word(e.effect) + " is in the robot file already (an earlier diagnosis): offered again only at the file's setting, as a change of its size; what another shape of it would add is in the unexplained residual");
+    if (e.effect == robot::Effect::position_ripple) {
+      notes.push_back("position_ripple is in the robot file already (an earlier diagnosis): offered again at the file's period, as a change of its size, and at any other period as another ripple beside it");
+    } else {
+      notes.push_back(robot::effect_word(e.effect) + " is in the robot file already (an earlier diagnosis): offered again only at the file's setting, as a change of its size; what another shape of it would add is in the unexplained residual");
+    }
   }
   return jo;
 }

@@ -166,7 +166,8 @@ TEST(DiagnoseRealArmRules, NoTorqueConstantOnAJointTorqueSensor) {
 
 // An effect the robot file carries on the joint is offered again only at the file's setting
 // (DiagnoseOptions::only_at_setting): a change of its size is found, another component of
-// the cause (a ripple at another period) is not.
+// the cause (a Stribeck curve at another speed scale) is not. A ripple at another period is
+// another ripple, found beside the file's.
 TEST(DiagnoseRealArmRules, FileEffectOfferedOnlyAtItsSetting) {
   const auto s = synthetic_joint([](double, double) { return 0.0; }, 5);
   auto rippled = s;
@@ -185,11 +186,26 @@ TEST(DiagnoseRealArmRules, FileEffectOfferedOnlyAtItsSetting) {
   jg::diag::DiagnoseOptions same;
   same.only_at_setting.emplace_back(jg::robot::Effect::position_ripple, std::map<std::string, double>{{"periods_per_rev", 50.0}});
   EXPECT_EQ(ripple_periods(jg::diag::diagnose_joint(rippled, same)), std::vector<double>{50.0}) << "a change of the file's ripple is not found";
+  // A ripple at another period is another source (a gear's meshing beside a motor's
+  // cogging): found beside the file's, not hidden by it.
   jg::diag::DiagnoseOptions other;
   other.only_at_setting.emplace_back(jg::robot::Effect::position_ripple, std::map<std::string, double>{{"periods_per_rev", 30.0}});
-  for (const double k : ripple_periods(jg::diag::diagnose_joint(rippled, other))) EXPECT_EQ(k, 30.0) << "a ripple at another period than the file's is offered";
+  EXPECT_EQ(ripple_periods(jg::diag::diagnose_joint(rippled, other)), std::vector<double>{50.0}) << "a ripple at another period than the file's is hidden";
   // Nothing in the residual: the restriction finds nothing either.
   EXPECT_TRUE(ripple_periods(jg::diag::diagnose_joint(s, same)).empty());
+  // Any other effect stays at the file's setting: a Stribeck excess at 0.05 rad/s, with the
+  // file's at 0.4 rad/s, is claimed (if at all) at the file's speed scale.
+  const auto stribecked = synthetic_joint([](double, double dq) { return (dq > 0.0 ? 0.4 : -0.4) * std::exp(-std::pow(dq / 0.05, 2.0)); }, 5);
+  jg::diag::DiagnoseOptions file_stribeck;
+  file_stribeck.only_at_setting.emplace_back(jg::robot::Effect::stribeck, std::map<std::string, double>{{"w_s", 0.4}});
+  for (const auto& f : jg::diag::diagnose_joint(stribecked, file_stribeck).findings) {
+    if (f.effect == jg::robot::Effect::stribeck) {
+      EXPECT_EQ(f.params.at("w_s"), 0.4) << f.text;
+    }
+  }
+  bool found_free = false;
+  for (const auto& f : jg::diag::diagnose_joint(stribecked).findings) found_free = found_free || f.effect == jg::robot::Effect::stribeck;
+  EXPECT_TRUE(found_free) << "the Stribeck excess is not found at all: the restriction above is not tested";
 }
 
 // A delay past the plausible 50 ms is not claimed as a shorter one: the first-order column's
