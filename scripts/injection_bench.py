@@ -18,7 +18,7 @@ joint, at 3x and 10x the joint's own noise level (torque RMS added, measured on 
 file against the original; for a time delay, the RMS of delay x d tau_model/dt that inject
 reports, the part a model can see: a shifted reading's own noise and fast content are not). Scored: named on its joint (a torque constant may be named with the
 arm's causes, against the robot file: it counts for its joint), by its vocabulary word (a position
-ripple also at its period, give or take one a turn); an effect
+ripple also at its period, within what the recorded range resolves); an effect
 the untouched recording is diagnosed with already counts only if its size moved by the injected
 one (torque constants and current offsets: within 20 %), never merely for being claimed. An
 effect not claimed but named beside the claim as its indistinguishable alternative (a current
@@ -140,19 +140,20 @@ def ripple_periods(diag, joint):
             for f in j["findings"] if f["effect"] == "position_ripple"}
 
 
-def named_on_joint(got, base, d, base_diag, joint, effect, size, period=None):
+def named_on_joint(got, base, d, base_diag, joint, effect, size, period=None, period_tol=1.0):
     """Named: claimed on its joint, and not merely a claim the untouched recording makes
     already. A torque constant claimed on both counts when its scale moved by the injected
     one within 20 % ((1 + k') = (1 + k)(1 + c)); a position ripple only when one is claimed at
-    the injected period, give or take one period a turn (the recorded range covers about three
-    periods, over which k and k +- 1 differ by a few tenths of one), and the untouched
+    the injected period, within what the joint's recorded range R resolves (|dk| <= max(1, pi/R)
+    periods a turn: two ripples whose phases part by less than half a turn over the whole
+    range are one ripple there; about a sixth of k over the three periods a case covers), and the untouched
     recording's ripple is at another; any other effect
     claimed on both does not."""
     if (joint, effect) not in got:
         return False
     if effect == "position_ripple" and period is not None:  # at the injected period, always
-        def near(periods):  # within one step of the grid of whole periods a turn
-            return any(abs(k - period) <= 1.0 for k in periods)
+        def near(periods):  # within what the recorded range resolves
+            return any(abs(k - period) <= period_tol for k in periods)
         return near(ripple_periods(d, joint)) and not near(ripple_periods(base_diag, joint))
     if (joint, effect) not in base:
         return True
@@ -361,8 +362,9 @@ def main():
         rows.append(row)
         print(json.dumps(row), flush=True)
     if vocabulary:
-        header, _ = read_csv(recording)
+        header, recorded = read_csv(recording)
         joints = len(torque_columns(header, sum(1 for h in header if h.startswith("q") and h[1:].isdigit())))
+        ranges = [max(q) - min(q) for q in (column(recorded, header, f"q{j}") for j in range(1, joints + 1))]
         sensor = "--torque-kind" in model and model[model.index("--torque-kind") + 1] == "joint"
         for n, (name, text, joint, effect, size, plausible) in enumerate(vocabulary_cases(jg, recording, model, work, joints, sensor, only_joints)):
             effects = os.path.join(work, f"v{n}.yaml")
@@ -386,7 +388,8 @@ def main():
             row = {"kind": "joint_effect", "case": name,
                    "named": named_on_joint(got, base_claims, d, base, joint, effect, size,
                                            float(text.split("periods_per_rev: ")[1].split(",")[0].split("}")[0])
-                                           if "periods_per_rev: " in text else None),
+                                           if "periods_per_rev: " in text else None,
+                                           max(1.0, math.pi / max(ranges[joint - 1], 1e-6))),
                    "named_as_alternative": (joint, effect) in alternatives(d) - alternatives(base) - base_claims,
                    "claimed_untouched": (joint, effect) in base_claims,
                    "residual_growth": residual_growth(base, d, joint),
