@@ -478,6 +478,18 @@ void keep_only_file_settings(const DiagnoseOptions& o, std::vector<Candidate>& g
           g.end());
 }
 
+/// Whether `c` is a second component of a cause the robot file carries on the joint: its
+/// effect is there (DiagnoseOptions::only_at_setting) at another setting.
+bool beside_file_setting(const DiagnoseOptions& o, const Candidate& c) {
+  bool listed = false;
+  for (const auto& e : o.only_at_setting) {
+    if (e.first != c.effect) continue;
+    if (e.second == c.setting) return false;
+    listed = true;
+  }
+  return listed;
+}
+
 /// The candidate groups the joint is offered: the library's, without those ruled out
 /// beforehand (they did not transfer between recordings: cross_motion.hpp), and, when the
 /// gear-deflection channel found something, its torque side (the rotor's acceleration
@@ -670,15 +682,19 @@ Selection forward_selection(const JointProblem& p, const std::vector<bool>& excl
       continue;
     }
     const double h = heldout_rms(p, trial);
+    const double gain_needed = beside_file_setting(o, *best.candidate) ? o.min_heldout_gain_beside_file : o.min_heldout_gain;
     // Only an addition that does not improve the held-out blocks needs to know whether they see it.
-    const bool unseen = h > sel.heldout * (1.0 - o.min_heldout_gain) && !heldout_exercises(p, trial);
+    const bool unseen = h > sel.heldout * (1.0 - gain_needed) && !heldout_exercises(p, trial);
     if (o.trace) std::fprintf(stderr, "  j%d -> %s dBIC %.1f held-out %.4f -> %.4f%s\n", p.s.joint, robot::effect_cstr(best.candidate->effect), best.delta, sel.heldout, h, unseen ? " (not exercised there)" : "");
     if (unseen && std::find(sel.notes.begin(), sel.notes.end(), unexercised_note(*best.candidate)) == sel.notes.end()) {
       sel.notes.push_back(unexercised_note(*best.candidate));
     }
-    if (!unseen && h > sel.heldout * (1.0 - o.min_heldout_gain)) {
+    if (!unseen && h > sel.heldout * (1.0 - gain_needed)) {
       rejected[best.group] = true;  // fits the training blocks only: not claimed
-      sel.notes.push_back(best.candidate->effect + " improved the training fit but not the held-out blocks: not claimed");
+      sel.notes.push_back(gain_needed > o.min_heldout_gain
+                              ? best.candidate->effect + " beside the robot file's (another setting) improved the held-out blocks by less than " +
+                                    std::to_string(static_cast<int>(std::lround(100.0 * gain_needed))) + " %: not claimed"
+                              : best.candidate->effect + " improved the training fit but not the held-out blocks: not claimed");
       continue;
     }
     chosen = trial;

@@ -57,10 +57,9 @@ done
 # The real Panda (joint torque sensors, about 1 min a round): one diagnosis fits the arm's
 # causes again on what the joints' effects leave (the backfitting step), so the second round
 # names no arm-level cause (before: two link-mass corrections of 2.4 g, found on top of the
-# file's own once the joints' effects were in the prediction). What the second round may name
-# is a ripple at another period than the file's on its joint (a joint's first round names one
-# ripple; measured: 10 a turn on joint 5 and 120 a turn on joint 3, 1-2 % of their held-out
-# residuals), and the third round names nothing: the loop settles.
+# file's own once the joints' effects were in the prediction), and the third round nothing: the
+# loop settles. A ripple at another period than the file's is offered beside it, but must take
+# 5 % of the joint's held-out residual (the second round would name 120 a turn on joint 3 at 2 %).
 P="$SRC/../shared/data/real/panda-excitation/panda_excitation.csv"
 if [ -f "$P" ]; then
   "$J" diagnose --model "$SRC/models/panda.yaml" --torque-kind joint --real "$P" --model-out "$W/panda_1.yaml" > /dev/null
@@ -74,10 +73,7 @@ joints = [(j["joint"], f["effect"]) for j in d["joints"] for f in j["findings"] 
 print(f"panda: round 2 claims arm {arm}, joints {joints}")
 assert d["arm"].get("baseline") == "robot_file", "panda: the second round did not take the file's friction_baseline"
 assert not arm, f"panda: the second round names arm-level causes {arm}"
-assert all(e == "position_ripple" for _, e in joints), f"panda: the second round claims {joints} (only another ripple period is expected)"
-assert len(joints) <= 2, f"panda: the second round claims {joints} (measured: ripples on joints 3 and 5, 1-2 % of their held-out residuals)"
-gains = [1.0 - j["heldout_rms_after"] / j["heldout_rms_before"] for j in d["joints"] if any(f["effect"] != "none" for f in j["findings"])]
-assert all(g < 0.05 for g in gains), f"panda: a second-round claim takes {max(gains):.1%} of its joint's held-out residual (measured: 1-2 %)"
+assert len(joints) <= 1, f"panda: the second round claims {joints} (measured: one ripple on joint 5, 1 % of its held-out residual)"
 third = [(j["joint"], f["effect"]) for j in d3["joints"] for f in j["findings"] if f["effect"] != "none"] + [("arm", f["effect"]) for f in d3["arm"]["findings"]]
 print(f"panda: round 3 claims {third}")
 assert not third, f"panda: the third round claims {third}: the loop does not settle"

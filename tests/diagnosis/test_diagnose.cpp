@@ -191,6 +191,18 @@ TEST(DiagnoseRealArmRules, FileEffectOfferedOnlyAtItsSetting) {
   jg::diag::DiagnoseOptions other;
   other.only_at_setting.emplace_back(jg::robot::Effect::position_ripple, std::map<std::string, double>{{"periods_per_rev", 30.0}});
   EXPECT_EQ(ripple_periods(jg::diag::diagnose_joint(rippled, other)), std::vector<double>{50.0}) << "a ripple at another period than the file's is hidden";
+  // Beside the file's, it must take 5 % of the held-out residual: a small one (about 4 %, which
+  // a diagnosis without the file claims) is what a loop would add one a round.
+  auto small = s;
+  for (std::size_t k = 0; k < small.size(); ++k) {
+    small.residual[k] += 0.02 * std::sin(50.0 * small.q[k]);
+    small.tau_real[k] = small.tau_model[k] + small.residual[k];
+  }
+  EXPECT_EQ(ripple_periods(jg::diag::diagnose_joint(small)), std::vector<double>{50.0}) << "the small ripple is not found at all: the rule below is not tested";
+  const auto beside = jg::diag::diagnose_joint(small, other);
+  EXPECT_TRUE(ripple_periods(beside).empty()) << "a small ripple beside the file's is claimed";
+  EXPECT_TRUE(std::any_of(beside.notes.begin(), beside.notes.end(), [](const std::string& n) { return n.find("beside the robot file's") != std::string::npos; }))
+      << ::testing::PrintToString(beside.notes);
   // Nothing in the residual: the restriction finds nothing either.
   EXPECT_TRUE(ripple_periods(jg::diag::diagnose_joint(s, same)).empty());
   // Any other effect stays at the file's setting: a Stribeck excess at 0.05 rad/s, with the
