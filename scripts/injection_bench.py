@@ -26,7 +26,10 @@ offset and a friction asymmetry on a recording that hardly stands still) is coun
 (`joint_effects_named_as_alternative`), never as named.
 A size beyond the range the diagnosis accepts (a torque constant off by more than 30 %, a
 delay over 50 ms, a load coefficient over 0.5) is scored apart ("implausible": right when
-the diagnosis does not claim it) and run again at 95 % of the range's edge.
+the diagnosis does not claim it) and run again at 95 % of the range's edge. What such a case
+gets claimed instead on its joint (another effect taking the implausible one's torque, e.g. a
+ripple and presliding for a 224 ms delay) is listed too (`implausible_claimed_instead`): not a
+miss of the case, but a claim no injected cause backs.
 --only keeps those per-joint effects of the vocabulary (e.g. `--only time_delay --cases 0`: the
 delays and the zero-size cases, a part of the full run); --joints keeps those joints' cases
 (e.g. `--only position_ripple --joints 3,7 --cases 0`: a few cases, to look at one miss).
@@ -381,7 +384,8 @@ def main():
             got = claims(d)
             if not plausible:  # beyond what the diagnosis accepts: right when not claimed anew
                 row = {"kind": "implausible", "case": name, "size": size,
-                       "claimed": (joint, effect) in got - base_claims}
+                       "claimed": (joint, effect) in got - base_claims,
+                       "claimed_instead": sorted(e for j, e in got - base_claims if j == joint and e != effect)}
                 rows.append(row)
                 print(json.dumps(row), flush=True)
                 continue
@@ -421,6 +425,7 @@ def main():
         summary["joint_effect_cases"] = len(voc)
         summary["implausible_cases"] = len(imp)
         summary["implausible_claimed"] = [r["case"] for r in imp if r["claimed"]]
+        summary["implausible_claimed_instead"] = {r["case"]: r["claimed_instead"] for r in imp if r["claimed_instead"]}
         summary["refused_by_inject"] = [r["case"] for r in rows if r["kind"] == "refused"]
         summary["joint_effects_named"] = sum(r["named"] for r in voc)
         # Not claimed, but named beside the claim as the alternative the recording cannot tell
