@@ -149,9 +149,8 @@ def named_on_joint(got, base, d, base_diag, joint, effect, size, period=None, pe
     one within 20 % ((1 + k') = (1 + k)(1 + c)); a position ripple only when one is claimed at
     the injected period, within what the joint's recorded range R resolves (|dk| <= max(1, pi/R)
     periods a turn: two ripples whose phases part by less than half a turn over the whole
-    range are one ripple there; about a sixth of k over the three periods a case covers), and the untouched
-    recording's ripple is at another; any other effect
-    claimed on both does not."""
+    range are one ripple there; about a sixth of k over the three periods a case covers), and
+    the untouched recording's ripple is at another; any other effect claimed on both does not."""
     if (joint, effect) not in got:
         return False
     if effect == "position_ripple" and period is not None:  # at the injected period, always
