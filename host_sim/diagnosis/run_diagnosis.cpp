@@ -350,12 +350,24 @@ void diagnose_joints(const std::vector<NotTransferring>& not_transferring, const
   }
 }
 
+/// Each joint's diagnosis (out.joints, on out.signals) taken on to where the loop settles
+/// (diagnose_joint_to_convergence), with the options it was diagnosed with.
+void joints_to_convergence(const std::vector<NotTransferring>& not_transferring, const std::vector<robot::PlantEffect>& file_effects,
+                           const std::string& path, bool trace, DiagnosisResult& out) {
+  for (std::size_t i = 0; i < out.joints.size() && i < out.signals.size(); ++i) {
+    std::vector<std::string> notes;
+    const DiagnoseOptions jo = joint_options(out.signals[i].joint, not_transferring, file_effects, trace, notes);
+    io::about_recording(path, [&] { return diagnose_joint_to_convergence(out.signals[i], jo, out.joints[i]); });
+  }
+}
+
 /// Stages 4 and 5: the arm's causes, then each joint on what they leave. Without sims, on one
 /// recording, when anything was named, one backfitting step follows: the arm's causes again on what the
 /// joints' effects leave, then the joints on what those leave. In one pass the arm's causes are
 /// fitted with the joints' effects still in the residual, and the loop's next round, which has
 /// them in the prediction, names the difference (the real Panda: two link-mass corrections of
-/// 2.4 g). The stages are reported once, after the last pass.
+/// 2.4 g). Each joint is then taken on to where the loop settles (joints_to_convergence). The
+/// stages are reported once, after the last pass.
 void arm_and_joints(const DiagnosisInputs& in, const sim::ArmDynamics& arm, const std::vector<JointSignals>& signals,
                     const DiagnosisSettings& settings, RunState& st, DiagnosisResult& out) {
   // The file's per-joint effects (as written, before any was folded into a drive's K_I) are
@@ -381,6 +393,7 @@ void arm_and_joints(const DiagnosisInputs& in, const sim::ArmDynamics& arm, cons
     out.joints.clear();
     diagnose_joints(not_transferring, file_effects, path, quiet, out);
   }
+  joints_to_convergence(not_transferring, file_effects, path, settings.trace, out);
   merge_named(st.named, out.arm);
   stage_done(settings, DiagnosisStage::arm, out);
   std::vector<JointDiagnosis> joints = std::move(out.joints);
