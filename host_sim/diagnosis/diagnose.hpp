@@ -125,7 +125,8 @@ JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o = 
 /// what that claims added to `d`, until a pass claims nothing; at most `max_passes` in all.
 /// Fitted together in one selection, the chosen effects take part of a small remainder (each
 /// candidate is judged refitted with them); held fixed, it shows: on the real Panda, a
-/// 10-a-turn ripple on joint 5 was the loop's second round's one claim. Returns the passes run.
+/// 10-a-turn ripple on joint 5 was the loop's second round's one claim. Returns the diagnoses run
+/// in all, the first included.
 int diagnose_joint_to_convergence(const JointSignals& s, DiagnoseOptions o, JointDiagnosis& d, int max_passes = 3);
 
 /// The torque the fitted effects add over other signals of the same joint.

@@ -359,7 +359,9 @@ std::vector<std::vector<Candidate>> build_candidates(const JointSignals& s) {
   return all;
 }
 
-std::string implausible(const Candidate& c, const std::vector<double>& b, const JointSignals& s) {
+namespace {
+/// implausible()'s reason; `beyond` set when it is a size beyond the plausible range.
+std::string implausible_why(const Candidate& c, const std::vector<double>& b, const JointSignals& s, bool& beyond) {
   if (b.empty()) return {};
   std::ostringstream os;
   os.precision(3);
@@ -382,6 +384,7 @@ std::string implausible(const Candidate& c, const std::vector<double>& b, const 
                               ? std::fabs(b[0])
                               : 0.0;
   if (tau_max > 0.0 && level_of > tau_max) {
+    beyond = true;
     os << e << " of " << level_of << " N·m exceeds the largest torque the joint measured (" << tau_max << " N·m)";
     return os.str();
   }
@@ -407,6 +410,7 @@ std::string implausible(const Candidate& c, const std::vector<double>& b, const 
   } else if (e == robot::Effect::load_dependent_friction) {
     for (const double mu : b) {
       if (mu < 0.0 || mu > 0.5) {
+        beyond = mu > 0.5;
         os << "load coefficient " << mu << " outside [0, 0.5] N·m per N·m";
         break;
       }
@@ -416,6 +420,7 @@ std::string implausible(const Candidate& c, const std::vector<double>& b, const 
     // magnet temperature); beyond that the drive or the model is wrong, not the constant.
     // Saturation only lowers it as the current grows, to at most 30 % off at the largest
     // torque measured.
+    beyond = std::fabs(b[0]) > 0.3 || (b.size() > 1 && b[1] >= 0.0 && std::fabs(b[0]) + b[1] * tau_max > 0.3);
     if (std::fabs(b[0]) > 0.3) os << "torque constant error " << 100.0 * b[0] << " % beyond +/-30 %";
     else if (b.size() > 1 && b[1] < 0.0) os << "torque constant rising with the current (saturation " << b[1] << " per N·m < 0)";
     else if (b.size() > 1 && std::fabs(b[0]) + b[1] * tau_max > 0.3) os << "torque constant " << 100.0 * (std::fabs(b[0]) + b[1] * tau_max) << " % off at the largest torque, beyond 30 %";
@@ -425,8 +430,10 @@ std::string implausible(const Candidate& c, const std::vector<double>& b, const 
     // logger that reads the arm's state and its torques at different times; the Panda's
     // recording repeats q and dq in 107 rows where the torques change) by half a sample to 50 ms.
     const double delay = -b[0];
+    beyond = std::fabs(delay) > 0.05;
     if (std::fabs(delay) < 0.5 * s.dt || std::fabs(delay) > 0.05) os << "delay " << 1000.0 * delay << " ms outside +/-[dt/2, 50 ms]";
   } else if (e == robot::Effect::backlash) {
+    beyond = b[0] > 1.5;
     if (b[0] < 0.0 || b[0] > 1.5) os << "backlash fraction " << b[0] << " outside [0, 1.5]";
   } else if (e == robot::Effect::presliding && c.setting.count("sigma0_ratio") != 0U) {
     const double ratio = c.setting.at("sigma0_ratio") * b[0] + (1.0 - b[0]);
@@ -436,6 +443,14 @@ std::string implausible(const Candidate& c, const std::vector<double>& b, const 
     else if (std::fabs(b[1] / b[0]) > 0.5) os << "payload centre of mass " << b[1] / b[0] << " m from the last link's origin";
   }
   return os.str();
+}
+}  // namespace
+
+std::string implausible(const Candidate& c, const std::vector<double>& b, const JointSignals& s, bool* beyond_size) {
+  bool beyond = false;
+  std::string why = implausible_why(c, b, s, beyond);
+  if (beyond_size != nullptr) *beyond_size = !why.empty() && beyond;
+  return why;
 }
 
 std::map<std::string, double> describe(const Candidate& c, const std::vector<double>& b, const JointSignals& s,

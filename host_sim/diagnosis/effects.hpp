@@ -33,7 +33,12 @@ std::vector<std::vector<Candidate>> build_candidates(const JointSignals& s);
 
 /// Why the fitted coefficients of an effect are not physically plausible (empty when they
 /// are): the ranges per effect are listed in docs/diagnosis.md ("Plausible parameters").
-std::string implausible(const Candidate& c, const std::vector<double>& coefficients, const JointSignals& s);
+/// `beyond_size` (when given) says whether the reason is a size beyond the plausible range (a
+/// torque constant more than 30 % off, a delay beyond 50 ms, a torque larger than the joint
+/// measured): a mismatch of that size that the data show and no plausible cause explains,
+/// rather than a fit of the wrong sign (less friction than none) or an odd setting.
+std::string implausible(const Candidate& c, const std::vector<double>& coefficients, const JointSignals& s,
+                        bool* beyond_size = nullptr);
 
 /// Physical parameters of an effect from its fitted coefficients, in words a robotics
 /// engineer uses, plus a one-line description.

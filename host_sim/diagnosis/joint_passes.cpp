@@ -35,13 +35,15 @@ void add_pass(JointDiagnosis more, JointDiagnosis& d) {
 
 int diagnose_joint_to_convergence(const JointSignals& s, DiagnoseOptions o, JointDiagnosis& d, int max_passes) {
   int passes = 1;
-  for (; passes < max_passes && !d.findings.empty(); ++passes) {
+  while (passes < max_passes && !d.findings.empty()) {
+    ++passes;
     // The effects chosen so far are offered again only at their settings, as those the robot
     // file carries are in the next round (a ripple at another period beside them): fitted on
     // all samples, a change of their size is nothing, and another shape of them is not claimed.
     for (const auto& m : d.model) {
       if (m.setting.count("rotor_acceleration") != 0U) continue;  // the deflection channel's torque side
-      o.only_at_setting.emplace_back(m.effect, m.setting);
+      const std::pair<robot::Effect, std::map<std::string, double>> held{m.effect, m.setting};
+      if (std::find(o.only_at_setting.begin(), o.only_at_setting.end(), held) == o.only_at_setting.end()) o.only_at_setting.push_back(held);
     }
     JointDiagnosis more = diagnose_joint(what_effects_leave(s, d), o);
     if (more.findings.empty()) break;
