@@ -360,6 +360,23 @@ std::vector<std::vector<Candidate>> build_candidates(const JointSignals& s) {
 }
 
 namespace {
+/// The largest torque an effect's coefficients `b` stand for (a level, a ripple's amplitude, a
+/// viscous slope at the largest speed `w_max`), 0 for an effect without one.
+double level_of(const Candidate& c, const std::vector<double>& b, double w_max) {
+  const robot::Effect e = c.effect;
+  const bool model_curve = c.setting.count("model_curve") != 0U;
+  const bool one_sided = e == robot::Effect::asymmetric_friction && c.setting.count("side") != 0U;
+  return e == robot::Effect::position_ripple && b.size() > 1 ? std::hypot(b[0], b[1])
+                          : one_sided && b.size() > 1 ? std::max(std::fabs(b[0]), std::fabs(b[1]))
+                          : e == robot::Effect::asymmetric_friction
+                              ? std::max(std::fabs(2.0 * b[0]), b.size() > 1 ? std::fabs(2.0 * b[1]) * w_max : 0.0)
+                          : e == robot::Effect::viscous ? std::fabs(b[0]) * w_max
+                          : e == robot::Effect::coulomb || e == robot::Effect::current_offset || e == robot::Effect::temperature_drift ||
+                                    (e == robot::Effect::stribeck && !model_curve)
+                              ? std::fabs(b[0])
+                              : 0.0;
+}
+
 /// implausible()'s reason; `beyond` set when it is a size beyond the plausible range.
 std::string implausible_why(const Candidate& c, const std::vector<double>& b, const JointSignals& s, bool& beyond) {
   if (b.empty()) return {};
@@ -374,18 +391,9 @@ std::string implausible_why(const Candidate& c, const std::vector<double>& b, co
   for (const double v : s.tau_real) tau_max = std::max(tau_max, std::fabs(v));
   double w_max = 0.0;
   for (const double w : s.dq) w_max = std::max(w_max, std::fabs(w));
-  const double level_of = e == robot::Effect::position_ripple && b.size() > 1 ? std::hypot(b[0], b[1])
-                          : one_sided && b.size() > 1 ? std::max(std::fabs(b[0]), std::fabs(b[1]))
-                          : e == robot::Effect::asymmetric_friction
-                              ? std::max(std::fabs(2.0 * b[0]), b.size() > 1 ? std::fabs(2.0 * b[1]) * w_max : 0.0)
-                          : e == robot::Effect::viscous ? std::fabs(b[0]) * w_max
-                          : e == robot::Effect::coulomb || e == robot::Effect::current_offset || e == robot::Effect::temperature_drift ||
-                                    (e == robot::Effect::stribeck && !model_curve)
-                              ? std::fabs(b[0])
-                              : 0.0;
-  if (tau_max > 0.0 && level_of > tau_max) {
+  if (const double level = level_of(c, b, w_max); tau_max > 0.0 && level > tau_max) {
     beyond = true;
-    os << e << " of " << level_of << " N·m exceeds the largest torque the joint measured (" << tau_max << " N·m)";
+    os << e << " of " << level << " N·m exceeds the largest torque the joint measured (" << tau_max << " N·m)";
     return os.str();
   }
   // Friction levels stay non-negative: the model's level (0 without a friction model) plus

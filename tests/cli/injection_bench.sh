@@ -14,7 +14,11 @@
 #    (--baseline: its links, friction and findings, as a user diagnoses a change on an arm
 #    diagnosed before): the measured figures as floors (payloads 15/16, vocabulary 93/98),
 #    nothing claimed on a zero-size case, and no more sizes beyond the accepted range claimed
-#    than measured (2 of 15; docs/results.md).
+#    than measured (2 of 15; docs/results.md), and at most the measured one of those sizes with
+#    other effects claimed on its joint in its place (1 of 15 since the seventeenth session: a
+#    size beyond the range that explains more than what imitates it is reported as unexplained;
+#    before, 11 of 15 got an inertia error or friction changes claimed instead); against the
+#    robot file alone at most the measured 4.
 # Usage: injection_bench.sh <jointguard> <source dir>
 set -euo pipefail
 J="$1"
@@ -39,6 +43,8 @@ print("ur10e:", u)
 print("ur10e against its own diagnosed file:", b)
 assert b["named_within_20pct"] >= 15 and b["joint_effects_named"] >= 93, b  # measured 15/16, 93/98
 assert len(b["implausible_claimed"]) <= 2, b  # measured 2 of 15
+assert len(b["implausible_claimed_instead"]) <= 1, b  # measured 1 of 15 (11 before the seventeenth session)
+assert len(u["implausible_claimed_instead"]) <= 4, u  # measured 4 of 15 (6 before)
 assert b["zero_size_cases"] == 2 and b["zero_size_with_extra_claims"] == 0, b
 assert p["named_within_20pct"] >= 1 and p["wrong_claims"] == 0, p  # 0.3 kg (below the floor) and 1.5 kg
 assert u["named_within_20pct"] >= 10 and u["wrong_claims"] <= 2, u  # measured 10/16 (docs/results.md)
