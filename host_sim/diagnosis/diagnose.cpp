@@ -655,13 +655,18 @@ std::string unexercised_note(const Candidate& c) {
   return c.effect + " does not act in the held-out blocks (they cannot judge it): judged by the delete-one-block jackknife alone";
 }
 
+/// What `chosen`, fitted on the training blocks, leaves of them (sum of squares).
+double train_rss(const JointProblem& p, const Chosen& chosen) {
+  if (chosen.empty()) return p.y_train.squaredNorm();
+  const MatrixXd X = rows_of(columns_of(chosen), p.split.train);
+  return (p.y_train - X * solve(X, p.y_train)).squaredNorm();
+}
+
 /// BIC on the training blocks plus the prior costs of `chosen`.
 double score_of(const JointProblem& p, const Chosen& chosen) {
   double prior = 0.0;
   for (const auto* c : chosen) prior += prior_cost(c->effect);
-  if (chosen.empty()) return bic(p.y_train.squaredNorm(), p.split.train.size(), 0) + prior;
-  const MatrixXd X = rows_of(columns_of(chosen), p.split.train);
-  return bic((p.y_train - X * solve(X, p.y_train)).squaredNorm(), p.split.train.size(), param_count(chosen)) + prior;
+  return bic(train_rss(p, chosen), p.split.train.size(), chosen.empty() ? 0 : param_count(chosen)) + prior;
 }
 
 /// What the data explained best at a step was an effect of a size beyond its plausible range
@@ -677,11 +682,7 @@ void withdraw_for_beyond_size(const JointProblem& p, Selection& sel) {
   const auto at = static_cast<std::ptrdiff_t>(sel.beyond_size_at);
   Chosen instead(sel.chosen.begin(), sel.chosen.begin() + at);
   instead.push_back(sel.beyond_size);
-  const auto train_rss = [&](const Chosen& cs) {
-    const MatrixXd X = rows_of(columns_of(cs), p.split.train);
-    return (p.y_train - X * solve(X, p.y_train)).squaredNorm();
-  };
-  if (!(train_rss(instead) < train_rss(sel.chosen))) return;
+  if (!(train_rss(p, instead) < train_rss(p, sel.chosen))) return;
   if (p.o.trace) std::fprintf(stderr, "  j%d the effects after step %zu withdrawn: an effect beyond its plausible size explains more\n", p.s.joint, sel.beyond_size_at + 1);
   sel.chosen.erase(sel.chosen.begin() + at, sel.chosen.end());
   sel.groups.erase(sel.groups.begin() + at, sel.groups.end());
@@ -882,8 +883,7 @@ void note_long_delay(const JointProblem& p, const VectorXd& y, const Chosen& cho
     z -= X * solve(X, y);
   }
   const double shift = best_whole_shift_s(p.s, z, 3.0 * kMaxDelayS);
-  const bool said = std::any_of(d.notes.begin(), d.notes.end(), [](const std::string& n) { return n.rfind("time_delay: the model's torque", 0) == 0; });
-  if (std::fabs(shift) > kMaxDelayS && !said) d.notes.push_back(shift_beyond_range_note(shift));
+  if (std::fabs(shift) > kMaxDelayS) d.notes.push_back(shift_beyond_range_note(shift));
 }
 
 /// A delay beyond the plausible range imitates other effects, and nothing marks it during the
@@ -896,24 +896,22 @@ void note_long_delay(const JointProblem& p, const VectorXd& y, const Chosen& cho
 /// are not claimed in its place. Not where a delay is claimed: drop_delay_beyond_range has
 /// judged it by the shift of what the other effects leave, and the shift of the whole residual
 /// reads further (an injected 47.5 ms on the Panda's joint 5: 52 ms whole, within 50 ms beside
-/// the others).
-void withdraw_for_long_delay(const JointProblem& p, const VectorXd& y, Chosen& chosen, JointDiagnosis& d) {
-  if (chosen.empty()) return;
-  if (std::any_of(chosen.begin(), chosen.end(), [](const Candidate* c) { return c->effect == robot::Effect::time_delay; })) return;
+/// the others). `delay_said`: a delay beyond the range is in d's notes already. Returns whether
+/// the chosen effects were withdrawn (a delay beyond the range is then said).
+bool withdraw_for_long_delay(const JointProblem& p, const VectorXd& y, Chosen& chosen, bool delay_said, JointDiagnosis& d) {
+  if (chosen.empty()) return false;
+  if (std::any_of(chosen.begin(), chosen.end(), [](const Candidate* c) { return c->effect == robot::Effect::time_delay; })) return false;
   constexpr double kLongestDelayS = 1.0;
   const WholeShift w = best_whole_shift(p.s, y, kLongestDelayS);
-  if (std::fabs(w.shift_s) <= kMaxDelayS) return;
+  if (std::fabs(w.shift_s) <= kMaxDelayS) return false;
   const MatrixXd X = rows_of(columns_of(chosen), all_rows_of(p.s.size()));
-  if (!(w.rss < (y - X * solve(X, y)).squaredNorm())) return;
-  const bool said = std::any_of(d.notes.begin(), d.notes.end(), [](const std::string& n) { return n.rfind("time_delay: the model's torque", 0) == 0; });
-  std::ostringstream why;
-  why.precision(3);
-  why << (said ? "the model's torque shifted whole (" + std::to_string(std::lround(1000.0 * std::fabs(w.shift_s))) + " ms on the joint's residual)"
-               : shift_beyond_range_note(w.shift_s) + "; it")
-      << " leaves less of the residual than the effects the selection chose, which are not claimed in its place";
-  d.notes.push_back(why.str());
+  if (!(w.rss < (y - X * solve(X, y)).squaredNorm())) return false;
+  d.notes.push_back((delay_said ? "the model's torque shifted whole (" + std::to_string(std::lround(1000.0 * std::fabs(w.shift_s))) + " ms on the joint's residual)"
+                                : shift_beyond_range_note(w.shift_s) + "; it") +
+                    " leaves less of the residual than the effects the selection chose, which are not claimed in its place");
   chosen.clear();
   d.heldout_rms_after = d.heldout_rms_before;
+  return true;
 }
 
 /// The first-order delay column (b dtau/dt) reads a long delay as a short one (its
@@ -923,10 +921,10 @@ void withdraw_for_long_delay(const JointProblem& p, const VectorXd& y, Chosen& c
 /// A lead is the unusual direction (a causal drive lags): it stands only where the
 /// whole-sample shift leads too. (That alone does not tell a lead from an inertia error: on
 /// the UR10e at 100 Hz the shift led for an injected joint-3 inertia error as well;
-/// lead_not_told_from_inertia does.)
-void drop_delay_beyond_range(const JointProblem& p, const VectorXd& y, Chosen& chosen, JointDiagnosis& d) {
+/// lead_not_told_from_inertia does.) Returns whether a delay beyond the range was said.
+bool drop_delay_beyond_range(const JointProblem& p, const VectorXd& y, Chosen& chosen, JointDiagnosis& d) {
   const auto at = std::find_if(chosen.begin(), chosen.end(), [](const Candidate* c) { return c->effect == robot::Effect::time_delay; });
-  if (at == chosen.end()) return;
+  if (at == chosen.end()) return false;
   // The others as fitted together with the delay, taken off; the delay's own coefficient
   // (b > 0: the torque leads).
   VectorXd z = y;
@@ -941,7 +939,7 @@ void drop_delay_beyond_range(const JointProblem& p, const VectorXd& y, Chosen& c
     col += m;
   }
   const double shift = best_whole_shift_s(p.s, z, 3.0 * kMaxDelayS);
-  if (std::fabs(shift) <= kMaxDelayS && (!lead || shift < 0.0)) return;
+  if (std::fabs(shift) <= kMaxDelayS && (!lead || shift < 0.0)) return false;
   std::ostringstream why;
   why.precision(3);
   if (std::fabs(shift) > kMaxDelayS) {
@@ -953,6 +951,7 @@ void drop_delay_beyond_range(const JointProblem& p, const VectorXd& y, Chosen& c
   d.notes.push_back(why.str());
   chosen.erase(at);
   d.heldout_rms_after = chosen.empty() ? d.heldout_rms_before : heldout_rms(p, chosen);
+  return std::fabs(shift) > kMaxDelayS;
 }
 
 /// Every claim must beat the recording's own block-to-block variation (the null): the
@@ -1125,9 +1124,9 @@ JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
   d.heldout_rms_after = sel.heldout;
   const VectorXd y = vec_of(s.residual, all_rows_of(n));
   drop_implausible_jointly(p, y, chosen, d);
-  drop_delay_beyond_range(p, y, chosen, d);
-  withdraw_for_long_delay(p, y, chosen, d);
-  if (sel.stopped_beyond_size) note_long_delay(p, y, chosen, d);
+  bool delay_said = drop_delay_beyond_range(p, y, chosen, d);
+  delay_said = withdraw_for_long_delay(p, y, chosen, delay_said, d) || delay_said;
+  if (sel.stopped_beyond_size && !delay_said) note_long_delay(p, y, chosen, d);
   if (const std::string why = too_short_to_judge(s.t, o); !why.empty() && !chosen.empty()) {
     d.notes.push_back(why);
     chosen.clear();

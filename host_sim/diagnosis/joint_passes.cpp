@@ -11,11 +11,7 @@ namespace {
 /// as the next round of the loop has them (written into the robot file). The gear-deflection
 /// channel is left out: its findings are `d`'s already and its signal is not reduced by them.
 JointSignals what_effects_leave(const JointSignals& s, const JointDiagnosis& d) {
-  JointSignals rest = s;
-  for (std::size_t k = 0; k < rest.size() && k < d.fitted.size(); ++k) {
-    rest.residual[k] -= d.fitted[k];
-    rest.tau_model[k] += d.fitted[k];
-  }
+  JointSignals rest = with_fitted_in_model(s, d.fitted);
   rest.deflection.clear();
   return rest;
 }

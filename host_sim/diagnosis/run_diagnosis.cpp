@@ -322,11 +322,7 @@ bool named_anything(const DiagnosisResult& r) {
 std::vector<JointSignals> without_joint_effects(std::vector<JointSignals> signals, const std::vector<JointDiagnosis>& joints) {
   for (auto& s : signals) {
     const auto d = std::find_if(joints.begin(), joints.end(), [&](const JointDiagnosis& j) { return j.joint == s.joint; });
-    if (d == joints.end() || d->fitted.size() != s.size()) continue;
-    for (std::size_t k = 0; k < s.size(); ++k) {
-      s.residual[k] -= d->fitted[k];
-      s.tau_model[k] += d->fitted[k];
-    }
+    if (d != joints.end()) s = with_fitted_in_model(std::move(s), d->fitted);
   }
   return signals;
 }

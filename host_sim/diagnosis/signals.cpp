@@ -47,6 +47,15 @@ double rms(const std::vector<double>& x) {
   return x.empty() ? 0.0 : std::sqrt(acc / static_cast<double>(x.size()));
 }
 
+JointSignals with_fitted_in_model(JointSignals s, const std::vector<double>& fitted_nm) {
+  if (fitted_nm.size() != s.size()) return s;
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    s.residual[k] -= fitted_nm[k];
+    s.tau_model[k] += fitted_nm[k];
+  }
+  return s;
+}
+
 const std::vector<double>& gear_torque(const JointSignals& s) { return s.load.size() == s.size() ? s.load : s.tau_real; }
 
 double backlash_shape(double gear_torque_nm, double share, double tau_rms) { return std::tanh(gear_torque_nm / (share * tau_rms)); }

@@ -57,6 +57,10 @@ std::vector<double> derivative(const std::vector<double>& x, double dt, double h
 double noise_level(const std::vector<double>& x);
 /// Root mean square of x (0 when empty).
 double rms(const std::vector<double>& x);
+/// What a joint's fitted effects leave: their torque `fitted_nm` (one value per sample) moved
+/// from the residual into the model, so a later pass sees the model that includes them. A
+/// size other than the signals' changes nothing (the effects were fitted on other samples).
+JointSignals with_fitted_in_model(JointSignals s, const std::vector<double>& fitted_nm);
 
 /// The gear-deflection channel's shapes, one definition for the diagnosis that fits them
 /// (diagnose.cpp) and the prediction that takes a file's gear effects off the measured
