@@ -457,16 +457,16 @@ double heldout_rms(const JointProblem& p, const Chosen& cs) {
 }
 
 /// `g` without the instances at another setting than the robot file's, for an effect the
-/// file carries on the joint (DiagnoseOptions::only_at_setting); others untouched. A position
-/// ripple is the exception: a ripple at another period is another component of the torque's
-/// dependence on the position (a gear's meshing beside a motor's cogging, or a harmonic the
-/// file's sine does not carry), a cause of its own, and it is offered beside the file's. Hidden,
-/// an injected 7-a-turn ripple on the Panda's joint 7, whose file carries one at 4, stayed
+/// file carries on the joint (DiagnoseOptions::only_at_setting); others untouched. An effect
+/// whose settings are components of their own (EffectInfo::components_at_settings: a position
+/// ripple at another period, a gear's meshing beside a motor's cogging, or a harmonic the
+/// file's sine does not carry) is offered at every setting beside the file's. Hidden, an
+/// injected 7-a-turn ripple on the Panda's joint 7, whose file carries one at 4, stayed
 /// unexplained at 16x the noise; offered, the Panda's loop still settles in its third round.
 void keep_only_file_settings(const DiagnoseOptions& o, std::vector<Candidate>& g) {
   if (g.empty()) return;
   const robot::Effect effect = g.front().effect;
-  if (effect == robot::Effect::position_ripple) return;
+  if (robot::effect_info(effect).components_at_settings) return;
   const auto listed = [&](const std::pair<robot::Effect, std::map<std::string, double>>& e) { return e.first == effect; };
   if (std::none_of(o.only_at_setting.begin(), o.only_at_setting.end(), listed)) return;
   g.erase(std::remove_if(g.begin(), g.end(),

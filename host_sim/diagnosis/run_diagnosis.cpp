@@ -302,8 +302,9 @@ DiagnoseOptions joint_options(int joint, const std::vector<NotTransferring>& not
       continue;
     }
     jo.only_at_setting.emplace_back(e.effect, e.setting);
-    if (e.effect == robot::Effect::position_ripple) {
-      notes.push_back("position_ripple is in the robot file already (an earlier diagnosis): offered again at the file's period, as a change of its size, and at any other period as another ripple beside it");
+    if (robot::effect_info(e.effect).components_at_settings) {
+      notes.push_back(robot::effect_word(e.effect) + " is in the robot file already (an earlier diagnosis): offered again at the file's " +
+                      std::string(robot::effect_info(e.effect).setting) + ", as a change of its size, and at any other as another component beside it");
     } else {
       notes.push_back(robot::effect_word(e.effect) + " is in the robot file already (an earlier diagnosis): offered again only at the file's setting, as a change of its size; what another shape of it would add is in the unexplained residual");
     }

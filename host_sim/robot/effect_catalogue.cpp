@@ -35,7 +35,7 @@ const std::vector<EffectInfo>& effect_catalogue() {
       {Effect::position_ripple, "position_ripple", S::joint, C::friction, 2, "periods_per_rev",
        "amplitude [N·m], period_rad [rad], periods_per_rev, phase_rad",
        "the amplitude at most the largest torque measured; at least 1.5 periods over the range with a rigid body",
-       "a ripple a sin(k q + phase) added to the friction", "sin(k q), cos(k q) on a grid of whole k per turn"},
+       "a ripple a sin(k q + phase) added to the friction", "sin(k q), cos(k q) on a grid of whole k per turn", true},
       {Effect::temperature_drift, "temperature_drift", S::joint, C::friction, 1, "time_constant_s",
        "level_change [N·m], time_constant_s [s]", "time constant within [max(50 dt, 1 s), 3 x the recording]",
        "the friction level rising by a (1 - exp(-t/T))", "sgn(w) (1 - exp(-t/T)) on a grid of T over the recording"},

@@ -60,6 +60,11 @@ struct EffectInfo {
   std::string_view plausible;   ///< the range the diagnosis accepts (docs/diagnosis.md)
   std::string_view plant;       ///< how the simulated plant applies it
   std::string_view fit;         ///< how the diagnosis fits it
+  /// Instances at different settings are different components of the cause, each a cause of
+  /// its own beside the others (a ripple at another period: a gear's meshing beside a motor's
+  /// cogging), not another shape of one: where a robot file carries one, another setting is
+  /// still offered (diagnosis keep_only_file_settings).
+  bool components_at_settings = false;
 };
 
 /// The table, in the enum's order (every Effect has exactly one row; a test checks it).
