@@ -125,15 +125,18 @@ def alternatives(diag):
 
 
 def scale_errors(diag):
-    """Torque-constant scale error per joint, wherever it was named (arm level or per joint)."""
+    """Torque-constant scale error per joint, wherever it was named (arm level or per joint);
+    with saturation, the plain scale that acts the same on the recording's torques."""
     out = {}
+    def scale(params):  # with saturation, the plain scale acting the same on the recording's torques
+        return params.get("scale_error_equivalent", params["scale_error"])
     for f in diag["arm"]["findings"]:
         if f["effect"] == "torque_constant":
-            out[int(f["params"]["joint"])] = f["params"]["scale_error"]
+            out[int(f["params"]["joint"])] = scale(f["params"])
     for j in diag["joints"]:
         for f in j["findings"]:
             if f["effect"] == "torque_constant" and "scale_error" in f["params"]:
-                out.setdefault(j["joint"], f["params"]["scale_error"])
+                out.setdefault(j["joint"], scale(f["params"]))
     return out
 
 
@@ -171,6 +174,58 @@ def named_on_joint(got, base, d, base_diag, joint, effect, size, period=None, pe
             return False
         return abs((o1 - o0) - size) <= 0.2 * abs(size)
     return False
+
+
+# The size a claim reports against the injected coefficient: (params to read, factor taking the
+# injected coefficient to that param). A Stribeck excess is the friction added at rest (the
+# plain shape's amplitude, or the model curve's static level change); a direction asymmetry of
+# b0 scales the levels by 1 +/- b0 / tau_c (sim/apply_effects.cpp), so positive minus negative
+# is 2 b0, and on one side alone the whole 2 b0; a delay's coefficient is minus the delay.
+SIZE_PARAMS = {
+    "stribeck": (["amplitude", "delta_tau_s"], 1.0),
+    "asymmetric_friction": (["tau_c_positive_minus_negative", "delta_tau_c_one_side"], 2.0),
+    "position_ripple": (["amplitude"], 1.0),
+    "temperature_drift": (["level_change"], 1.0),
+    "load_dependent_friction": (["coefficient"], 1.0),
+    "time_delay": (["delay_s"], -1.0),
+    "inertia_error": (["delta_inertia"], 1.0),
+    "torque_constant": (["scale_error"], 1.0),
+    "current_offset": (["offset_nm"], 1.0),
+}
+
+
+def size_named(diag, base_diag, joint, effect, size):
+    """(size the diagnosis reports for the injected effect on its joint, ratio to the injected
+    one), or None where it reports none it can be compared by. A one-sided asymmetry's side
+    gives its sign (a positive side raised is positive minus negative). Where the untouched
+    recording claims the effect already, its size moved by the injected one (the torque
+    constant's scale compounded)."""
+    keys, factor = SIZE_PARAMS.get(effect, ([], 1.0))
+
+    def read(d):
+        if effect == "torque_constant":
+            return scale_errors(d).get(joint)
+        for j in d["joints"]:
+            if j["joint"] != joint:
+                continue
+            for f in j["findings"]:
+                if f["effect"] != effect:
+                    continue
+                for k in keys:
+                    if k in f["params"] and f["params"][k] is not None:
+                        v = f["params"][k]
+                        if k == "delta_tau_c_one_side":
+                            v *= 1.0 if f["params"].get("side", 1.0) > 0.0 else -1.0
+                        return v
+        return None
+    got = read(diag)
+    if got is None:
+        return None
+    was = read(base_diag)
+    if was is not None:
+        got = (1.0 + got) / (1.0 + was) - 1.0 if effect == "torque_constant" else got - was
+    want = factor * size
+    return got, got / want if want != 0.0 else float("inf")
 
 
 def offsets(diag):
@@ -395,8 +450,11 @@ def main():
                                            max(1.0, math.pi / max(ranges[joint - 1], 1e-6))),
                    "named_as_alternative": (joint, effect) in alternatives(d) - alternatives(base) - base_claims,
                    "claimed_untouched": (joint, effect) in base_claims,
+                   "size_injected": SIZE_PARAMS.get(effect, ([], 1.0))[1] * size,
                    "residual_growth": residual_growth(base, d, joint),
                    "extra_claims": sorted(map(str, got - base_claims - {(joint, effect)}))}
+            sized = size_named(d, base, joint, effect, size) if row["named"] else None
+            row["size_named"], row["size_ratio"] = sized if sized is not None else (None, None)
             rows.append(row)
             print(json.dumps(row), flush=True)
     pay = [r for r in rows if r["kind"] == "payload"]
@@ -436,6 +494,19 @@ def main():
                                            f'{sum(r["residual_growth"] >= 1.02 for r in voc)}'
 
         summary["per_effect_named"] = {k: f"{v[0]}/{v[1]}" for k, v in sorted(per_effect.items())}
+        # Of the named cases, the reported size within 20 % of the injected one (per effect:
+        # within / named with a size to compare).
+        sized = [r for r in voc if r.get("size_ratio") is not None]
+        summary["named_size_within_20pct"] = f'{sum(abs(r["size_ratio"] - 1.0) <= 0.2 for r in sized)}/{len(sized)}'
+        per_size = {}
+        for r in sized:
+            e = r["case"].split("@")[0]
+            per_size.setdefault(e, [0, 0, []])
+            per_size[e][0] += abs(r["size_ratio"] - 1.0) <= 0.2
+            per_size[e][1] += 1
+            per_size[e][2].append(r["size_ratio"])
+        summary["per_effect_size_within_20pct"] = {
+            e: f"{v[0]}/{v[1]} (median ratio {sorted(v[2])[len(v[2]) // 2]:.2f})" for e, v in sorted(per_size.items())}
     print(json.dumps(summary))
     if out_json:
         json.dump({"summary": summary, "cases": rows}, open(out_json, "w"), indent=1)

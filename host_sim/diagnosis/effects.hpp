@@ -5,6 +5,7 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,15 @@ struct Candidate {
 /// columns when the signals cannot support it, e.g. payload without a model).
 Candidate make_candidate(robot::Effect effect, const std::map<std::string, double>& setting,
                          const JointSignals& s);
+
+/// A continuous setting the selection offers on a coarse grid and that the reported size trades
+/// against (a Stribeck velocity): its key and the interval to refine a chosen value in, between
+/// its grid neighbours.
+struct SettingBracket {
+  std::string key;
+  double lo = 0.0, hi = 0.0;
+};
+std::optional<SettingBracket> refinable_setting(const Candidate& c);
 
 /// All instances of all effects that the signals can support (an effect that needs a
 /// model, e.g. payload, is skipped when the model's columns are absent).

@@ -247,6 +247,39 @@ TEST(DiagnoseRealArmRules, FileEffectOfferedOnlyAtItsSetting) {
   EXPECT_TRUE(found_free) << "the Stribeck excess is not found at all: the restriction above is not tested";
 }
 
+// The Stribeck velocity is offered on a coarse grid (0.04, 0.07, ... rad/s), and the excess's
+// size trades against it: the chosen velocity is refined between its neighbours
+// (refine_settings), so an excess at 0.05 rad/s is reported at its own velocity and size.
+TEST(DiagnoseSizes, AStribeckVelocityOffTheGridIsRefined) {
+  const auto s = synthetic_joint([](double, double dq) { return (dq > 0.0 ? 0.4 : -0.4) * std::exp(-std::pow(dq / 0.05, 2.0)); }, 5);
+  const auto d = jg::diag::diagnose_joint(s);
+  const auto f = std::find_if(d.findings.begin(), d.findings.end(), [](const auto& x) { return x.effect == jg::robot::Effect::stribeck; });
+  ASSERT_NE(f, d.findings.end()) << names(d);
+  EXPECT_NEAR(f->params.at("w_s"), 0.05, 0.004) << f->text;  // the grid's nearest: 0.04 or 0.07
+  EXPECT_NEAR(f->params.at("amplitude"), 0.4, 0.04) << f->text;
+}
+
+// A torque constant that saturates is reported with the plain scale that acts the same on the
+// recording's torques (scale_error_equivalent), beside its error at zero torque.
+TEST(DiagnoseSizes, ASaturatingTorqueConstantStatesItsEquivalentScale) {
+  auto s = synthetic_joint([](double, double) { return 0.0; }, 6);
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    s.residual[k] += (0.02 + 0.004 * std::fabs(s.tau_model[k])) * s.tau_model[k];
+    s.tau_real[k] = s.tau_model[k] + s.residual[k];
+  }
+  const auto d = jg::diag::diagnose_joint(s);
+  const auto f = std::find_if(d.findings.begin(), d.findings.end(), [](const auto& x) { return x.effect == jg::robot::Effect::torque_constant; });
+  ASSERT_NE(f, d.findings.end()) << names(d);
+  ASSERT_EQ(f->params.count("saturation_per_nm"), 1U) << f->text;
+  double tt = 0.0, ts = 0.0;
+  for (const double t : s.tau_model) {
+    tt += t * t;
+    ts += t * t * std::fabs(t);
+  }
+  EXPECT_NEAR(f->params.at("scale_error"), 0.02, 0.005) << f->text;
+  EXPECT_NEAR(f->params.at("scale_error_equivalent"), 0.02 + 0.004 * ts / tt, 0.005) << f->text;
+}
+
 // One diagnosis settles where the loop does (diagnose_joint_to_convergence): the joint is
 // diagnosed again on what its effects leave, with them held fixed, until nothing more is
 // claimed. Forced here by one effect a selection (max_effects = 1): the first pass takes the
