@@ -30,6 +30,11 @@ the diagnosis does not claim it) and run again at 95 % of the range's edge. What
 gets claimed instead on its joint (another effect taking the implausible one's torque, e.g. a
 ripple and presliding for a 224 ms delay) is listed too (`implausible_claimed_instead`): not a
 miss of the case, but a claim no injected cause backs.
+Sizes: each named case's reported size against the injected one (`size_ratio`, SIZE_PARAMS:
+a Stribeck excess at rest, an asymmetry's level difference, a ripple's amplitude, a drift's
+level, a load coefficient, a delay, an inertia change, a torque constant's scale (with
+saturation, its equivalent plain scale), an offset), summed as `named_size_within_20pct` and per
+effect with the median ratio.
 --only keeps those per-joint effects of the vocabulary (e.g. `--only time_delay --cases 0`: the
 delays and the zero-size cases, a part of the full run); --joints keeps those joints' cases
 (e.g. `--only position_ripple --joints 3,7 --cases 0`: a few cases, to look at one miss).
