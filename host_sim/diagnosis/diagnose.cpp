@@ -1074,43 +1074,47 @@ std::vector<double> coefficients_of(const Chosen& chosen, const VectorXd& b, std
 /// grid's 0.07, came out 28 % small. A refined setting is kept where it leaves less and its
 /// coefficients stay plausible; what is claimed does not change, only its setting and size. An
 /// effect the robot file carries is not refined: it is offered at the file's setting only.
+/// Where f is least on [a, b] (f unimodal there): golden-section search down to `tolerance`.
+template <class F>
+double golden_section_min(F f, double a, double b, double tolerance) {
+  constexpr double kGolden = 0.6180339887498949;
+  double x1 = b - kGolden * (b - a), x2 = a + kGolden * (b - a);
+  double f1 = f(x1), f2 = f(x2);
+  while (b - a > tolerance) {  // the interval shrinks 0.618x a step
+    if (f1 <= f2) {
+      b = x2, x2 = x1, f2 = f1;
+      x1 = b - kGolden * (b - a);
+      f1 = f(x1);
+    } else {
+      a = x1, x1 = x2, f1 = f2;
+      x2 = a + kGolden * (b - a);
+      f2 = f(x2);
+    }
+  }
+  return f1 <= f2 ? x1 : x2;
+}
+
 void refine_settings(const JointProblem& p, const VectorXd& y, Chosen& chosen, std::deque<Candidate>& refined) {
-  if (chosen.empty()) return;
   for (std::size_t i = 0; i < chosen.size(); ++i) {
     // An effect the robot file carries stays at the file's setting (keep_only_file_settings).
     const auto in_file = [&](const auto& e) { return e.first == chosen[i]->effect; };
     if (std::any_of(p.o.only_at_setting.begin(), p.o.only_at_setting.end(), in_file)) continue;
     const auto bracket = refinable_setting(*chosen[i]);
     if (!bracket || !(bracket->lo > 0.0) || !(bracket->hi > bracket->lo)) continue;
-    const Candidate* grid_choice = chosen[i];
-    const auto rss_at = [&](double log_v, Candidate& c) {
-      std::map<std::string, double> setting = grid_choice->setting;
+    const Candidate& grid_choice = *chosen[i];
+    const auto at = [&](double log_v) {
+      std::map<std::string, double> setting = grid_choice.setting;
       setting[bracket->key] = std::exp(log_v);
-      c = make_candidate(grid_choice->effect, setting, p.s);
-      if (c.columns.size() != grid_choice->columns.size()) return std::numeric_limits<double>::infinity();
+      return make_candidate(grid_choice.effect, setting, p.s);
+    };
+    const auto rss_with = [&](const Candidate& c) {
+      if (c.columns.size() != grid_choice.columns.size()) return std::numeric_limits<double>::infinity();
       Chosen trial = chosen;
       trial[i] = &c;
       return whole_fit(p, y, trial).first;
     };
-    constexpr double kGolden = 0.6180339887498949;
-    double a = std::log(bracket->lo), b = std::log(bracket->hi);
-    Candidate c1, c2;
-    double x1 = b - kGolden * (b - a), x2 = a + kGolden * (b - a);
-    double f1 = rss_at(x1, c1), f2 = rss_at(x2, c2);
-    for (int it = 0; it < 24 && b - a > 1e-3; ++it) {  // the interval shrinks 0.618x a step: 0.1 % of the setting
-      if (f1 <= f2) {
-        b = x2, x2 = x1, f2 = f1;
-        x1 = b - kGolden * (b - a);
-        f1 = rss_at(x1, c1);
-      } else {
-        a = x1, x1 = x2, f1 = f2;
-        x2 = a + kGolden * (b - a);
-        f2 = rss_at(x2, c2);
-      }
-    }
-    Candidate best;
-    const double f_best = rss_at(f1 <= f2 ? x1 : x2, best);
-    if (!(f_best < whole_fit(p, y, chosen).first)) continue;
+    Candidate best = at(golden_section_min([&](double log_v) { return rss_with(at(log_v)); }, std::log(bracket->lo), std::log(bracket->hi), 1e-3));
+    if (!(rss_with(best) < whole_fit(p, y, chosen).first)) continue;
     Chosen trial = chosen;
     trial[i] = &best;
     const VectorXd coef = whole_fit(p, y, trial).second;
@@ -1119,7 +1123,7 @@ void refine_settings(const JointProblem& p, const VectorXd& y, Chosen& chosen, s
     if (!plausible) continue;
     if (p.o.trace) {
       std::fprintf(stderr, "  j%d %s's %s refined: %.4g -> %.4g\n", p.s.joint, robot::effect_word(best.effect).c_str(), bracket->key.c_str(),
-                   grid_choice->setting.at(bracket->key), best.setting.at(bracket->key));
+                   grid_choice.setting.at(bracket->key), best.setting.at(bracket->key));
     }
     refined.push_back(std::move(best));
     chosen[i] = &refined.back();
