@@ -1067,13 +1067,6 @@ std::vector<double> coefficients_of(const Chosen& chosen, const VectorXd& b, std
   return out;
 }
 
-/// Each chosen effect's continuous setting (refinable_setting: a Stribeck velocity) refined between its grid neighbours by a
-/// golden-section search on its logarithm, all chosen effects refitted on every sample at each
-/// trial. The grid is coarse for the selection's sake, and the size trades against the
-/// setting: a Stribeck excess injected into the UR10e's currents at w_s 0.05 rad/s, read at the
-/// grid's 0.07, came out 28 % small. A refined setting is kept where it leaves less and its
-/// coefficients stay plausible; what is claimed does not change, only its setting and size. An
-/// effect the robot file carries is not refined: it is offered at the file's setting only.
 /// Where f is least on [a, b] (f unimodal there): golden-section search down to `tolerance`.
 template <class F>
 double golden_section_min(F f, double a, double b, double tolerance) {
@@ -1094,17 +1087,26 @@ double golden_section_min(F f, double a, double b, double tolerance) {
   return f1 <= f2 ? x1 : x2;
 }
 
+/// Each chosen effect's continuous setting (refinable_setting: a Stribeck velocity between its
+/// grid neighbours, a delay's exact difference from its first order's size up) refined by a
+/// golden-section search on its magnitude's logarithm, all chosen effects refitted on every
+/// sample at each trial. The size trades against the setting: a Stribeck excess injected into
+/// the UR10e's currents at w_s 0.05 rad/s, read at the grid's 0.07, came out 28 % small, and
+/// the first-order delay column reads a long delay short. A refined setting is kept where it
+/// leaves less and every coefficient stays plausible; what is claimed does not change, only
+/// its setting and size. An effect the robot file carries is not refined: it is offered at
+/// the file's setting only.
 void refine_settings(const JointProblem& p, const VectorXd& y, Chosen& chosen, std::deque<Candidate>& refined) {
   for (std::size_t i = 0; i < chosen.size(); ++i) {
     // An effect the robot file carries stays at the file's setting (keep_only_file_settings).
     const auto in_file = [&](const auto& e) { return e.first == chosen[i]->effect; };
     if (std::any_of(p.o.only_at_setting.begin(), p.o.only_at_setting.end(), in_file)) continue;
-    const auto bracket = refinable_setting(*chosen[i]);
+    const auto bracket = refinable_setting(*chosen[i], coefficients_of(chosen, whole_fit(p, y, chosen).second, i), p.s.dt);
     if (!bracket || !(bracket->lo > 0.0) || !(bracket->hi > bracket->lo)) continue;
     const Candidate& grid_choice = *chosen[i];
     const auto at = [&](double log_v) {
       std::map<std::string, double> setting = grid_choice.setting;
-      setting[bracket->key] = std::exp(log_v);
+      setting[bracket->key] = bracket->sign * std::exp(log_v);
       return make_candidate(grid_choice.effect, setting, p.s);
     };
     const auto rss_with = [&](const Candidate& c) {

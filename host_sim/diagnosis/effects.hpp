@@ -28,14 +28,17 @@ struct Candidate {
 Candidate make_candidate(robot::Effect effect, const std::map<std::string, double>& setting,
                          const JointSignals& s);
 
-/// A continuous setting the selection offers on a coarse grid and that the reported size trades
-/// against (a Stribeck velocity): its key and the interval to refine a chosen value in, between
-/// its grid neighbours.
+/// A continuous setting that the reported size trades against, refined once the effect is
+/// claimed: a Stribeck velocity (offered on a coarse grid: between its grid neighbours), a
+/// delay (offered as its first-order column, fitted `coefficients`: the exact difference over
+/// it, from the first order's size up to 4 times it). Its key and the interval of its magnitude,
+/// `sign` its sign; nullopt for anything else. `dt` the sample time [s].
 struct SettingBracket {
   std::string key;
   double lo = 0.0, hi = 0.0;
+  double sign = 1.0;
 };
-std::optional<SettingBracket> refinable_setting(const Candidate& c);
+std::optional<SettingBracket> refinable_setting(const Candidate& c, const std::vector<double>& coefficients, double dt);
 
 /// All instances of all effects that the signals can support (an effect that needs a
 /// model, e.g. payload, is skipped when the model's columns are absent).

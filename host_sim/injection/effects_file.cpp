@@ -36,7 +36,7 @@ const std::vector<Rule>& rules() {
       {robot::Effect::inertia_error, Channel::joint, 0, {}},
       {robot::Effect::torque_constant, Channel::scale, 0, {}},
       {robot::Effect::current_offset, Channel::offset, 0, {}},
-      {robot::Effect::time_delay, Channel::delay, 0, {}},
+      {robot::Effect::time_delay, Channel::delay, 0, {"delay_s"}},  // the diagnosis's linearisation point; inject shifts by -coefficients[0]
   };
   return r;
 }

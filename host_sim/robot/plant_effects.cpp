@@ -76,6 +76,7 @@ EffectProblem setting_range_problem(const PlantEffect& p, std::size_t joints) {
       {"saturation", 1.0, 1.0, "{1} (a flag: a torque constant falling with the current, coefficients [scale, per N·m])"},
       {"power_flow", 1.0, 1.0, "{1} (a flag: load coefficients [driving, back-driven])"},
       {"law", 1.0, 2.0, "{1, 2} (presliding law: 1 exponential, 2 hyperbolic)"},
+      {"delay_s", -1.0, 1.0, "[-1, 1] s (the delay a time_delay's exact difference is taken over; < 0: a lead)"},
   };
   for (const auto& [key, value] : p.setting) {
     if (key == "link") {

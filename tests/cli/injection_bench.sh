@@ -19,7 +19,7 @@
 #    size beyond the range that explains more than what imitates it is reported as unexplained;
 #    before, 11 of 15 got an inertia error or friction changes claimed instead); against the
 #    robot file alone at most the measured 4. The named cases' sizes within 20 % of the injected
-#    ones: at least the measured 70 (own file) and 18 (file alone).
+#    ones: at least the measured 75 (own file) and 18 (file alone).
 # Usage: injection_bench.sh <jointguard> <source dir>
 set -euo pipefail
 J="$1"
@@ -48,10 +48,10 @@ assert len(b["implausible_claimed_instead"]) <= 1, b  # measured 1 of 15 (11 bef
 assert len(u["implausible_claimed_instead"]) <= 4, u  # measured 4 of 15 (6 before)
 assert b["zero_size_cases"] == 2 and b["zero_size_with_extra_claims"] == 0, b
 # Sizes of the named cases within 20 % of the injected ones: the measured figures as floors
-# (eighteenth session: 70/93 against its own file, 18/38 against the robot file alone).
+# (eighteenth session: 75/93 against its own file, 18/38 against the robot file alone).
 def within(summary):
     return int(summary["named_size_within_20pct"].split("/")[0])
-assert within(b) >= 70, b
+assert within(b) >= 75, b
 assert within(u) >= 18, u
 assert p["named_within_20pct"] >= 1 and p["wrong_claims"] == 0, p  # 0.3 kg (below the floor) and 1.5 kg
 assert u["named_within_20pct"] >= 10 and u["wrong_claims"] <= 2, u  # measured 10/16 (docs/results.md)

@@ -259,6 +259,27 @@ TEST(DiagnoseSizes, AStribeckVelocityOffTheGridIsRefined) {
   EXPECT_NEAR(f->params.at("amplitude"), 0.4, 0.04) << f->text;
 }
 
+// A delay's first-order column (the torque rate) reads a long delay short: sin(w d) / w for a
+// sine, 0.84 of a 40 ms delay at 4 Hz. Once claimed, the delay is refined on the exact
+// difference (tau(t) - tau(t - d)) / d, which the first order approximates.
+TEST(DiagnoseSizes, ALongDelayIsSizedByTheExactDifference) {
+  auto s = synthetic_joint([](double, double) { return 0.0; }, 7);
+  const auto torque = [](double t) { return 10.0 + 5.0 * std::sin(2.0 * M_PI * 4.0 * t); };
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    const double noise = s.residual[k];
+    s.tau_model[k] = torque(s.t[k]);
+    s.residual[k] = torque(s.t[k] - 0.04) - torque(s.t[k]) + noise;
+    s.tau_real[k] = s.tau_model[k] + s.residual[k];
+  }
+  const auto d = jg::diag::diagnose_joint(s);
+  const auto f = std::find_if(d.findings.begin(), d.findings.end(), [](const auto& x) { return x.effect == jg::robot::Effect::time_delay; });
+  ASSERT_NE(f, d.findings.end()) << names(d);
+  EXPECT_NEAR(f->params.at("delay_s"), 0.04, 0.002) << f->text;
+  const auto m = std::find_if(d.model.begin(), d.model.end(), [](const auto& x) { return x.effect == jg::robot::Effect::time_delay; });
+  ASSERT_NE(m, d.model.end());
+  EXPECT_EQ(m->setting.count("delay_s"), 1U) << "the refined delay is written with the difference it was fitted on";
+}
+
 // A torque constant that saturates is reported with the plain scale that acts the same on the
 // recording's torques (scale_error_equivalent), beside its error at zero torque.
 TEST(DiagnoseSizes, ASaturatingTorqueConstantStatesItsEquivalentScale) {
