@@ -895,6 +895,22 @@ void note_long_delay(const JointProblem& p, const VectorXd& y, const Chosen& cho
   if (std::fabs(shift) > kMaxDelayS) d.notes.push_back(shift_beyond_range_note(shift));
 }
 
+/// What `chosen`, refitted on every sample, leaves of y (sum of squares), and its coefficients.
+std::pair<double, VectorXd> whole_fit(const JointProblem& p, const VectorXd& y, const Chosen& chosen) {
+  const MatrixXd X = rows_of(columns_of(chosen), all_rows_of(p.s.size()));
+  VectorXd b = solve(X, y);
+  return {(y - X * b).squaredNorm(), std::move(b)};
+}
+
+/// The coefficients of chosen[i] within the joint fit's `b`.
+std::vector<double> coefficients_of(const Chosen& chosen, const VectorXd& b, std::size_t i) {
+  Eigen::Index at = 0;
+  for (std::size_t k = 0; k < i; ++k) at += static_cast<Eigen::Index>(chosen[k]->columns.size());
+  std::vector<double> out;
+  for (std::size_t j = 0; j < chosen[i]->columns.size(); ++j) out.push_back(b(at + static_cast<Eigen::Index>(j)));
+  return out;
+}
+
 /// A delay beyond the plausible range imitates other effects, and nothing marks it during the
 /// selection: its first-order column saturates at a plausible size, and on the UR10e at 100 Hz
 /// delays of 71 ms-0.9 s injected into the currents were claimed as an inertia error instead (a
@@ -913,8 +929,7 @@ bool withdraw_for_long_delay(const JointProblem& p, const VectorXd& y, Chosen& c
   constexpr double kLongestDelayS = 1.0;
   const WholeShift w = best_whole_shift(p.s, y, kLongestDelayS);
   if (std::fabs(w.shift_s) <= kMaxDelayS) return false;
-  const MatrixXd X = rows_of(columns_of(chosen), all_rows_of(p.s.size()));
-  if (!(w.rss < (y - X * solve(X, y)).squaredNorm())) return false;
+  if (!(w.rss < whole_fit(p, y, chosen).first)) return false;
   d.notes.push_back((delay_said ? "the model's torque shifted whole (" + std::to_string(std::lround(1000.0 * std::fabs(w.shift_s))) + " ms on the joint's residual)"
                                 : shift_beyond_range_note(w.shift_s) + "; it") +
                     " leaves less of the residual than the effects the selection chose, which are not claimed in its place");
@@ -1049,24 +1064,6 @@ std::vector<Alternative> rest_alternatives(const JointProblem& p, const VectorXd
   return {a};
 }
 
-/// The final fit on all samples: the model, the fitted torque, and a finding per chosen
-/// effect ranked by the evidence it carries (the BIC lost without it).
-/// What `chosen`, refitted on every sample, leaves of y (sum of squares), and its coefficients.
-std::pair<double, VectorXd> whole_fit(const JointProblem& p, const VectorXd& y, const Chosen& chosen) {
-  const MatrixXd X = rows_of(columns_of(chosen), all_rows_of(p.s.size()));
-  VectorXd b = solve(X, y);
-  return {(y - X * b).squaredNorm(), std::move(b)};
-}
-
-/// The coefficients of chosen[i] within the joint fit's `b`.
-std::vector<double> coefficients_of(const Chosen& chosen, const VectorXd& b, std::size_t i) {
-  Eigen::Index at = 0;
-  for (std::size_t k = 0; k < i; ++k) at += static_cast<Eigen::Index>(chosen[k]->columns.size());
-  std::vector<double> out;
-  for (std::size_t j = 0; j < chosen[i]->columns.size(); ++j) out.push_back(b(at + static_cast<Eigen::Index>(j)));
-  return out;
-}
-
 /// Where f is least on [a, b] (f unimodal there): golden-section search down to `tolerance`.
 template <class F>
 double golden_section_min(F f, double a, double b, double tolerance) {
@@ -1101,7 +1098,8 @@ void refine_settings(const JointProblem& p, const VectorXd& y, Chosen& chosen, s
     // An effect the robot file carries stays at the file's setting (keep_only_file_settings).
     const auto in_file = [&](const auto& e) { return e.first == chosen[i]->effect; };
     if (std::any_of(p.o.only_at_setting.begin(), p.o.only_at_setting.end(), in_file)) continue;
-    const auto bracket = refinable_setting(*chosen[i], coefficients_of(chosen, whole_fit(p, y, chosen).second, i), p.s.dt);
+    const auto [rss_before, coef_before] = whole_fit(p, y, chosen);
+    const auto bracket = refinable_setting(*chosen[i], coefficients_of(chosen, coef_before, i), p.s.dt);
     if (!bracket || !(bracket->lo > 0.0) || !(bracket->hi > bracket->lo)) continue;
     const Candidate& grid_choice = *chosen[i];
     const auto at = [&](double log_v) {
@@ -1116,7 +1114,7 @@ void refine_settings(const JointProblem& p, const VectorXd& y, Chosen& chosen, s
       return whole_fit(p, y, trial).first;
     };
     Candidate best = at(golden_section_min([&](double log_v) { return rss_with(at(log_v)); }, std::log(bracket->lo), std::log(bracket->hi), 1e-3));
-    if (!(rss_with(best) < whole_fit(p, y, chosen).first)) continue;
+    if (!(rss_with(best) < rss_before)) continue;
     Chosen trial = chosen;
     trial[i] = &best;
     const VectorXd coef = whole_fit(p, y, trial).second;
@@ -1132,6 +1130,8 @@ void refine_settings(const JointProblem& p, const VectorXd& y, Chosen& chosen, s
   }
 }
 
+/// The final fit on all samples: the model, the fitted torque, and a finding per chosen
+/// effect ranked by the evidence it carries (the BIC lost without it).
 void final_fit(const JointProblem& p, const VectorXd& y, const Chosen& chosen, const std::vector<double>& null_z,
                JointDiagnosis& d) {
   const std::size_t n = p.s.size();

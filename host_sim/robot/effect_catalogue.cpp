@@ -59,7 +59,7 @@ const std::vector<EffectInfo>& effect_catalogue() {
        "a constant column (also what differs at the recording's start)"},
       {Effect::time_delay, "time_delay", S::joint, C::sensor, 1, "", "delay_s [s]", "the torque lags (delay_s > 0) or leads (< 0: old motion signals) the motion by dt/2 to 50 ms, fitted and as the best whole-sample shift; a lead only where told from an inertia error",
        "one delay of all drives' current channels (the median of the joints' lags), in whole samples; a lead is not simulated",
-       "the derivative of the model's torque (a first-order delay)"},
+       "the derivative of the model's torque (a first-order delay); once claimed, the exact difference over the delay (setting delay_s)"},
       {Effect::backlash, "backlash", S::joint, C::deflection, 0, "gap_rad", "gap_rad [rad], fraction",
        "torque channel: fraction within [0, 1.5]", "a dead zone in the elastic gear (needs the gear's stiffness)",
        "the load not driven for gap_rad after reversals (torque), or the link/motor deflection itself"},
