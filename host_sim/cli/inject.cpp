@@ -11,6 +11,7 @@
 #include "injection/effects_file.hpp"
 #include "injection/inject.hpp"
 #include "io/atomic_write.hpp"
+#include "io/recording.hpp"
 #include "io/yaml_fields.hpp"
 #include "robot/torque_kind.hpp"
 
@@ -113,6 +114,9 @@ int run(const InjectCliOptions& o) {
   inject::InjectRequest r;
   r.recording_path = o.recording;
   r.data = &rec.data;
+  // Its rows as read: an effect of a row's own state acts there (inject.hpp).
+  const io::Recording as_read = io::read_recording(o.recording, o.input.read_options());
+  r.rows = &as_read;
   r.torque = rec.torque;
   r.model.model = &model;
   for (const auto& j : model.joints) r.model.torque_constant.push_back(j.link.torque_constant);

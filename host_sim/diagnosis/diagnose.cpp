@@ -814,6 +814,15 @@ std::vector<std::size_t> all_rows_of(std::size_t n) {
   return rows;
 }
 
+/// The coefficients of chosen[i] within the joint fit's `b`.
+std::vector<double> coefficients_of(const Chosen& chosen, const VectorXd& b, std::size_t i) {
+  Eigen::Index at = 0;
+  for (std::size_t k = 0; k < i; ++k) at += static_cast<Eigen::Index>(chosen[k]->columns.size());
+  std::vector<double> out;
+  for (std::size_t j = 0; j < chosen[i]->columns.size(); ++j) out.push_back(b(at + static_cast<Eigen::Index>(j)));
+  return out;
+}
+
 /// Jointly fitted, an effect's coefficients move from those it was chosen with: one that
 /// ends up implausible there is not claimed either (dropped, the rest refitted).
 void drop_implausible_jointly(const JointProblem& p, const VectorXd& y, Chosen& chosen, JointDiagnosis& d) {
@@ -821,11 +830,8 @@ void drop_implausible_jointly(const JointProblem& p, const VectorXd& y, Chosen& 
   for (bool dropped = true; dropped && !chosen.empty();) {
     dropped = false;
     const VectorXd b = solve(rows_of(columns_of(chosen), all_rows), y);
-    Eigen::Index at = 0;
     for (std::size_t i = 0; i < chosen.size() && !dropped; ++i) {
-      const auto m = static_cast<Eigen::Index>(chosen[i]->columns.size());
-      const std::string why = implausible(*chosen[i], std::vector<double>(b.data() + at, b.data() + at + m), p.s);
-      at += m;
+      const std::string why = implausible(*chosen[i], coefficients_of(chosen, b, i), p.s);
       if (why.empty()) continue;
       d.notes.push_back(chosen[i]->effect + " fitted jointly with the others is not physically plausible: " + why + "; not claimed");
       chosen.erase(chosen.begin() + static_cast<std::ptrdiff_t>(i));
@@ -902,14 +908,6 @@ std::pair<double, VectorXd> whole_fit(const JointProblem& p, const VectorXd& y, 
   return {(y - X * b).squaredNorm(), std::move(b)};
 }
 
-/// The coefficients of chosen[i] within the joint fit's `b`.
-std::vector<double> coefficients_of(const Chosen& chosen, const VectorXd& b, std::size_t i) {
-  Eigen::Index at = 0;
-  for (std::size_t k = 0; k < i; ++k) at += static_cast<Eigen::Index>(chosen[k]->columns.size());
-  std::vector<double> out;
-  for (std::size_t j = 0; j < chosen[i]->columns.size(); ++j) out.push_back(b(at + static_cast<Eigen::Index>(j)));
-  return out;
-}
 
 /// A delay beyond the plausible range imitates other effects, and nothing marks it during the
 /// selection: its first-order column saturates at a plausible size, and on the UR10e at 100 Hz
@@ -1093,7 +1091,7 @@ double golden_section_min(F f, double a, double b, double tolerance) {
 /// leaves less and every coefficient stays plausible; what is claimed does not change, only
 /// its setting and size. An effect the robot file carries is not refined: it is offered at
 /// the file's setting only.
-void refine_settings(const JointProblem& p, const VectorXd& y, Chosen& chosen, std::deque<Candidate>& refined) {
+void refine_settings(const JointProblem& p, const VectorXd& y, Chosen& chosen, std::deque<Candidate>& refined, JointDiagnosis& d) {
   for (std::size_t i = 0; i < chosen.size(); ++i) {
     // An effect the robot file carries stays at the file's setting (keep_only_file_settings).
     const auto in_file = [&](const auto& e) { return e.first == chosen[i]->effect; };
@@ -1118,8 +1116,26 @@ void refine_settings(const JointProblem& p, const VectorXd& y, Chosen& chosen, s
     Chosen trial = chosen;
     trial[i] = &best;
     const VectorXd coef = whole_fit(p, y, trial).second;
-    bool plausible = true;
-    for (std::size_t k = 0; k < trial.size() && plausible; ++k) plausible = implausible(*trial[k], coefficients_of(trial, coef, k), p.s).empty();
+    bool plausible = true, beyond = false;
+    for (std::size_t k = 0; k < trial.size() && plausible; ++k) {
+      bool k_beyond = false;
+      plausible = implausible(*trial[k], coefficients_of(trial, coef, k), p.s, &k_beyond).empty();
+      beyond = !plausible && k == i && k_beyond;
+    }
+    if (beyond && best.effect == robot::Effect::time_delay) {
+      // The delay that fits best is beyond the plausible range: not claimed at the first
+      // order's shorter reading (53.8 ms injected into the UR10e's currents was claimed at
+      // 50 ms), said with its size.
+      std::ostringstream why;
+      why.precision(3);
+      why << "time_delay: the exact difference (tau(t) - tau(t - d)) / d reads " << 1000.0 * std::fabs(best.setting.at(bracket->key))
+          << " ms, beyond 50 ms: not physically plausible, not claimed";
+      d.notes.push_back(why.str());
+      chosen.erase(chosen.begin() + static_cast<std::ptrdiff_t>(i));
+      d.heldout_rms_after = chosen.empty() ? d.heldout_rms_before : heldout_rms(p, chosen);
+      --i;  // the next effect is at i now (unsigned wrap-around undone by the loop's ++i)
+      continue;
+    }
     if (!plausible) continue;
     if (p.o.trace) {
       std::fprintf(stderr, "  j%d %s's %s refined: %.4g -> %.4g\n", p.s.joint, robot::effect_word(best.effect).c_str(), bracket->key.c_str(),
@@ -1148,12 +1164,9 @@ void final_fit(const JointProblem& p, const VectorXd& y, const Chosen& chosen, c
   for (std::size_t k = 0; k < n; ++k) d.fitted[k] = fit(static_cast<Eigen::Index>(k));
   d.rms_after = rms(y - fit);
   const double full_bic = bic((y - fit).squaredNorm(), n, param_count(chosen));
-  Eigen::Index offset = 0;
   for (std::size_t i = 0; i < chosen.size(); ++i) {
     const Candidate& c = *chosen[i];
-    std::vector<double> coef;
-    for (std::size_t j = 0; j < c.columns.size(); ++j) coef.push_back(b(offset + static_cast<Eigen::Index>(j)));
-    offset += static_cast<Eigen::Index>(c.columns.size());
+    const std::vector<double> coef = coefficients_of(chosen, b, i);
     d.model.push_back({c.effect, c.setting, coef});
     Chosen without = chosen;
     without.erase(without.begin() + static_cast<std::ptrdiff_t>(i));
@@ -1222,9 +1235,13 @@ JointDiagnosis diagnose_joint(const JointSignals& s, const DiagnoseOptions& o) {
     chosen.clear();
     d.heldout_rms_after = d.heldout_rms_before;
   }
-  const std::vector<double> null_z = drop_below_null(p, chosen, d);
+  // What is refined is what beats the null; each claim's z is then the one of the shape it is
+  // reported at (a refined setting changes its column), and a claim that no longer beats the
+  // null there is not claimed either.
+  (void)drop_below_null(p, chosen, d);
   std::deque<Candidate> refined;  // owns the refined instances chosen points to until final_fit
-  refine_settings(p, y, chosen, refined);
+  refine_settings(p, y, chosen, refined, d);
+  const std::vector<double> null_z = drop_below_null(p, chosen, d);
   final_fit(p, y, chosen, null_z, d);
   merge_findings(o, d);
   std::vector<double> final_residual(n);

@@ -283,6 +283,59 @@ Candidate raw_candidate(robot::Effect effect, const std::map<std::string, double
   return c;
 }
 
+/// Whether the effect's columns are a function of one sample's own position and velocity.
+bool of_the_sample_alone(robot::Effect effect, const std::map<std::string, double>& setting) {
+  const bool model_curve = setting.count("model_curve") != 0U;
+  return ((effect == robot::Effect::coulomb || effect == robot::Effect::stribeck) && !model_curve) ||
+         (effect == robot::Effect::asymmetric_friction && setting.count("side") == 0U) || effect == robot::Effect::position_ripple;
+}
+
+/// Whether the rows the samples were resampled from span them, in time order.
+bool rows_span_the_samples(const JointSignals& s) {
+  const std::size_t m = s.rows_t.size();
+  if (m < 2 || s.rows_q.size() != m || s.rows_dq.size() != m || s.t.empty()) return false;
+  for (std::size_t i = 1; i < m; ++i) {
+    if (!(s.rows_t[i] > s.rows_t[i - 1])) return false;
+  }
+  for (std::size_t k = 1; k < s.t.size(); ++k) {
+    if (s.t[k] < s.t[k - 1]) return false;
+  }
+  const double slack = 1e-6 * s.dt;
+  return s.rows_t.front() <= s.t.front() + slack && s.rows_t.back() >= s.t.back() - slack;
+}
+
+/// The columns of an effect of one sample's own state computed at the rows the samples were
+/// resampled from, then interpolated at the samples' times as the torque was: a sharp function
+/// of the velocity (a Stribeck excess at w_s 0.05 rad/s) differs from itself over the
+/// interpolated velocity on a recording sampled off the grid (the UR10e's 10-12 ms steps:
+/// 0.87x its injected size at its own w_s, 0.95x on a uniform copy of the same rows).
+Candidate at_rows_interpolated(robot::Effect effect, const std::map<std::string, double>& setting, const JointSignals& s) {
+  JointSignals rows;
+  rows.joint = s.joint;
+  rows.dt = s.dt;
+  rows.t = s.rows_t;
+  rows.q = s.rows_q;
+  rows.dq = s.rows_dq;
+  Candidate c = raw_candidate(effect, setting, rows);
+  for (auto& col : c.columns) {
+    std::vector<double> out(s.size());
+    std::size_t i = 0;
+    for (std::size_t k = 0; k < s.size(); ++k) {
+      while (i + 2 < rows.t.size() && rows.t[i + 1] <= s.t[k]) ++i;
+      const double a = std::clamp((s.t[k] - rows.t[i]) / (rows.t[i + 1] - rows.t[i]), 0.0, 1.0);
+      out[k] = col[i] + a * (col[i + 1] - col[i]);
+    }
+    col = std::move(out);
+  }
+  return c;
+}
+
+/// raw_candidate, at the rows resampled from where the effect is of one sample's state.
+Candidate sampled_candidate(robot::Effect effect, const std::map<std::string, double>& setting, const JointSignals& s) {
+  return of_the_sample_alone(effect, setting) && rows_span_the_samples(s) ? at_rows_interpolated(effect, setting, s)
+                                                                          : raw_candidate(effect, setting, s);
+}
+
 }  // namespace
 
 Candidate make_candidate(robot::Effect effect, const std::map<std::string, double>& setting,
@@ -292,7 +345,7 @@ Candidate make_candidate(robot::Effect effect, const std::map<std::string, doubl
     // its first position with the friction relaxed. The friction state the arm really
     // held at t0 is unknown and differs from one recording to the next: a constant
     // (current_offset, kept as it is) stands for it, a property of the recording only.
-    Candidate c = raw_candidate(effect, setting, s);
+    Candidate c = sampled_candidate(effect, setting, s);
     if (effect == robot::Effect::current_offset || c.columns.empty()) return c;
     const Candidate rest = raw_candidate(effect, setting, at_rest_at_start(s));
     if (rest.columns.size() != c.columns.size()) return c;
@@ -302,7 +355,7 @@ Candidate make_candidate(robot::Effect effect, const std::map<std::string, doubl
     }
     return c;
   }
-  return raw_candidate(effect, setting, s);
+  return sampled_candidate(effect, setting, s);
 }
 
 namespace {
@@ -341,9 +394,10 @@ std::optional<SettingBracket> refinable_setting(const Candidate& c, const std::v
   if (c.effect == robot::Effect::time_delay && !has("delay_s") && !coefficients.empty()) {
     // The first-order column reads a long delay short (47.5 ms injected into the UR10e's
     // currents at 100 Hz read 15-36 ms): the exact difference is searched from the first
-    // order's size to 4 times it, within the plausible 50 ms (implausible()).
+    // order's size to 4 times it, up to three times the plausible 50 ms (implausible()), so
+    // that a delay beyond it reads beyond it (and is not claimed) instead of at the edge.
     const double first_order = -coefficients[0];
-    const double lo = std::max(0.5 * std::fabs(first_order), 0.5 * dt), hi = std::min(4.0 * std::fabs(first_order), 0.05);
+    const double lo = std::max(0.5 * std::fabs(first_order), 0.5 * dt), hi = std::min(4.0 * std::fabs(first_order), 0.15);
     if (!(hi > lo)) return std::nullopt;
     return SettingBracket{"delay_s", lo, hi, first_order > 0.0 ? 1.0 : -1.0};
   }

@@ -13,6 +13,14 @@
 namespace jg::diag {
 namespace {
 
+/// The rows joint j's samples were resampled from (io::Recording::rows_t), when there are.
+void copy_rows(const io::Recording& real, std::size_t j, JointSignals& s) {
+  if (real.rows_t.empty() || j >= real.rows_q.size() || j >= real.rows_dq.size()) return;
+  s.rows_t = real.rows_t;
+  s.rows_q = real.rows_q[j];
+  s.rows_dq = real.rows_dq[j];
+}
+
 double uniform_dt(const io::Recording& r, const char* which) {
   const std::size_t n = r.samples();
   if (n < 3) throw std::invalid_argument(std::string(which) + " recording has fewer than 3 samples");
@@ -134,6 +142,7 @@ std::vector<JointSignals> signals_from_pair(const io::Recording& real, const io:
     s.t = real.t;
     s.q = real.q[j];
     s.dq = real.dq[j];
+    copy_rows(real, j, s);
     s.tau_real = torque_of(real, j, model, "real");
     const auto sim_tau = torque_of(simulated, j, model, "simulated");
     s.tau_model.resize(s.t.size());
@@ -203,6 +212,7 @@ std::vector<JointSignals> signals_from_model(const io::Recording& real, const Mo
     out[j].q = real.q[j];
     out[j].dq = real.dq[j];
     out[j].tau_real = torque_of(real, j, model, "real");
+    copy_rows(real, j, out[j]);
   }
   add_model_terms(out, real, model);
   for (std::size_t j = 0; j < real.joints(); ++j) {
@@ -221,6 +231,8 @@ std::vector<JointSignals> signals_from_model(const io::Recording& real, const Mo
 std::vector<JointSignals> concatenate_signals(const std::vector<std::vector<JointSignals>>& parts) {
   if (parts.empty()) return {};
   std::vector<JointSignals> out = parts.front();
+  // The rows resampled from, one part after the other: only where every part has them.
+  const bool rows = std::all_of(parts.begin(), parts.end(), [](const auto& p) { return p.empty() || !p.front().rows_t.empty(); });
   auto append = [](std::vector<double>& a, const std::vector<double>& b) { a.insert(a.end(), b.begin(), b.end()); };
   for (std::size_t p = 1; p < parts.size(); ++p) {
     if (parts[p].size() != out.size()) throw std::invalid_argument("segments with different joints");
@@ -235,7 +247,11 @@ std::vector<JointSignals> concatenate_signals(const std::vector<std::vector<Join
       for (std::size_t c = 0; c < a.payload_columns.size() && c < b.payload_columns.size(); ++c) {
         append(a.payload_columns[c], b.payload_columns[c]);
       }
+      for (auto [dst, src] : {std::pair{&a.rows_t, &b.rows_t}, {&a.rows_q, &b.rows_q}, {&a.rows_dq, &b.rows_dq}}) append(*dst, *src);
     }
+  }
+  if (!rows) {
+    for (auto& s : out) s.rows_t.clear(), s.rows_q.clear(), s.rows_dq.clear();
   }
   return out;
 }

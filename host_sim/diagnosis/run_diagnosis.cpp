@@ -60,6 +60,7 @@ std::vector<JointSignals> signals_of(const std::vector<io::LoadedRecording>& rea
       auto part = io::about_recording(reals[r].path, [&] { return per_segment(r, seg); });
       for (auto& js : part) {
         for (auto& t : js.t) t += shift;
+        for (auto& t : js.rows_t) t += shift;
       }
       if (!part.empty() && !part.front().t.empty()) {
         samples += part.front().size();

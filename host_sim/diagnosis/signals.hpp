@@ -26,6 +26,11 @@ struct JointSignals {
   /// of the last link; empty when no model is available.
   std::vector<std::vector<double>> payload_columns;
   std::vector<double> velocity_mismatch;  ///< dq - d/dt q (elastic deflection rate) [rad/s]
+  /// The rows the samples were resampled from, where the recording was sampled off its grid
+  /// (io::Recording::rows_t): their time [s], position [rad] and velocity [rad/s]; empty
+  /// otherwise. An effect of one row's own state (effects.cpp) is computed there and
+  /// interpolated onto the samples, as the torque was.
+  std::vector<double> rows_t, rows_q, rows_dq;
   /// Gear deflection not in the model [rad]: motor-side position (the motor-encoder
   /// velocity dq integrated, exact for differenced encoder counts) minus the link encoder's
   /// q, both from their first sample; real minus simulated when a simulation is given.

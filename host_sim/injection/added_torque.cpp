@@ -165,6 +165,38 @@ std::vector<SegmentAddition> physics_added(const std::vector<io::Recording>& seg
   return out;
 }
 
+bool acts_on_the_row_alone(const robot::PlantEffect& e) {
+  using robot::Effect;
+  if (channel_of(e) != Channel::joint) return false;
+  const bool model_curve = e.setting.count("model_curve") != 0U;
+  return e.effect == Effect::viscous || e.effect == Effect::position_ripple || e.effect == Effect::temperature_drift ||
+         (e.effect == Effect::stribeck && !model_curve) || (e.effect == Effect::coulomb && !model_curve) ||
+         (e.effect == Effect::asymmetric_friction && e.setting.count("side") == 0U);
+}
+
+std::vector<std::vector<double>> rows_added(const io::Recording& rows, const std::vector<robot::PlantEffect>& effects, double step_s) {
+  const std::size_t nj = rows.joints(), n = rows.t.size();
+  std::vector<std::vector<double>> out(nj, std::vector<double>(n, 0.0));
+  for (std::size_t j = 0; j < nj; ++j) {
+    std::vector<diag::FittedEffect> model;
+    for (const auto& e : effects) {
+      if (e.joint != static_cast<int>(j) + 1 || !acts_on_the_row_alone(e)) continue;
+      std::vector<double> b = e.coefficients;
+      if (e.effect == robot::Effect::asymmetric_friction) b.resize(2, 0.0);  // the viscous slope is optional
+      model.push_back({e.effect, e.setting, b});
+    }
+    if (model.empty()) continue;
+    diag::JointSignals s;
+    s.joint = static_cast<int>(j) + 1;
+    s.dt = step_s;
+    s.t = rows.t;
+    s.q = rows.q[j];
+    s.dq = rows.dq[j];
+    out[j] = diag::predict_effects(model, s);
+  }
+  return out;
+}
+
 SensorChange sensor_change(const std::vector<robot::PlantEffect>& effects, std::size_t joints) {
   SensorChange s{std::vector<double>(joints, 1.0), std::vector<double>(joints, 0.0)};
   for (const auto& e : effects) {

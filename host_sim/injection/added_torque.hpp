@@ -44,6 +44,18 @@ struct SensorChange {
 std::vector<SegmentAddition> physics_added(const std::vector<io::Recording>& segments, const InjectModel& m,
                                            const std::vector<robot::PlantEffect>& effects);
 
+/// Whether a per-joint effect's torque is a function of one sample's position and velocity
+/// alone (Coulomb, viscous, a plain Stribeck excess, a direction asymmetry's levels, a position
+/// ripple; a temperature drift, of its time too). Such an effect acts on a recording at each
+/// row's own state (rows_added): the uniform grid's value interpolated back to a row sampled
+/// off the grid (the UR10e's 10-12 ms steps) would flatten what is sharp in velocity.
+bool acts_on_the_row_alone(const robot::PlantEffect& e);
+
+/// What such effects add at each row of the recording as read, before it was made uniform
+/// ([joint][row], N·m), with the diagnosis's own columns over the rows' t, q and dq. `step_s`:
+/// the uniform grid's step (the signals' nominal dt).
+std::vector<std::vector<double>> rows_added(const io::Recording& rows, const std::vector<robot::PlantEffect>& effects, double step_s);
+
 /// torque_constant (scale 1 + b, several multiply) and current_offset (b [N·m], several add).
 SensorChange sensor_change(const std::vector<robot::PlantEffect>& effects, std::size_t joints);
 

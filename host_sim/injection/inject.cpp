@@ -6,6 +6,7 @@
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
+#include <utility>
 
 #include "injection/csv_edit.hpp"
 #include "injection/effects_file.hpp"
@@ -44,21 +45,41 @@ bool needs_torque_constant(const std::vector<robot::PlantEffect>& effects) {
   return std::any_of(effects.begin(), effects.end(), [](const auto& e) { return channel_of(e) != Channel::scale; });
 }
 
-/// Per row: the segment whose span holds its time, the added torque interpolated there, the
-/// sensor's scale and offset; in A for currents (divided by K_I).
-RowRule row_rule(const InjectRequest& r, const std::vector<SegmentAddition>& added, const SensorChange& sensor) {
+/// What the effects of a row's own state add at the row of time `t` (`at_rows`: [joint][row]
+/// over the recording as read); 0 without them.
+double at_row(const InjectRequest& r, const std::vector<std::vector<double>>& at_rows, std::size_t j, double t) {
+  if (at_rows.empty() || at_rows[j].empty()) return 0.0;
+  const auto& times = r.rows->t;
+  const auto it = std::lower_bound(times.begin(), times.end(), t);
+  if (it == times.end() || *it != t) throw std::logic_error("inject: no row at t = " + std::to_string(t) + " s in the recording as read");
+  return at_rows[j][static_cast<std::size_t>(it - times.begin())];
+}
+
+/// Per row: the segment whose span holds its time, the added torque interpolated there (and
+/// what the row's own state adds), the sensor's scale and offset; in A for currents (divided by K_I).
+RowRule row_rule(const InjectRequest& r, const std::vector<SegmentAddition>& added, const std::vector<std::vector<double>>& at_rows,
+                 const SensorChange& sensor) {
   const auto& spans = r.data->report.segments;
   const bool current = r.torque == io::TorqueKind::current;
-  return [&r, &added, &sensor, &spans, current](double t, const std::vector<double>& old, std::vector<double>& out) {
+  return [&r, &added, &at_rows, &sensor, &spans, current](double t, const std::vector<double>& old, std::vector<double>& out) {
     std::size_t s = 0;
     while (s < spans.size() && !(t >= spans[s].t_begin && t <= spans[s].t_end)) ++s;
     if (s == spans.size() || s >= added.size()) return false;
     for (std::size_t j = 0; j < old.size(); ++j) {
       const double unit = current ? r.model.torque_constant[j] : 1.0;  // N·m per column unit
-      out[j] = sensor.scale[j] * (old[j] + on_grid(added[s], j, t) / unit) + sensor.offset_nm[j] / unit;
+      const double added_nm = on_grid(added[s], j, t) + at_row(r, at_rows, j, t);
+      out[j] = sensor.scale[j] * (old[j] + added_nm / unit) + sensor.offset_nm[j] / unit;
     }
     return true;
   };
+}
+
+/// The effects computed at the rows as read (rows_added), and those on the uniform grid.
+std::pair<std::vector<robot::PlantEffect>, std::vector<robot::PlantEffect>> rows_and_grid(const InjectRequest& r) {
+  const bool delayed = std::any_of(r.effects.begin(), r.effects.end(), [](const auto& e) { return channel_of(e) == Channel::delay; });
+  std::vector<robot::PlantEffect> rows, grid;
+  for (const auto& e : r.effects) (r.rows != nullptr && !delayed && acts_on_the_row_alone(e) ? rows : grid).push_back(e);
+  return {rows, grid};
 }
 
 }  // namespace
@@ -84,12 +105,15 @@ InjectResult inject(const InjectRequest& r) {
     throw std::invalid_argument("its torque is motor current (i<j>) and the URDF gives no torque constant to turn the effects' "
                                 "N·m into A: give --drive FILE with k_i");
   }
-  const std::vector<SegmentAddition> added = physics_added(r.data->segments, r.model, r.effects);
+  const auto [on_rows, on_grid_only] = rows_and_grid(r);
+  const std::vector<SegmentAddition> added = physics_added(r.data->segments, r.model, on_grid_only);
+  const std::vector<std::vector<double>> at_rows = on_rows.empty() ? std::vector<std::vector<double>>{}
+                                                                    : rows_added(*r.rows, on_rows, r.data->report.step_s);
   const SensorChange sensor = sensor_change(r.effects, first.joints());
   // Where the regularizer dropped rows repeating a state (a jittered logger's), they must stay repeats.
   res.repeats_follow_state = r.data->report.method.rfind("none", 0) != 0 && r.data->report.repeats_dropped > 0;
   const EditedCsv e = edit_torque_columns(text, r.recording_path, first.joint_ids, torque_prefix(r.torque, text, first.joint_ids),
-                                          res.repeats_follow_state, row_rule(r, added, sensor));
+                                          res.repeats_follow_state, row_rule(r, added, at_rows, sensor));
   res.text = e.text;
   res.data_rows = e.data_rows;
   res.rows_outside = e.rows_outside;

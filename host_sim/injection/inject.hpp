@@ -16,6 +16,10 @@ namespace jg::inject {
 struct InjectRequest {
   std::string recording_path;             ///< read again as text: only its torque fields change
   const io::Regularized* data = nullptr;  ///< the same recording as the CLI's reader made it uniform
+  /// The recording as read, before it was made uniform (optional): where given, the effects of
+  /// a row's own state (acts_on_the_row_alone) are computed at each row, not interpolated from
+  /// the uniform grid. Not with a time_delay among the effects (it delays what the grid adds).
+  const io::Recording* rows = nullptr;
   io::TorqueKind torque = io::TorqueKind::tau_m;
   InjectModel model;
   /// False for currents with a URDF and no drive file's k_i: N·m cannot be turned into A.

@@ -64,6 +64,12 @@ struct Recording {
   std::vector<std::vector<double>> tau_ext;   ///< [N·m] ground truth, empty when absent
   std::vector<int> collision;                 ///< 0 or collided link, empty when absent
   std::map<std::string, std::vector<double>> extra;  ///< other numeric columns
+  /// Where regularize resampled rows sampled off its grid (io/regularize.hpp): the rows it
+  /// interpolated from, their time and each joint's position and velocity; empty when the
+  /// samples are the rows as recorded. An effect of one row's own state is computed at them
+  /// and interpolated as the torque was (diagnosis/effects.cpp).
+  std::vector<double> rows_t;
+  std::vector<std::vector<double>> rows_q, rows_dq;
   RecordingMeta meta;
   /// The torque consumers use (set by the reader from the columns and ReadOptions::torque).
   TorqueKind torque_kind = TorqueKind::tau_m;

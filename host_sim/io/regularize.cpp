@@ -98,6 +98,15 @@ Recording resample_rows(const Recording& rec, std::size_t begin, std::size_t end
   for (const auto& [name, v] : rec.extra) {
     if (v.size() == rec.samples()) out.extra[name] = interpolate(rec.t, v, nodes, grid);
   }
+  for (const std::size_t k : nodes) out.rows_t.push_back(rec.t[k]);
+  for (std::size_t j = 0; j < rec.joints(); ++j) {
+    out.rows_q.emplace_back();
+    out.rows_dq.emplace_back();
+    for (const std::size_t k : nodes) {
+      out.rows_q.back().push_back(rec.q[j][k]);
+      out.rows_dq.back().push_back(rec.dq[j][k]);
+    }
+  }
   if (!rec.collision.empty()) {
     // A contact flag is not interpolated: each sample takes the last row at or before it.
     out.collision.resize(n);

@@ -238,6 +238,55 @@ TEST(InjectSensor, TimeDelayReportsWhatTheModelSees) {
   std::filesystem::remove(path);
 }
 
+// An effect of one row's own state acts at each row as recorded: on rows sampled off the
+// uniform grid (steps of 9-11 ms), the Stribeck excess each row gets is the one of its own
+// velocity, not the grid's value interpolated back (which flattens what is sharp in velocity).
+TEST(InjectRows, AnEffectOfTheRowsStateActsAtEachRow) {
+  const auto path = (std::filesystem::temp_directory_path() / "jg_inject_rows.csv").string();
+  {
+    std::ofstream out(path);
+    out << "t,q1,q2,q3,dq1,dq2,dq3,tau_m1,tau_m2,tau_m3\n";
+    char row[256];
+    unsigned x = 7;
+    for (double t = 0.0; t < 6.0;) {
+      const double w = 2.0 * M_PI * 0.5;
+      std::snprintf(row, sizeof row, "%.6f,%.9g,0.6,-0.8,%.9g,0,0,%.9g,10,0.5\n", t, 0.3 * std::sin(w * t), 0.3 * w * std::cos(w * t), std::sin(M_PI * t));
+      out << row;
+      x = x * 1103515245U + 12345U;
+      t += 0.009 + 0.002 * static_cast<double>((x >> 8) & 0xffffU) / 65535.0;
+    }
+  }
+  const jg::io::Recording as_read = jg::io::read_recording(path);
+  const jg::io::Regularized data = jg::io::regularize(as_read);
+  ASSERT_EQ(data.report.method, "linear by time stamp");
+  const jg::robot::RobotModel model = jg::robot::load_robot(std::string(JG_SOURCE_DIR) + "/models/ref3.yaml");
+  auto r = ref3_request(path, data, model, {{jg::robot::Effect::stribeck, 1, {{"w_s", 0.05}}, {2.0}, {}}});
+  r.rows = &as_read;
+  const auto res = jg::inject::inject(r);
+  std::istringstream in(res.text);
+  std::string line;
+  std::getline(in, line);
+  const double band = std::max(1e-4, 0.005 * 0.3 * 2.0 * M_PI * 0.5);  // the diagnosis's soft sign: 0.5 % of the largest speed
+  std::size_t k = 0, checked = 0;
+  double largest = 0.0;
+  for (; std::getline(in, line); ++k) {
+    std::vector<double> f;
+    std::istringstream fields(line);
+    for (std::string v; std::getline(fields, v, ',');) f.push_back(std::stod(v));
+    ASSERT_LT(k, as_read.t.size());
+    const double dq = as_read.dq[0][k];
+    if (std::fabs(dq) < 2.0 * band) continue;  // the soft sign's ramp
+    const double want = 2.0 * (dq > 0.0 ? 1.0 : -1.0) * std::exp(-(dq / 0.05) * (dq / 0.05));
+    ASSERT_NEAR(f[7] - as_read.tau_m[0][k], want, 1e-6) << "row " << k << ", t = " << f[0];
+    largest = std::max(largest, std::fabs(want));
+    ++checked;
+  }
+  EXPECT_EQ(k, as_read.t.size());
+  EXPECT_GT(checked, 500U);
+  EXPECT_GT(largest, 1.0) << "no row near the low speeds: the sharp part is not what this tests";
+  std::filesystem::remove(path);
+}
+
 TEST(InjectArm, PayloadPickedUpActsFromThen) {
   const Injected x = run({{jg::robot::Effect::payload, 0, {{"picked_up_at_s", 1.0}}, {1.0, 0.2, 0.0, 0.0}, {}}}, "jg_inject_pickup.csv");
   for (std::size_t k = 0; k < x.after.size(); ++k) {

@@ -399,6 +399,7 @@ TEST(Regularize, UniformRecordingIsUsedAsRecorded) {
   EXPECT_EQ(out.report.method, "none (uniform)");
   EXPECT_NEAR(out.report.rate_hz, 500.0, 1e-6);
   EXPECT_NE(out.report.summary().find("uniform: used as recorded"), std::string::npos);
+  EXPECT_TRUE(out.segments[0].rows_t.empty()) << "the samples are the rows";
 }
 
 TEST(Regularize, JitteredLogIsResampledByTimeStampNotByIndex) {
@@ -414,6 +415,13 @@ TEST(Regularize, JitteredLogIsResampledByTimeStampNotByIndex) {
     ASSERT_NEAR(s.q[0][k], 2.0 * s.t[k], 1e-9) << "k = " << k;
   }
   EXPECT_NE(out.report.summary().find("resampled jit.csv: "), std::string::npos) << out.report.summary();
+  // The rows it interpolated from are kept beside the samples (an effect of one row's state is
+  // computed there by the diagnosis), in order and spanning the samples.
+  ASSERT_EQ(s.rows_t.size(), r.t.size());
+  ASSERT_EQ(s.rows_dq.size(), 1U);
+  EXPECT_EQ(s.rows_t, r.t);
+  EXPECT_EQ(s.rows_q[0], r.q[0]);
+  EXPECT_EQ(s.rows_dq[0], r.dq[0]);
   // A given rate: still on the recording's clock.
   jg::io::RegularizeOptions o;
   o.rate_hz = 125.0;
