@@ -283,11 +283,13 @@ Candidate raw_candidate(robot::Effect effect, const std::map<std::string, double
   return c;
 }
 
-/// Whether the effect's columns are a function of one sample's own position and velocity.
+/// Whether the effect's columns are a function of one sample's own position and velocity (a
+/// drift's, of its time too).
 bool of_the_sample_alone(robot::Effect effect, const std::map<std::string, double>& setting) {
   const bool model_curve = setting.count("model_curve") != 0U;
   return ((effect == robot::Effect::coulomb || effect == robot::Effect::stribeck) && !model_curve) ||
-         (effect == robot::Effect::asymmetric_friction && setting.count("side") == 0U) || effect == robot::Effect::position_ripple;
+         (effect == robot::Effect::asymmetric_friction && setting.count("side") == 0U) || effect == robot::Effect::position_ripple ||
+         effect == robot::Effect::temperature_drift;
 }
 
 /// Whether the rows the samples were resampled from span them, in time order.
@@ -310,12 +312,23 @@ bool rows_span_the_samples(const JointSignals& s) {
 /// interpolated velocity on a recording sampled off the grid (the UR10e's 10-12 ms steps:
 /// 0.87x its injected size at its own w_s, 0.95x on a uniform copy of the same rows).
 Candidate at_rows_interpolated(robot::Effect effect, const std::map<std::string, double>& setting, const JointSignals& s) {
+  // The rows that span the samples (a slice of a recording keeps all of its rows): a drift
+  // counts from the first of them, at most a row before the first sample.
+  const double slack = 1e-6 * s.dt;
+  const auto first = std::upper_bound(s.rows_t.begin(), s.rows_t.end(), s.t.front() + slack) - s.rows_t.begin() - 1;
+  const auto last = std::lower_bound(s.rows_t.begin(), s.rows_t.end(), s.t.back() - slack) - s.rows_t.begin();
+  auto b = static_cast<std::size_t>(std::max<std::ptrdiff_t>(first, 0));
+  const auto e = std::max(std::min(static_cast<std::size_t>(last) + 1, s.rows_t.size()), std::size_t{2});
+  b = std::min(b, e - 2);  // two rows at least, to interpolate between
+  const auto span = [&](const std::vector<double>& v) {
+    return std::vector<double>(v.begin() + static_cast<std::ptrdiff_t>(b), v.begin() + static_cast<std::ptrdiff_t>(e));
+  };
   JointSignals rows;
   rows.joint = s.joint;
   rows.dt = s.dt;
-  rows.t = s.rows_t;
-  rows.q = s.rows_q;
-  rows.dq = s.rows_dq;
+  rows.t = span(s.rows_t);
+  rows.q = span(s.rows_q);
+  rows.dq = span(s.rows_dq);
   Candidate c = raw_candidate(effect, setting, rows);
   for (auto& col : c.columns) {
     std::vector<double> out(s.size());

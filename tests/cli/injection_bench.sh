@@ -9,17 +9,19 @@
 #    measured run as a floor (named >= 10, payload claims off by more than 20 % <= 2), no
 #    claim on a zero-size case beyond the untouched recording's; the per-joint vocabulary
 #    (--vocabulary): at most the one measured size beyond the range the diagnosis accepts
-#    claimed, and the named count of the last measured run as a floor (38/98, docs/results.md);
+#    claimed, and the named count of the last measured run as a floor (36/98, docs/results.md);
 #  - the same on the UR10e against the file the untouched recording's own diagnosis wrote
 #    (--baseline: its links, friction and findings, as a user diagnoses a change on an arm
-#    diagnosed before): the measured figures as floors (payloads 15/16, vocabulary 93/98),
+#    diagnosed before): the measured figures as floors (payloads 15/16, vocabulary 92/98),
 #    nothing claimed on a zero-size case, and no more sizes beyond the accepted range claimed
-#    than measured (2 of 15; docs/results.md), and at most the measured one of those sizes with
-#    other effects claimed on its joint in its place (1 of 15 since the seventeenth session: a
+#    than measured (1 of 15 since the nineteenth session, 2 before: a delay refined beyond
+#    50 ms is not claimed; docs/results.md), and none of those sizes with other effects claimed
+#    on its joint in its place (0 of 15 since the nineteenth session; 1 since the seventeenth: a
 #    size beyond the range that explains more than what imitates it is reported as unexplained;
 #    before, 11 of 15 got an inertia error or friction changes claimed instead); against the
 #    robot file alone at most the measured 4. The named cases' sizes within 20 % of the injected
-#    ones: at least the measured 75 (own file) and 18 (file alone).
+#    ones: at least the measured 78 (own file; 75 before the rows a recording was resampled from
+#    were used) and 22 (file alone; 18 before).
 # Usage: injection_bench.sh <jointguard> <source dir>
 set -euo pipefail
 J="$1"
@@ -42,23 +44,23 @@ p, u, b = (json.load(open(f))["summary"] for f in sys.argv[1:4])
 print("panda:", p)
 print("ur10e:", u)
 print("ur10e against its own diagnosed file:", b)
-assert b["named_within_20pct"] >= 15 and b["joint_effects_named"] >= 93, b  # measured 15/16, 93/98
-assert len(b["implausible_claimed"]) <= 2, b  # measured 2 of 15
-assert len(b["implausible_claimed_instead"]) <= 1, b  # measured 1 of 15 (11 before the seventeenth session)
+assert b["named_within_20pct"] >= 15 and b["joint_effects_named"] >= 92, b  # measured 15/16, 92/98 (93 before the delay rule)
+assert len(b["implausible_claimed"]) <= 1, b  # measured 1 of 15 (2 before the nineteenth session)
+assert len(b["implausible_claimed_instead"]) == 0, b  # measured 0 of 15 (1 before the nineteenth session, 11 before the seventeenth)
 assert len(u["implausible_claimed_instead"]) <= 4, u  # measured 4 of 15 (6 before)
 assert b["zero_size_cases"] == 2 and b["zero_size_with_extra_claims"] == 0, b
 # Sizes of the named cases within 20 % of the injected ones: the measured figures as floors
-# (eighteenth session: 75/93 against its own file, 18/38 against the robot file alone).
+# (nineteenth session: 78/92 against its own file, 22/36 against the robot file alone).
 def within(summary):
     return int(summary["named_size_within_20pct"].split("/")[0])
-assert within(b) >= 75, b
-assert within(u) >= 18, u
+assert within(b) >= 78, b
+assert within(u) >= 22, u
 assert p["named_within_20pct"] >= 1 and p["wrong_claims"] == 0, p  # 0.3 kg (below the floor) and 1.5 kg
 assert u["named_within_20pct"] >= 10 and u["wrong_claims"] <= 2, u  # measured 10/16 (docs/results.md)
 # Beyond the range: not claimed, but for one measured: a 71 ms delay on joint 3 read as 23 ms
 # beside a gear elasticity, against the robot file alone (7.7x the noise stays unexplained there).
 assert u["implausible_cases"] >= 1 and len(u["implausible_claimed"]) <= 1, u
-assert u["joint_effects_named"] >= 38, u  # measured 38/98 (delays sized by what the model sees)
+assert u["joint_effects_named"] >= 36, u  # measured 36/98 (38 before the nineteenth session's rows)
 for s in (p, u):
     assert s["zero_size_cases"] == 2 and s["zero_size_with_extra_claims"] == 0, s
 PYEOF
