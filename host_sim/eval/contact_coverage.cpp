@@ -31,6 +31,9 @@ ContactCoverage contact_coverage(const std::vector<RunResult>& runs) {
     s.determined_within_20pct += e.force_determined && f20 ? 1 : 0;
     s.three_components += e.determined_components == 3 ? 1 : 0;
     s.three_components_within_20pct += e.determined_components == 3 && f20 ? 1 : 0;
+    const bool one_link = e.determined_components == 3 && e.links_consistent.size() == 1;
+    s.three_components_one_link += one_link ? 1 : 0;
+    s.three_components_one_link_within_20pct += one_link && f20 ? 1 : 0;
     if (e.force_n > 0.0) ratios.push_back(e.force_sigma_n / e.force_n);
   }
   if (!ratios.empty()) {
@@ -48,20 +51,23 @@ nlohmann::json to_json(const ContactCoverage& c) {
           {"force_within_2sigma", c.force_within_2sigma},
           {"force_determined", c.determined}, {"force_determined_within_20pct", c.determined_within_20pct},
           {"three_components", c.three_components}, {"three_components_within_20pct", c.three_components_within_20pct},
+          {"three_components_one_link", c.three_components_one_link},
+          {"three_components_one_link_within_20pct", c.three_components_one_link_within_20pct},
           {"median_force_sigma_over_force", c.median_sigma_over_force}};
 }
 
 std::string describe(const ContactCoverage& c) {
-  char line[640];
+  char line[800];
   std::snprintf(line, sizeof line,
                 "contact estimate's spreads (truth within the stated ~2-sigma set): point %d of the %d on the right link "
                 "(%d estimates), force %d/%d (%d of the %d on the right link; within 2 sigma %d/%d; median sigma %.0f %% "
                 "of the force); force determined (2 sigma within 20 %%) %d, within 20 %% %d/%d; all 3 components "
-                "determined %d, within 20 %% %d/%d",
+                "determined %d, within 20 %% %d/%d; of those on a single consistent link %d, within 20 %% %d/%d",
                 c.point_covered, c.link_right, c.estimated, c.force_covered, c.estimated, c.force_covered_link_right,
                 c.link_right, c.force_within_2sigma, c.estimated, 100.0 * c.median_sigma_over_force, c.determined,
                 c.determined_within_20pct, c.determined, c.three_components, c.three_components_within_20pct,
-                c.three_components);
+                c.three_components, c.three_components_one_link, c.three_components_one_link_within_20pct,
+                c.three_components_one_link);
   return line;
 }
 

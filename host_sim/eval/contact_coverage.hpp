@@ -24,6 +24,12 @@ struct ContactCoverage {
   int determined_within_20pct = 0;   ///< of those, the force within 20 % of the truth it aims at
   int three_components = 0;          ///< all three force components determined (rank of J^T)
   int three_components_within_20pct = 0;
+  /// All three components determined and a single link consistent with the torques
+  /// (`links_consistent`): the torques name the link and fix the force on it. Where more links
+  /// stay consistent, each gives its own force (the set the estimate reports), so the force is
+  /// not determined whatever the rank at the chosen point.
+  int three_components_one_link = 0;
+  int three_components_one_link_within_20pct = 0;
   double median_sigma_over_force = 0.0;  ///< force_sigma / force, median over the estimates
 };
 
